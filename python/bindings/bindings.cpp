@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: MIT
+/// @file The compiled module slidebeam._core: a thin layer over the C++ core. Defaults,
+/// validation and documentation for users live in the pure-Python package.
+
+#include "petsc_casters.hpp"
+
+#include "kernels/bspline.hpp"
+#include "model/model.hpp"
+#include "solvers/static_solver.hpp"
+#include "util/petsc_check.hpp"
+
+#include <mpi4py/mpi4py.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace slidebeam;
+
+namespace {
+MPI_Comm comm_from_py(py::object comm) {
+  if (comm.is_none()) return PETSC_COMM_WORLD;
+  if (import_mpi4py() != 0) throw std::runtime_error("could not import mpi4py");
+  if (!PyObject_TypeCheck(comm.ptr(), &PyMPIComm_Type)) throw py::type_error("comm must be an mpi4py communicator");
+  return *PyMPIComm_Get(comm.ptr());
+}
+
+kernels::StrainMeasure strain_from(const std::string& s) {
+  if (s == "simo-reissner") return kernels::StrainMeasure::SimoReissner;
+  if (s == "seed") return kernels::StrainMeasure::Seed;
+  throw std::invalid_argument("unknown strain measure '" + s + "'");
+}
+kernels::Quadrature quadrature_from(const std::string& s) {
+  if (s == "full") return kernels::Quadrature::Full;
+  if (s == "reduced") return kernels::Quadrature::Reduced;
+  throw std::invalid_argument("unknown quadrature '" + s + "'");
+}
+
+py::array_t<double> as_array(const std::vector<double>& v, py::ssize_t rows, py::ssize_t cols) {
+  py::array_t<double> a({rows, cols});
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "slidebeam C++ core (director beams, effects, PETSc assembly)";
+
+  py::register_exception<PetscFailure>(m, "PetscFailure", PyExc_RuntimeError);
+
+  m.def(
+      "bspline_basis",
+      [](int n_spans, double xi) {
+        const auto b = bspline::basis(n_spans, xi);
+        return py::make_tuple(b.span, b.N, b.dN, b.ddN);
+      },
+      py::arg("n_spans"), py::arg("xi"), "(span, N[3], dN/dxi[3], d2N/dxi2[3]) at xi in [0,1]");
+  m.def("greville", &bspline::greville, py::arg("n_spans"), py::arg("a"));
+  m.def("effect_types", [] { return EffectRegistry::instance().names(); });
+
+  py::class_<Model>(m, "Model")
+      .def(py::init([](py::object comm) { return std::make_unique<Model>(comm_from_py(comm)); }),
+           py::arg("comm") = py::none())
+      .def(
+          "add_beam",
+          [](Model& self, const std::string& name, int n_spans, double length, const std::map<std::string, double>& sec,
+             const std::string& strain, const std::string& quadrature,
+             py::array_t<double, py::array::c_style | py::array::forcecast> q_ref) {
+            BeamSpec spec;
+            spec.name = name;
+            spec.n_spans = n_spans;
+            spec.length = length;
+            auto get = [&](const char* k) {
+              auto it = sec.find(k);
+              if (it == sec.end()) throw std::invalid_argument(std::string("section lacks '") + k + "'");
+              return it->second;
+            };
+            spec.section = {get("EA"), get("kGA2"), get("kGA3"), get("GJ"), get("EI2"), get("EI3"),
+                            get("rhoA"), get("rhoI2"), get("rhoI3")};
+            spec.strain = strain_from(strain);
+            spec.quadrature = quadrature_from(quadrature);
+            spec.q_ref.assign(q_ref.data(), q_ref.data() + q_ref.size());
+            return self.add_beam(spec);
+          },
+          py::arg("name"), py::arg("n_spans"), py::arg("length"), py::arg("section"), py::arg("strain"),
+          py::arg("quadrature"), py::arg("q_ref"))
+      .def(
+          "add_effect",
+          [](Model& self, const std::string& type, const std::map<std::string, double>& num,
+             const std::map<std::string, std::vector<double>>& vec, const std::map<std::string, std::string>& str) {
+            EffectParams p{num, vec, str};
+            return self.add_effect(type, p);
+          },
+          py::arg("type"), py::arg("num") = std::map<std::string, double>{},
+          py::arg("vec") = std::map<std::string, std::vector<double>>{},
+          py::arg("str") = std::map<std::string, std::string>{})
+      .def("finalize", &Model::finalize)
+      .def_property_readonly("finalized", &Model::finalized)
+      .def_property_readonly("x", &Model::x, "global unknowns (petsc4py Vec, shared with the core)")
+      .def_property_readonly("residual_vector", &Model::residual_vector)
+      .def_property_readonly("jacobian", &Model::jacobian)
+      .def_property_readonly("global_size", [](const Model& s) { return s.dof_map().global_size(); })
+      .def_property_readonly("n_beams", [](const Model& s) { return s.beams().size(); })
+      .def_property_readonly("effect_labels",
+                             [](const Model& s) {
+                               std::vector<std::string> l;
+                               for (const auto& e : s.effects()) l.push_back(e->label());
+                               return l;
+                             })
+      .def_property_readonly("effect_types",
+                             [](const Model& s) {
+                               std::vector<std::string> l;
+                               for (const auto& e : s.effects()) l.push_back(e->type());
+                               return l;
+                             })
+      .def("assemble_residual",
+           [](const Model& s, double t, Vec x, Vec F) { SB_CHECK(s.assemble_residual(t, x, F)); })
+      .def("assemble_jacobian",
+           [](const Model& s, double t, Vec x, Mat J) { SB_CHECK(s.assemble_jacobian(t, x, J)); })
+      .def("effect_energies", [](const Model& s, double t, Vec x) { return s.effect_energies(t, x); })
+      .def("set_reference_state", [](const Model& s, Vec x) { s.set_reference_state(x); })
+      .def("beam_coordinates",
+           [](const Model& s, int beam, Vec x) {
+             const auto q = s.beam_coordinates(beam, x);
+             return as_array(q, s.beam(beam).n_cp(), 12);
+           },
+           "control point coordinates (n_cp x 12: phi, d1, d2, d3) on every rank (collective)")
+      .def("lambda_dofs",
+           [](const Model& s) {
+             std::vector<PetscInt> d;
+             for (PetscInt cp = 0; cp < s.n_cp_total(); ++cp)
+               for (int k = 0; k < 6; ++k) d.push_back(s.dof_map().lambda(cp, k));
+             return d;
+           });
+
+  py::class_<SolveResult>(m, "SolveResult")
+      .def_readonly("reason", &SolveResult::reason)
+      .def_readonly("iterations", &SolveResult::iterations)
+      .def_readonly("linear_iterations", &SolveResult::linear_iterations)
+      .def_readonly("residual_norm", &SolveResult::residual_norm)
+      .def_property_readonly("converged", &SolveResult::converged)
+      .def_property_readonly("reason_name", [](const SolveResult& r) { return StaticSolver::reason_name(r.reason); });
+
+  py::class_<StaticSolver>(m, "StaticSolver")
+      .def(py::init<Model&>(), py::arg("model"), py::keep_alive<1, 2>())
+      .def("solve", &StaticSolver::solve, py::arg("t"))
+      .def_property("time", &StaticSolver::time, &StaticSolver::set_time)
+      .def_property_readonly("snes", &StaticSolver::snes, "the SNES (petsc4py, shared with the core)");
+}

@@ -1,0 +1,913 @@
+"""Scene files: load a TOML (or dict) scene description and validate it.
+
+The result is a tree of frozen dataclasses with every default filled in and
+every ``at`` normalised to an arc length ``s`` in ``[0, L]``.
+
+Error messages name the file, the table and the key. Tables of arrays are
+numbered from 1 in messages (``[[beam]] #1``), while ``--set`` overrides
+index them from 0 (``beam.0.spans=32``), like Python.
+
+Section defaults: the shear correction factor ``k`` defaults to 5/6 for a
+rectangle and 0.9 for a circle.
+
+This module must stay importable on its own (stdlib + numpy only).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import os
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+Vec3 = tuple[float, float, float]
+
+_MISSING: Any = object()
+
+
+# ----------------------------------------------------------------------------
+# errors
+
+
+class SceneError(Exception):
+    """Bad scene input; ``str(err)`` names file, table and key."""
+
+    def __init__(
+        self,
+        message: str,
+        file: str | None = None,
+        table: str | None = None,
+        key: str | None = None,
+    ) -> None:
+        self.detail = message
+        self.file = file
+        self.table = table
+        self.key = key
+        super().__init__(self._compose())
+
+    def _compose(self) -> str:
+        where = ", ".join(
+            part
+            for part in (self.table, f"key '{self.key}'" if self.key is not None else None)
+            if part
+        )
+        text = f"{where}: {self.detail}" if where else self.detail
+        return f"{self.file}: {text}" if self.file else text
+
+
+# ----------------------------------------------------------------------------
+# dataclasses
+
+
+@dataclass(frozen=True)
+class Section:
+    """Cross-section resultant stiffnesses and inertias."""
+
+    EA: float
+    kGA2: float
+    kGA3: float
+    GJ: float
+    EI2: float
+    EI3: float
+    rhoA: float
+    rhoI2: float
+    rhoI3: float
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Reference centreline: a line, a polyline or a circular arc."""
+
+    kind: str
+    points: tuple[Vec3, ...]
+    center: Vec3 | None
+    radius: float | None
+    normal: Vec3 | None  # unit vector (arc only)
+    start: Vec3 | None
+    angle_deg: float | None
+    length: float
+
+    def point_at(self, s: float) -> Vec3:
+        """Reference position at arc length s (clamped to [0, L])."""
+        s = min(max(s, 0.0), self.length)
+        if self.kind == "arc":
+            c, n, p0 = (np.asarray(v) for v in (self.center, self.normal, self.start))
+            assert self.radius is not None and self.angle_deg is not None
+            phi = math.copysign(s / self.radius, self.angle_deg)
+            return _vec(c + _rotate(p0 - c, n, phi))
+        pts = [np.asarray(p) for p in self.points]
+        for a, b in zip(pts[:-1], pts[1:]):
+            seg = float(np.linalg.norm(b - a))
+            if s <= seg:
+                return _vec(a + (s / seg) * (b - a))
+            s -= seg
+        return _vec(pts[-1])
+
+    def tangent_at_start(self) -> Vec3:
+        """Unit tangent of the centreline at s = 0."""
+        if self.kind == "arc":
+            c, n, p0 = (np.asarray(v) for v in (self.center, self.normal, self.start))
+            assert self.angle_deg is not None
+            t = np.cross(n, p0 - c) * math.copysign(1.0, self.angle_deg)
+        else:
+            t = np.asarray(self.points[1]) - np.asarray(self.points[0])
+        return _vec(t / np.linalg.norm(t))
+
+
+@dataclass(frozen=True)
+class Beam:
+    name: str
+    index: int
+    geometry: Geometry
+    d2: Vec3 | None  # unit vector, or None for the default
+    spans: int
+    quadrature: str
+    strain: str
+    formulation: str
+    section: Section
+    velocity: Vec3
+    angular_velocity: Vec3
+
+
+@dataclass(frozen=True)
+class Support:
+    type: str
+    beam: int
+    at: float | None  # None for "fixed"
+    position: Vec3 | None  # reference point for spherical/clamp, None for fixed
+
+
+@dataclass(frozen=True)
+class TimeFunction:
+    """Load multiplier; unused parameters are math.inf (or 0 for t0)."""
+
+    type: str
+    t0: float = 0.0
+    t1: float = math.inf
+    t2: float = math.inf
+
+    def value(self, t: float) -> float:
+        if self.type == "constant":
+            return 1.0
+        if self.type == "step":
+            return 1.0 if self.t0 <= t < self.t1 else 0.0
+        if t <= self.t0:
+            return 0.0
+        if self.type == "ramp":
+            return 1.0 if t >= self.t1 else (t - self.t0) / (self.t1 - self.t0)
+        if self.type == "hat":
+            if t >= self.t2:
+                return 0.0
+            if t <= self.t1:
+                return (t - self.t0) / (self.t1 - self.t0)
+            return (self.t2 - t) / (self.t2 - self.t1)
+        raise ValueError(f"unknown time function type {self.type!r}")
+
+
+@dataclass(frozen=True)
+class Load:
+    type: str
+    beam: int
+    at: float
+    value: Vec3
+    frame: str
+    time_function: TimeFunction
+
+
+@dataclass(frozen=True)
+class PointMass:
+    beam: int
+    at: float
+    mass: float
+
+
+@dataclass(frozen=True)
+class Analysis:
+    type: str
+    steps: int
+    t_end: float
+    dt: float | None
+    integrator: str
+    newmark_beta: float
+    newmark_gamma: float
+    hht_alpha: float
+    dt_min: float | None
+
+
+@dataclass(frozen=True)
+class TrackPoint:
+    beam: int
+    at: float
+
+
+@dataclass(frozen=True)
+class Output:
+    every: int
+    track: tuple[TrackPoint, ...]
+    samples_per_span: int
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    description: str
+    file: str
+    base_dir: str
+    analysis: Analysis
+    beams: tuple[Beam, ...]
+    supports: tuple[Support, ...]
+    loads: tuple[Load, ...]
+    point_masses: tuple[PointMass, ...]
+    gravity: Vec3 | None
+    petsc_options: dict[str, str]
+    petsc_options_file: str | None
+    output: Output
+
+    def beam_index(self, name: str) -> int:
+        for beam in self.beams:
+            if beam.name == name:
+                return beam.index
+        raise SceneError(
+            f"beam '{name}' does not exist (beams: {', '.join(b.name for b in self.beams)})",
+            file=self.file,
+        )
+
+
+# ----------------------------------------------------------------------------
+# small vector helpers
+
+
+def _vec(a: Any) -> Vec3:
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+def _rotate(v: np.ndarray, n: np.ndarray, phi: float) -> np.ndarray:
+    """Rodrigues rotation of v about unit axis n by phi."""
+    return v * math.cos(phi) + np.cross(n, v) * math.sin(phi) + n * np.dot(n, v) * (1 - math.cos(phi))
+
+
+def _coincident(a: np.ndarray, b: np.ndarray) -> bool:
+    scale = max(float(np.linalg.norm(a)), float(np.linalg.norm(b)))
+    return float(np.linalg.norm(b - a)) <= 1e-12 * scale
+
+
+# ----------------------------------------------------------------------------
+# typed access to one table
+
+
+class _Table:
+    """A raw dict plus where it came from, with typed getters."""
+
+    def __init__(self, data: Any, file: str, label: str, parent_key: str | None = None) -> None:
+        self.file = file
+        self.label = label
+        if not isinstance(data, dict):
+            raise SceneError(f"must be a table, got {_type_name(data)}", file, label, parent_key)
+        self.data: dict[str, Any] = data
+
+    def error(self, key: str | None, message: str) -> SceneError:
+        return SceneError(message, self.file, self.label, key)
+
+    def check_keys(self, allowed: list[str] | tuple[str, ...]) -> None:
+        for key in self.data:
+            if key not in allowed:
+                raise self.error(key, _unknown_key_message(key, allowed))
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def raw(self, key: str, default: Any = _MISSING) -> Any:
+        if key in self.data:
+            return self.data[key]
+        if default is _MISSING:
+            raise self.error(key, "missing required key")
+        return default
+
+    def sub(self, key: str, label: str) -> _Table:
+        return _Table(self.raw(key), self.file, label, key)
+
+    def string(self, key: str, default: Any = _MISSING) -> str:
+        value = self.raw(key, default)
+        if not isinstance(value, str):
+            raise self.error(key, f"must be a string, got {_show(value)}")
+        return value
+
+    def choice(self, key: str, options: tuple[str, ...], default: Any = _MISSING) -> str:
+        value = self.string(key, default)
+        if value not in options:
+            hint = _did_you_mean(value, options)
+            raise self.error(key, f"must be one of {_quoted(options)}, got '{value}'{hint}")
+        return value
+
+    def integer(self, key: str, default: Any = _MISSING, positive: bool = True) -> int:
+        value = self.raw(key, default)
+        # bool is an int subclass in Python; a TOML true is never a count
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(key, f"must be an integer, got {_show(value)}")
+        if positive and value <= 0:
+            raise self.error(key, f"must be a positive integer, got {value}")
+        return value
+
+    def number(
+        self,
+        key: str,
+        default: Any = _MISSING,
+        check: Callable[[float], bool] | None = None,
+        requirement: str = "",
+        allow_inf: bool = False,
+    ) -> float:
+        value = self.raw(key, default)
+        if value is None:  # only reachable through a None default
+            return value
+        x = self._to_float(key, value, allow_inf)
+        if check is not None and not check(x):
+            raise self.error(key, f"must be {requirement}, got {_show(value)}")
+        return x
+
+    def _to_float(self, key: str, value: Any, allow_inf: bool = False) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(key, f"must be a number, got {_show(value)}")
+        x = float(value)
+        if math.isnan(x) or (math.isinf(x) and not (allow_inf and x > 0)):
+            raise self.error(key, f"must be a finite number, got {_show(value)}")
+        return x
+
+    def vec3(self, key: str, default: Any = _MISSING) -> Vec3:
+        return self.vec3_value(key, self.raw(key, default))
+
+    def vec3_value(self, key: str, value: Any) -> Vec3:
+        if not isinstance(value, list) or len(value) != 3:
+            raise self.error(key, f"must be an array of 3 numbers, got {_show(value)}")
+        return tuple(self._to_float(key, v) for v in value)  # type: ignore[return-value]
+
+
+def _type_name(value: Any) -> str:
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, int):
+        return "an integer"
+    if isinstance(value, float):
+        return "a float"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, dict):
+        return "a table"
+    return type(value).__name__
+
+
+def _show(value: Any) -> str:
+    if isinstance(value, (dict, list)):
+        return _type_name(value)
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f"{_type_name(value)} {value!r}"
+    return f"{_type_name(value)} {value!r}"
+
+
+def _quoted(options: tuple[str, ...] | list[str]) -> str:
+    return ", ".join(f"'{o}'" for o in options)
+
+
+def _did_you_mean(word: str, options: tuple[str, ...] | list[str]) -> str:
+    close = difflib.get_close_matches(word, list(options), n=1, cutoff=0.6)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _unknown_key_message(key: str, allowed: tuple[str, ...] | list[str]) -> str:
+    hint = _did_you_mean(key, allowed)
+    return f"unknown key '{key}'" + (hint or f" (allowed: {_quoted(allowed)})")
+
+
+def _array_of_tables(data: dict[str, Any], key: str, file: str) -> list[Any]:
+    value = data.get(key, [])
+    if not isinstance(value, list):
+        raise SceneError(f"must be an array of tables [[{key}]], got {_type_name(value)}", file, "top level", key)
+    return value
+
+
+# ----------------------------------------------------------------------------
+# schema constants
+
+_TOP_KEYS = ("scene", "analysis", "petsc", "gravity", "beam", "support", "load", "point_mass", "output")
+_ANALYSIS_KEYS = (
+    "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
+)
+_INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
+_BEAM_KEYS = (
+    "name", "start", "end", "polyline", "arc", "d2", "spans", "quadrature", "strain",
+    "formulation", "velocity", "angular_velocity", "section",
+)
+_ARC_KEYS = ("center", "radius", "normal", "start", "angle")
+_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "nu", "rho", "k")
+_EXPLICIT_KEYS = ("EA", "kGA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI2", "rhoI3")
+_SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
+_TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1")}
+# sub-tables an override may create when absent
+_CREATABLE = {"scene", "analysis", "petsc", "gravity", "output", "section", "arc", "time_function"}
+
+_ZERO: Vec3 = (0.0, 0.0, 0.0)
+
+
+# ----------------------------------------------------------------------------
+# public entry points
+
+
+def load_scene(path: str | os.PathLike[str], overrides: list[str] | None = None) -> Scene:
+    """Read a TOML scene file, apply ``--set`` overrides, validate."""
+    file = os.fspath(path)
+    try:
+        with open(file, "rb") as fh:
+            data = tomllib.load(fh)
+    except OSError as exc:
+        raise SceneError(f"cannot read scene file: {exc.strerror or exc}", file) from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"TOML syntax error: {exc}", file) from exc
+    for override in overrides or []:
+        apply_override(data, override, file)
+    return scene_from_dict(data, file=file, base_dir=str(Path(file).resolve().parent))
+
+
+def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = ".") -> Scene:
+    """Validate a raw scene dict (same layout as the TOML file)."""
+    top = _Table(data, file, "top level")
+    top.check_keys(_TOP_KEYS)
+
+    meta = _Table(top.raw("scene", {}), file, "[scene]", "scene")
+    meta.check_keys(("name", "description"))
+    default_name = Path(file).stem if file != "<dict>" else "scene"
+
+    analysis = _parse_analysis(_Table(top.raw("analysis", {}), file, "[analysis]", "analysis"))
+    beams = _parse_beams(_array_of_tables(data, "beam", file), file)
+    supports = tuple(
+        _parse_support(_Table(raw, file, f"[[support]] #{i + 1}", "support"), beams)
+        for i, raw in enumerate(_array_of_tables(data, "support", file))
+    )
+    loads = tuple(
+        _parse_load(_Table(raw, file, f"[[load]] #{i + 1}", "load"), beams, analysis)
+        for i, raw in enumerate(_array_of_tables(data, "load", file))
+    )
+    masses = tuple(
+        _parse_point_mass(_Table(raw, file, f"[[point_mass]] #{i + 1}", "point_mass"), beams)
+        for i, raw in enumerate(_array_of_tables(data, "point_mass", file))
+    )
+    options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
+    gravity = _parse_gravity(top, file)
+    output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams)
+
+    return Scene(
+        name=meta.string("name", default_name),
+        description=meta.string("description", ""),
+        file=file,
+        base_dir=base_dir,
+        analysis=analysis,
+        beams=beams,
+        supports=supports,
+        loads=loads,
+        point_masses=masses,
+        gravity=gravity,
+        petsc_options=options,
+        petsc_options_file=options_file,
+        output=output,
+    )
+
+
+# ----------------------------------------------------------------------------
+# overrides
+
+
+def apply_override(data: dict[str, Any], override: str, file: str = "<overrides>") -> None:
+    """Apply one ``dotted.key=value`` override to a raw scene dict in place."""
+    label = f"override '{override}'"
+    path_text, sep, value_text = override.partition("=")
+    parts = [p.strip() for p in path_text.strip().split(".")]
+    if not sep or not all(parts):
+        raise SceneError("must look like 'dotted.key=value'", file, label)
+    value = _parse_override_value(value_text.strip())
+
+    node: Any = data
+    for depth, part in enumerate(parts[:-1]):
+        node = _override_step(node, part, depth, file, label)
+    _override_set(node, parts[-1], value, file, label)
+
+
+def _parse_override_value(text: str) -> Any:
+    # a TOML value if it parses, else the bare text (so beam.0.quadrature=reduced works)
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def _override_step(node: Any, part: str, depth: int, file: str, label: str) -> Any:
+    if isinstance(node, dict):
+        if part not in node:
+            if part not in _CREATABLE or (depth == 0 and part not in _TOP_KEYS):
+                raise SceneError("unknown path: no such table", file, label, part)
+            node[part] = {}
+        child = node[part]
+        if not isinstance(child, (dict, list)):
+            raise SceneError(f"unknown path: '{part}' is not a table", file, label, part)
+        return child
+    if isinstance(node, list):
+        return node[_list_index(node, part, file, label)]
+    raise SceneError("unknown path", file, label, part)
+
+
+def _list_index(node: list[Any], part: str, file: str, label: str) -> int:
+    if part.isdigit():
+        index = int(part)
+        if index >= len(node):
+            raise SceneError(f"unknown path: index {index} out of range (have {len(node)})", file, label, part)
+        return index
+    for index, item in enumerate(node):
+        if isinstance(item, dict) and item.get("name") == part:
+            return index
+    raise SceneError("unknown path: no element with that index or name", file, label, part)
+
+
+def _override_set(node: Any, part: str, value: Any, file: str, label: str) -> None:
+    if isinstance(node, dict):
+        node[part] = value
+    elif isinstance(node, list):
+        node[_list_index(node, part, file, label)] = value
+    else:
+        raise SceneError("unknown path", file, label, part)
+
+
+# ----------------------------------------------------------------------------
+# [analysis], [petsc], [gravity], [output]
+
+
+def _parse_analysis(t: _Table) -> Analysis:
+    t.check_keys(_ANALYSIS_KEYS)
+    kind = t.choice("type", ("static", "dynamic"), "static")
+    positive = dict(check=lambda x: x > 0, requirement="> 0")
+    dt = t.number("dt", None, **positive)  # type: ignore[arg-type]
+    if kind == "dynamic" and dt is None:
+        raise t.error("dt", "missing required key (required when type = \"dynamic\")")
+    dt_min = t.number("dt_min", None, **positive)  # type: ignore[arg-type]
+    if dt_min is None and kind == "dynamic":
+        dt_min = dt / 16.0
+    if dt is not None and dt_min is not None and dt_min > dt:
+        raise t.error("dt_min", f"must not exceed dt = {dt}, got {dt_min}")
+    return Analysis(
+        type=kind,
+        steps=t.integer("steps", 10),
+        t_end=t.number("t_end", 1.0, **positive),  # type: ignore[arg-type]
+        dt=dt,
+        integrator=t.choice("integrator", _INTEGRATORS, "energy-momentum"),
+        newmark_beta=t.number("newmark_beta", 0.25),
+        newmark_gamma=t.number("newmark_gamma", 0.5),
+        hht_alpha=t.number("hht_alpha", -0.1, check=lambda a: -1.0 / 3.0 <= a <= 0.0, requirement="in [-1/3, 0]"),
+        dt_min=dt_min,
+    )
+
+
+def _parse_petsc(t: _Table, base_dir: str) -> tuple[dict[str, str], str | None]:
+    options: dict[str, str] = {}
+    options_file: str | None = None
+    for key, value in t.data.items():
+        if key == "options_file":
+            options_file = _resolve_options_file(t, base_dir)
+            continue
+        if key.startswith("-"):
+            raise t.error(key, f"write PETSc options without the leading dash: '{key.lstrip('-')}'")
+        if isinstance(value, bool):
+            if value:
+                options[key] = ""  # a flag; false means leave it out
+        elif isinstance(value, str):
+            options[key] = value
+        elif isinstance(value, int):
+            options[key] = str(value)
+        elif isinstance(value, float):
+            options[key] = repr(t._to_float(key, value))
+        else:
+            raise t.error(key, f"must be a string, number or boolean, got {_type_name(value)}")
+    return options, options_file
+
+
+def _resolve_options_file(t: _Table, base_dir: str) -> str:
+    path = Path(base_dir) / t.string("options_file")
+    if not path.is_file():
+        raise t.error("options_file", f"file not found: {path}")
+    return str(path.resolve())
+
+
+def _parse_gravity(top: _Table, file: str) -> Vec3 | None:
+    if not top.has("gravity"):
+        return None
+    t = _Table(top.raw("gravity"), file, "[gravity]", "gravity")
+    t.check_keys(("g",))
+    return t.vec3("g")
+
+
+def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
+    t.check_keys(("every", "track", "samples_per_span"))
+    if t.has("track"):
+        raw = t.raw("track")
+        if not isinstance(raw, list):
+            raise t.error("track", f"must be an array of tables {{ beam = ..., at = ... }}, got {_type_name(raw)}")
+        track = tuple(_parse_track_point(_Table(item, t.file, f"[output].track #{i + 1}", "track"), beams)
+                      for i, item in enumerate(raw))
+    else:
+        track = tuple(TrackPoint(b.index, b.geometry.length) for b in beams)
+    return Output(
+        every=t.integer("every", 1),
+        track=track,
+        samples_per_span=t.integer("samples_per_span", 8),
+    )
+
+
+def _parse_track_point(t: _Table, beams: tuple[Beam, ...]) -> TrackPoint:
+    t.check_keys(("beam", "at"))
+    index = _beam_ref(t, beams)
+    return TrackPoint(index, _parse_at(t, beams[index].geometry.length))
+
+
+# ----------------------------------------------------------------------------
+# [[beam]]
+
+
+def _parse_beams(raws: list[Any], file: str) -> tuple[Beam, ...]:
+    if not raws:
+        raise SceneError("at least one [[beam]] is required", file, "top level", "beam")
+    beams: list[Beam] = []
+    for index, raw in enumerate(raws):
+        t = _Table(raw, file, f"[[beam]] #{index + 1}", "beam")
+        beam = _parse_beam(t, index)
+        for other in beams:
+            if other.name == beam.name:
+                raise t.error("name", f"duplicate beam name '{beam.name}' (also [[beam]] #{other.index + 1})")
+        beams.append(beam)
+    return tuple(beams)
+
+
+def _parse_beam(t: _Table, index: int) -> Beam:
+    name = t.string("name")
+    if not name.strip():
+        raise t.error("name", "must be a non-empty string")
+    t.label = f"{t.label} ('{name}')"
+    t.check_keys(_BEAM_KEYS)
+    geometry = _parse_geometry(t)
+    if not t.has("section"):
+        raise t.error("section", "missing required table [beam.section]")
+    section = _parse_section(t.sub("section", f"{t.label}.section"))
+    return Beam(
+        name=name,
+        index=index,
+        geometry=geometry,
+        d2=_parse_d2(t, geometry),
+        spans=t.integer("spans"),
+        quadrature=t.choice("quadrature", ("full", "reduced"), "full"),
+        strain=t.choice("strain", ("simo-reissner", "seed"), "simo-reissner"),
+        formulation=t.choice("formulation", ("director",), "director"),
+        section=section,
+        velocity=t.vec3("velocity", list(_ZERO)),
+        angular_velocity=t.vec3("angular_velocity", list(_ZERO)),
+    )
+
+
+def _parse_geometry(t: _Table) -> Geometry:
+    kinds = [k for k, keys in (("line", ("start", "end")), ("polyline", ("polyline",)), ("arc", ("arc",)))
+             if any(t.has(key) for key in keys)]
+    if not kinds:
+        raise t.error(None, "missing geometry: give exactly one of 'start' + 'end', 'polyline' or 'arc'")
+    if len(kinds) > 1:
+        raise t.error(kinds[1], f"geometry given twice ({' and '.join(kinds)}); "
+                              "give exactly one of 'start' + 'end', 'polyline' or 'arc'")
+    if kinds[0] == "line":
+        return _parse_line(t)
+    if kinds[0] == "polyline":
+        return _parse_polyline(t)
+    return _parse_arc(t.sub("arc", f"{t.label}.arc"))
+
+
+def _parse_line(t: _Table) -> Geometry:
+    for key, other in (("start", "end"), ("end", "start")):
+        if not t.has(key):
+            raise t.error(key, f"missing required key ('{other}' needs both 'start' and 'end')")
+    a, b = t.vec3("start"), t.vec3("end")
+    if _coincident(np.asarray(a), np.asarray(b)):
+        raise t.error("end", "start and end coincide (zero length beam)")
+    length = float(np.linalg.norm(np.subtract(b, a)))
+    return Geometry("line", (a, b), None, None, None, None, None, length)
+
+
+def _parse_polyline(t: _Table) -> Geometry:
+    raw = t.raw("polyline")
+    if not isinstance(raw, list) or len(raw) < 2:
+        raise t.error("polyline", f"must be an array of at least 2 points, got {_show(raw)}")
+    points = tuple(t.vec3_value("polyline", p) for p in raw)
+    length = 0.0
+    for i, (a, b) in enumerate(zip(points[:-1], points[1:])):
+        if _coincident(np.asarray(a), np.asarray(b)):
+            raise t.error("polyline", f"points {i + 1} and {i + 2} coincide (zero length segment)")
+        length += float(np.linalg.norm(np.subtract(b, a)))
+    return Geometry("polyline", points, None, None, None, None, None, length)
+
+
+def _parse_arc(t: _Table) -> Geometry:
+    t.check_keys(_ARC_KEYS)
+    center, start = t.vec3("center"), t.vec3("start")
+    radius = t.number("radius", check=lambda r: r > 0, requirement="> 0")
+    angle = t.number("angle", check=lambda a: a != 0 and abs(a) <= 360,
+                     requirement="nonzero with |angle| <= 360 (degrees)")
+    n = np.asarray(t.vec3("normal"))
+    if float(np.linalg.norm(n)) == 0.0:
+        raise t.error("normal", "must be a nonzero vector")
+    n = n / np.linalg.norm(n)
+    arm = np.subtract(start, center)
+    distance = float(np.linalg.norm(arm))
+    if abs(distance - radius) > 1e-9 * radius:
+        raise t.error("start", f"must lie at distance radius = {radius} from center, got {distance}")
+    if abs(float(np.dot(arm, n))) > 1e-9 * radius:
+        raise t.error("start", "must lie in the plane through center normal to 'normal'")
+    return Geometry("arc", (), center, radius, _vec(n), start, angle, radius * math.radians(abs(angle)))
+
+
+def _parse_d2(t: _Table, geometry: Geometry) -> Vec3 | None:
+    if not t.has("d2"):
+        return None
+    d2 = np.asarray(t.vec3("d2"))
+    norm = float(np.linalg.norm(d2))
+    if norm == 0.0:
+        raise t.error("d2", "must be a nonzero vector")
+    cos = float(np.dot(d2 / norm, geometry.tangent_at_start()))
+    if abs(cos) >= 1.0 - 1e-8:
+        raise t.error("d2", "must not be parallel to the beam axis at its start")
+    return _vec(d2 / norm)
+
+
+# ----------------------------------------------------------------------------
+# [beam.section]
+
+
+def _parse_section(t: _Table) -> Section:
+    t.check_keys(_SHAPE_KEYS + _EXPLICIT_KEYS)
+    shape_keys = [k for k in _SHAPE_KEYS if t.has(k)]
+    explicit_keys = [k for k in _EXPLICIT_KEYS if t.has(k)]
+    if shape_keys and explicit_keys:
+        raise t.error(explicit_keys[0], "explicit resultants cannot be mixed with shape-based keys "
+                                        f"({', '.join(shape_keys)}); give one or the other")
+    if explicit_keys:
+        return _explicit_section(t)
+    if not shape_keys:
+        raise t.error("shape", "section needs either 'shape' (+ E, nu, ...) or explicit resultants (EA, kGA, GJ, ...)")
+    return _shape_section(t)
+
+
+def _explicit_section(t: _Table) -> Section:
+    positive = dict(check=lambda x: x > 0, requirement="> 0")
+    non_negative = dict(check=lambda x: x >= 0, requirement=">= 0")
+    per_axis = t.has("kGA2") and t.has("kGA3")
+    kGA = t.number("kGA", None if per_axis else _MISSING, **positive)  # type: ignore[arg-type]
+    return Section(
+        EA=t.number("EA", **positive),  # type: ignore[arg-type]
+        kGA2=t.number("kGA2", kGA, **positive),  # type: ignore[arg-type]
+        kGA3=t.number("kGA3", kGA, **positive),  # type: ignore[arg-type]
+        GJ=t.number("GJ", **positive),  # type: ignore[arg-type]
+        EI2=t.number("EI2", **positive),  # type: ignore[arg-type]
+        EI3=t.number("EI3", **positive),  # type: ignore[arg-type]
+        rhoA=t.number("rhoA", 0.0, **non_negative),  # type: ignore[arg-type]
+        rhoI2=t.number("rhoI2", 0.0, **non_negative),  # type: ignore[arg-type]
+        rhoI3=t.number("rhoI3", 0.0, **non_negative),  # type: ignore[arg-type]
+    )
+
+
+def _shape_section(t: _Table) -> Section:
+    shape = t.choice("shape", ("rectangle", "circle"))
+    dims = ("b", "h") if shape == "rectangle" else ("r",)
+    for key in ("b", "h", "r"):
+        if key not in dims and t.has(key):
+            raise t.error(key, f"not allowed for shape '{shape}' (needs {_quoted(dims)})")
+    size = [t.number(k, check=lambda x: x > 0, requirement="> 0") for k in dims]
+    area, i2, i3, j = (rectangle_properties(*size) if shape == "rectangle" else circle_properties(*size))
+    E = t.number("E", check=lambda x: x > 0, requirement="> 0")
+    nu = t.number("nu", check=lambda x: -1.0 < x < 0.5, requirement="in (-1, 0.5)")
+    rho = t.number("rho", 0.0, check=lambda x: x >= 0, requirement=">= 0")
+    k = t.number("k", _SHEAR_FACTOR[shape], check=lambda x: x > 0, requirement="> 0")
+    G = E / (2.0 * (1.0 + nu))
+    return Section(
+        EA=E * area, kGA2=k * G * area, kGA3=k * G * area, GJ=G * j,
+        EI2=E * i2, EI3=E * i3, rhoA=rho * area, rhoI2=rho * i2, rhoI3=rho * i3,
+    )
+
+
+def rectangle_properties(b: float, h: float) -> tuple[float, float, float, float]:
+    """(A, I2, I3, J) of a b x h rectangle; b along d2, h along d3; J after Roark."""
+    a, c = max(b, h), min(b, h)
+    j = a * c**3 * (1.0 / 3.0 - 0.21 * (c / a) * (1.0 - c**4 / (12.0 * a**4)))
+    return b * h, b * h**3 / 12.0, h * b**3 / 12.0, j
+
+
+def circle_properties(r: float) -> tuple[float, float, float, float]:
+    """(A, I2, I3, J) of a solid circle of radius r."""
+    return math.pi * r**2, math.pi * r**4 / 4.0, math.pi * r**4 / 4.0, math.pi * r**4 / 2.0
+
+
+# ----------------------------------------------------------------------------
+# points on beams: [[support]], [[load]], [[point_mass]]
+
+
+def _beam_ref(t: _Table, beams: tuple[Beam, ...]) -> int:
+    name = t.string("beam")
+    for beam in beams:
+        if beam.name == name:
+            return beam.index
+    names = ", ".join(b.name for b in beams)
+    raise t.error("beam", f"beam '{name}' does not exist (beams: {names}){_did_you_mean(name, [b.name for b in beams])}")
+
+
+def _parse_at(t: _Table, length: float) -> float:
+    """'start' | 'end' | arc length in [0, L] -> arc length s."""
+    value = t.raw("at")
+    if isinstance(value, str):
+        if value not in ("start", "end"):
+            raise t.error("at", f"must be 'start', 'end' or an arc length in [0, {length}], got '{value}'")
+        return 0.0 if value == "start" else length
+    s = t._to_float("at", value)
+    slack = 1e-12 * length  # round-off from users typing L by hand
+    if not -slack <= s <= length + slack:
+        raise t.error("at", f"must be in [0, L] with L = {length!r} (reference length), got {value!r}")
+    return min(max(s, 0.0), length)
+
+
+def _parse_support(t: _Table, beams: tuple[Beam, ...]) -> Support:
+    kind = t.choice("type", ("spherical", "clamp", "fixed"))
+    t.check_keys(("type", "beam", "at", "position") if kind == "spherical" else
+                 ("type", "beam", "at") if kind == "clamp" else ("type", "beam"))
+    index = _beam_ref(t, beams)
+    geometry = beams[index].geometry
+    if kind == "fixed":
+        return Support(kind, index, None, None)
+    s = _parse_at(t, geometry.length)
+    if kind == "clamp":
+        s = _snap_to_end(t, s, geometry.length)
+    reference = geometry.point_at(s)
+    if t.has("position"):
+        position = t.vec3("position")
+        gap = float(np.linalg.norm(np.subtract(position, reference)))
+        if gap > 1e-9 * geometry.length + 1e-12:
+            raise t.error("position", f"supports must sit on their beam: {position} is {gap:.3g} away from "
+                                      f"the reference point {reference} at s = {s}")
+    return Support(kind, index, s, reference)
+
+
+def _snap_to_end(t: _Table, s: float, length: float) -> float:
+    tol = 1e-12 * length
+    if abs(s) <= tol:
+        return 0.0
+    if abs(s - length) <= tol:
+        return length
+    raise t.error("at", f"a clamp must be at 'start' or 'end' (s = 0 or L = {length!r}), got {s!r}")
+
+
+def _parse_load(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Load:
+    t.check_keys(("type", "beam", "at", "value", "frame", "time_function"))
+    kind = t.choice("type", ("force", "moment"))
+    index = _beam_ref(t, beams)
+    frame = t.choice("frame", ("spatial", "material"), "spatial")
+    if frame == "material" and kind != "moment":
+        raise t.error("frame", "frame = 'material' is only allowed for moments")
+    if t.has("time_function"):
+        tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"))
+    elif analysis.type == "static":
+        tf = TimeFunction("ramp", 0.0, analysis.t_end, math.inf)
+    else:
+        tf = TimeFunction("constant")
+    return Load(kind, index, _parse_at(t, beams[index].geometry.length), t.vec3("value"), frame, tf)
+
+
+def _parse_time_function(t: _Table) -> TimeFunction:
+    kind = t.choice("type", tuple(_TF_PARAMS))
+    t.check_keys(("type",) + _TF_PARAMS[kind])
+    t0 = t.number("t0", 0.0)
+    if kind == "constant":
+        return TimeFunction(kind)
+    if kind == "step":
+        t1 = t.number("t1", math.inf, allow_inf=True)
+    else:
+        t1 = t.number("t1")
+    if not t1 > t0:
+        raise t.error("t1", f"must be > t0 = {t0}, got {t1}")
+    if kind != "hat":
+        return TimeFunction(kind, t0, t1, math.inf)
+    t2 = t.number("t2")
+    if not t2 > t1:
+        raise t.error("t2", f"must be > t1 = {t1}, got {t2}")
+    return TimeFunction(kind, t0, t1, t2)
+
+
+def _parse_point_mass(t: _Table, beams: tuple[Beam, ...]) -> PointMass:
+    t.check_keys(("beam", "at", "mass"))
+    index = _beam_ref(t, beams)
+    return PointMass(index, _parse_at(t, beams[index].geometry.length),
+                     t.number("mass", check=lambda m: m > 0, requirement="> 0"))

@@ -1,0 +1,17 @@
+// SPDX-License-Identifier: MIT
+#include "model/effect.hpp"
+
+namespace slidebeam {
+namespace effects {
+void register_beam_effects(EffectRegistry& r);
+void register_load_effects(EffectRegistry& r);
+void register_support_effects(EffectRegistry& r);
+}  // namespace effects
+
+void register_builtin_effects(EffectRegistry& registry) {
+  effects::register_beam_effects(registry);
+  effects::register_load_effects(registry);
+  effects::register_support_effects(registry);
+}
+
+}  // namespace slidebeam

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+#include "effects/common.hpp"
+
+#include "model/time_function.hpp"
+
+#include <stdexcept>
+
+namespace slidebeam {
+
+TimeFunction TimeFunction::from(const EffectParams& p) {
+  TimeFunction f;
+  const std::string kind = p.string("tf_type", "constant");
+  if (kind == "constant") f.kind = Kind::Constant;
+  else if (kind == "ramp") f.kind = Kind::Ramp;
+  else if (kind == "hat") f.kind = Kind::Hat;
+  else if (kind == "step") f.kind = Kind::Step;
+  else throw std::invalid_argument("unknown time function '" + kind + "'");
+  f.t0 = p.number("tf_t0", f.t0);
+  f.t1 = p.number("tf_t1", f.t1);
+  f.t2 = p.number("tf_t2", f.t2);
+  return f;
+}
+
+namespace effects {
+
+int beam_param(const Model& model, const EffectParams& p) {
+  const double v = p.number("beam");
+  const int b = static_cast<int>(v);
+  if (b < 0 || b >= static_cast<int>(model.beams().size()) || b != v)
+    throw std::invalid_argument("no beam with index " + std::to_string(v));
+  return b;
+}
+
+void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs) {
+  for (PetscInt cp = cp0; cp < cp0 + n; ++cp)
+    for (PetscInt k = 0; k < DofMap::kBlock; ++k) dofs.push_back(map.q(cp, 0) + k);
+}
+
+kernels::VecEl gather_span(const EvalContext& ctx, const Beam& b, int e) {
+  kernels::VecEl q;
+  for (int a = 0; a < 3; ++a) {
+    const PetscScalar* c = ctx.x.cp(ctx.map, b.first_cp() + e + a);
+    for (int k = 0; k < kernels::kNq; ++k) q(kernels::kNq * a + k) = c[k];
+  }
+  return q;
+}
+
+std::array<PetscInt, kernels::kNqEl> span_q_dofs(const DofMap& map, const Beam& b, int e) {
+  std::array<PetscInt, kernels::kNqEl> d{};
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < kernels::kNq; ++k) d[kernels::kNq * a + k] = map.q(b.first_cp() + e + a, k);
+  return d;
+}
+
+void scatter_span(const DofMap& map, const LocalValues& r, const Beam& b, int e, const kernels::VecEl& v) {
+  for (int a = 0; a < 3; ++a) {
+    PetscScalar* c = r.cp(map, b.first_cp() + e + a);
+    for (int k = 0; k < kernels::kNq; ++k) c[k] += v(kernels::kNq * a + k);
+  }
+}
+
+std::string where(const std::string& effect, const std::string& what) { return effect + ": " + what; }
+
+}  // namespace effects
+}  // namespace slidebeam

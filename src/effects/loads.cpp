@@ -1,0 +1,228 @@
+// SPDX-License-Identifier: MIT
+/// @file External loads: gravity, point masses (their weight; inertia comes with dynamics),
+/// point forces and point moments with a time function.
+
+#include "effects/common.hpp"
+#include "model/time_function.hpp"
+
+#include <Eigen/Dense>
+#include <stdexcept>
+
+namespace slidebeam::effects {
+
+namespace {
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v(2), v(1), v(2), 0, -v(0), -v(1), v(0), 0;
+  return S;
+}
+
+/// A point of a beam given by arc length, with the basis of the span that holds it.
+struct BeamPoint {
+  int beam = 0;
+  double s = 0.0;
+  PointBasis basis;
+
+  BeamPoint(const Model& m, const EffectParams& p, const std::string& who) : beam(beam_param(m, p)) {
+    const Beam& b = m.beam(beam);
+    s = p.number("s");
+    if (s < -1e-12 * b.length() || s > b.length() * (1 + 1e-12))
+      throw std::invalid_argument(who + ": point s = " + std::to_string(s) + " is outside beam '" + b.name() +
+                                  "' (length " + std::to_string(b.length()) + ")");
+    basis = b.basis_at(s);
+  }
+  PetscInt cp(const Model& m, int a) const { return m.beam(beam).first_cp() + basis.span + a; }
+  bool owned(const Model& m) const { return owns_span(m, m.beam(beam), basis.span); }
+  /// Interpolated block (0 = phi, 1..3 = d1..d3) at the point.
+  Eigen::Vector3d field(const EvalContext& ctx, int block) const {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a) v += basis.N[a] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, cp(ctx.model, a)) + 3 * block);
+    return v;
+  }
+};
+}  // namespace
+
+/// A lumped mass at a beam point. Statics: its weight, through the gravity effect.
+class PointMass final : public Effect {
+ public:
+  PointMass(const Model& m, const EffectParams& p) : point(m, p, "point_mass"), mass(p.number("mass")) {
+    if (!(mass > 0)) throw std::invalid_argument("point_mass: mass must be > 0");
+  }
+  std::string type() const override { return "point_mass"; }
+  std::string label() const override { return "point_mass[" + std::to_string(mass) + " kg]"; }
+  void distribute(const Model&) override {}
+  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
+  PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }
+  PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
+  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+
+  BeamPoint point;
+  double mass;
+};
+
+/// Uniform gravity on every beam (rho A) and on every point mass of the model.
+class Gravity final : public Effect {
+ public:
+  Gravity(const Model&, const EffectParams& p) : f_(TimeFunction::from(p)) {
+    const auto& g = p.vector("g", 3);
+    g_ = Eigen::Vector3d(g[0], g[1], g[2]);
+  }
+  std::string type() const override { return "gravity"; }
+  std::string label() const override { return "gravity"; }
+
+  void distribute(const Model& m) override {
+    for (const auto& b : m.beams()) {
+      if (b.section().rhoA == 0.0) continue;
+      for (int e = 0; e < b.n_spans(); ++e)
+        if (owns_span(m, b, e)) spans_.push_back({b.id(), e});
+    }
+    for (const auto& eff : m.effects())
+      if (const auto* pm = dynamic_cast<const PointMass*>(eff.get()); pm && pm->point.owned(m)) masses_.push_back(pm);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    for (const auto& [b, e] : spans_) add_cp_blocks(m.dof_map(), m.beam(b).first_cp() + e, 3, dofs);
+    for (const auto* pm : masses_) add_cp_blocks(m.dof_map(), pm->point.cp(m, 0), 3, dofs);
+  }
+  PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }  // constant force
+
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    const Eigen::Vector3d g = f_(ctx.t) * g_;
+    for (const auto& [bi, e] : spans_) {
+      const Beam& b = ctx.model.beam(bi);
+      for (int q = 0; q < 3; ++q) {
+        const auto& gp = b.gp_full(e, q);
+        for (int a = 0; a < 3; ++a)
+          Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, b.first_cp() + e + a)) -= gp.w * gp.N[a] * b.section().rhoA * g;
+      }
+    }
+    for (const auto* pm : masses_)
+      for (int a = 0; a < 3; ++a)
+        Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, pm->point.cp(ctx.model, a))) -= pm->point.basis.N[a] * pm->mass * g;
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+  double energy(const EvalContext& ctx) const override {
+    const Eigen::Vector3d g = f_(ctx.t) * g_;
+    double V = 0.0;
+    for (const auto& [bi, e] : spans_) {
+      const Beam& b = ctx.model.beam(bi);
+      for (int q = 0; q < 3; ++q) {
+        const auto& gp = b.gp_full(e, q);
+        Eigen::Vector3d phi = Eigen::Vector3d::Zero();
+        for (int a = 0; a < 3; ++a) phi += gp.N[a] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, b.first_cp() + e + a));
+        V -= gp.w * b.section().rhoA * g.dot(phi);
+      }
+    }
+    for (const auto* pm : masses_) V -= pm->mass * g.dot(pm->point.field(ctx, 0));
+    return V;
+  }
+
+ private:
+  TimeFunction f_;
+  Eigen::Vector3d g_;
+  std::vector<std::pair<int, int>> spans_;
+  std::vector<const PointMass*> masses_;
+};
+
+/// Force (fixed direction) or moment at a beam point, times a time function.
+/// A moment M acts through director forces F_i = 1/2 M x d_i, whose virtual work is M . dtheta
+/// (benchmarks.md 3.5). In the material frame M = sum_j m_j d_j follows the section.
+class PointLoad final : public Effect {
+ public:
+  PointLoad(const Model& m, const EffectParams& p, bool moment)
+      : point_(m, p, moment ? "moment" : "force"), moment_(moment), f_(TimeFunction::from(p)) {
+    const auto& v = p.vector("value", 3);
+    value_ = Eigen::Vector3d(v[0], v[1], v[2]);
+    const std::string frame = p.string("frame", "spatial");
+    if (frame != "spatial" && frame != "material") throw std::invalid_argument("load frame must be spatial or material");
+    material_ = frame == "material";
+    if (material_ && !moment) throw std::invalid_argument("force: only moments can be given in the material frame");
+  }
+  std::string type() const override { return moment_ ? "moment" : "force"; }
+  std::string label() const override { return type() + "[" + std::to_string(point_.beam) + "@" + std::to_string(point_.s) + "]"; }
+
+  void distribute(const Model& m) override { owned_ = point_.owned(m); }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    if (owned_) add_cp_blocks(m.dof_map(), point_.cp(m, 0), 3, dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    if (!owned_ || !moment_) PetscFunctionReturn(0);
+    const auto d = director_dofs(m.dof_map(), m);
+    const double zero[27 * 27] = {};
+    PetscCall(sink.add(27, d.data(), 27, d.data(), zero));
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const double amp = f_(ctx.t);
+    if (!moment_) {
+      for (int a = 0; a < 3; ++a)
+        Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, point_.cp(ctx.model, a))) -= amp * point_.basis.N[a] * value_;
+      PetscFunctionReturn(0);
+    }
+    const Eigen::Vector3d M = amp * moment_vector(ctx);
+    for (int i = 1; i <= 3; ++i) {
+      const Eigen::Vector3d Fi = 0.5 * M.cross(point_.field(ctx, i));
+      for (int a = 0; a < 3; ++a)
+        Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, point_.cp(ctx.model, a)) + 3 * i) -= point_.basis.N[a] * Fi;
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (!owned_ || !moment_) PetscFunctionReturn(0);
+    const double amp = f_(ctx.t);
+    const Eigen::Vector3d M = amp * moment_vector(ctx);
+    // dF_i/dd_k = 1/2 (delta_ik [M]x - m_k [d_i]x), the second term only in the material frame.
+    Eigen::Matrix<double, 27, 27, Eigen::RowMajor> K = Eigen::Matrix<double, 27, 27, Eigen::RowMajor>::Zero();
+    for (int i = 1; i <= 3; ++i) {
+      const Eigen::Vector3d di = point_.field(ctx, i);
+      for (int k = 1; k <= 3; ++k) {
+        Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
+        if (i == k) D += 0.5 * skew(M);
+        if (material_) D -= 0.5 * amp * value_(k - 1) * skew(di);
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b)
+            K.block<3, 3>(9 * a + 3 * (i - 1), 9 * b + 3 * (k - 1)) -= point_.basis.N[a] * point_.basis.N[b] * D;
+      }
+    }
+    const auto d = director_dofs(ctx.map, ctx.model);
+    PetscCall(J.add(27, d.data(), 27, d.data(), K.data()));
+    PetscFunctionReturn(0);
+  }
+  double energy(const EvalContext& ctx) const override {
+    // A force of fixed direction is conservative; a moment in 3D is not, so it has no potential.
+    if (!owned_ || moment_) return 0.0;
+    return -f_(ctx.t) * value_.dot(point_.field(ctx, 0));
+  }
+
+ private:
+  Eigen::Vector3d moment_vector(const EvalContext& ctx) const {
+    if (!material_) return value_;
+    return value_(0) * point_.field(ctx, 1) + value_(1) * point_.field(ctx, 2) + value_(2) * point_.field(ctx, 3);
+  }
+  std::array<PetscInt, 27> director_dofs(const DofMap& map, const Model& m) const {
+    std::array<PetscInt, 27> d{};
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 9; ++k) d[9 * a + k] = map.q(point_.cp(m, a), 3 + k);
+    return d;
+  }
+  BeamPoint point_;
+  bool moment_;
+  bool material_ = false;
+  TimeFunction f_;
+  Eigen::Vector3d value_;
+  bool owned_ = false;
+};
+
+void register_load_effects(EffectRegistry& r) {
+  r.add("gravity", [](const Model& m, const EffectParams& p) { return std::make_unique<Gravity>(m, p); });
+  r.add("point_mass", [](const Model& m, const EffectParams& p) { return std::make_unique<PointMass>(m, p); });
+  r.add("force", [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, false); });
+  r.add("moment", [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, true); });
+}
+
+}  // namespace slidebeam::effects

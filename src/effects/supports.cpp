@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: MIT
+/// @file Supports. At a beam end a support prescribes unknowns of the interpolating end control
+/// point (eliminated from the Newton system by identity rows); a spherical support inside a
+/// beam adds three multipliers for sum_A N^A(s) phi^A = X.
+
+#include "effects/common.hpp"
+
+#include <Eigen/Dense>
+#include <stdexcept>
+
+namespace slidebeam::effects {
+
+namespace {
+/// Index of the end control point at s (0 or L), or -1 if s is inside the beam.
+int end_cp(const Beam& b, double s) {
+  const double tol = 1e-12 * b.length();
+  if (std::abs(s) <= tol) return 0;
+  if (std::abs(s - b.length()) <= tol) return b.n_cp() - 1;
+  return -1;
+}
+
+/// Prescribe coordinates (component range [k0, k1)) of one control point, and optionally its multipliers.
+void prescribe_cp(const Model& m, const Beam& b, int c, int k0, int k1, const double* values, bool multipliers,
+                  std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) {
+  const PetscInt cp = b.first_cp() + c;
+  for (int k = k0; k < k1; ++k) {
+    rows.push_back(m.dof_map().q(cp, k));
+    vals.push_back(values[k - k0]);
+  }
+  if (multipliers)
+    for (int k = 0; k < 6; ++k) {
+      rows.push_back(m.dof_map().lambda(cp, k));
+      vals.push_back(0.0);
+    }
+}
+
+/// Base of effects with no residual of their own (pure elimination).
+class PrescribingSupport : public Effect {
+ public:
+  void distribute(const Model&) override {}
+  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
+  PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }
+  PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
+  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+};
+}  // namespace
+
+/// Clamp at a beam end: position and directors of the end control point fixed. Its orthonormality
+/// multipliers are dropped too (fixed orthonormal directors satisfy the constraints identically).
+class Clamp final : public PrescribingSupport {
+ public:
+  Clamp(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)) {
+    const Beam& b = m.beam(beam_);
+    cp_ = end_cp(b, p.number("s"));
+    if (cp_ < 0) throw std::invalid_argument("clamp on beam '" + b.name() + "': only at a beam end (s = 0 or L)");
+  }
+  std::string type() const override { return "clamp"; }
+  std::string label() const override { return "clamp[" + std::to_string(beam_) + (cp_ == 0 ? ":start]" : ":end]"); }
+  void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    const Beam& b = m.beam(beam_);
+    prescribe_cp(m, b, cp_, 0, 12, b.q_ref().data() + 12 * cp_, true, rows, vals);
+  }
+
+ private:
+  int beam_;
+  int cp_;
+};
+
+/// Every control point of a beam prescribed at its reference state: a rigid rail.
+class Fixed final : public PrescribingSupport {
+ public:
+  Fixed(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)) {}
+  std::string type() const override { return "fixed"; }
+  std::string label() const override { return "fixed[" + std::to_string(beam_) + "]"; }
+  void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    const Beam& b = m.beam(beam_);
+    for (int c = 0; c < b.n_cp(); ++c) prescribe_cp(m, b, c, 0, 12, b.q_ref().data() + 12 * c, true, rows, vals);
+  }
+
+ private:
+  int beam_;
+};
+
+/// Spherical support: the centre line passes through X at beam point s; directors free.
+class Spherical final : public Effect {
+ public:
+  Spherical(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), s_(p.number("s")) {
+    const Beam& b = m.beam(beam_);
+    if (s_ < -1e-12 * b.length() || s_ > b.length() * (1 + 1e-12))
+      throw std::invalid_argument("spherical support: s = " + std::to_string(s_) + " outside beam '" + b.name() + "'");
+    const auto& X = p.vector("position", 3);
+    X_ = Eigen::Vector3d(X[0], X[1], X[2]);
+    cp_ = end_cp(b, s_);
+    basis_ = b.basis_at(s_);
+  }
+  std::string type() const override { return "spherical"; }
+  std::string label() const override { return "spherical[" + std::to_string(beam_) + "@" + std::to_string(s_) + "]"; }
+  PetscInt n_extra() const override { return cp_ < 0 ? 3 : 0; }
+
+  void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X_.data(), false, rows, vals);
+  }
+  void distribute(const Model& m) override { owned_ = cp_ < 0 && owns_span(m, m.beam(beam_), basis_.span); }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    if (!owned_) return;
+    add_cp_blocks(m.dof_map(), first_cp(m), 3, dofs);
+    for (int k = 0; k < 3; ++k) dofs.push_back(extra_offset() + k);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    if (owned_) {
+      const auto d = dofs(m.dof_map(), m);
+      const double zero[12 * 12] = {};
+      PetscCall(sink.add(12, d.data(), 12, d.data(), zero));
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const Eigen::Vector3d mu(ctx.x.at(extra_offset()), ctx.x.at(extra_offset() + 1), ctx.x.at(extra_offset() + 2));
+    Eigen::Vector3d gap = -X_;
+    for (int a = 0; a < 3; ++a) {
+      const PetscInt cp = first_cp(ctx.model) + a;
+      gap += basis_.N[a] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, cp));
+      Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, cp)) += basis_.N[a] * mu;
+    }
+    for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += gap(k);
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    Eigen::Matrix<double, 12, 12, Eigen::RowMajor> A = Eigen::Matrix<double, 12, 12, Eigen::RowMajor>::Zero();
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) A(3 * a + k, 9 + k) = A(9 + k, 3 * a + k) = basis_.N[a];
+    const auto d = dofs(ctx.map, ctx.model);
+    PetscCall(J.add(12, d.data(), 12, d.data(), A.data()));
+    PetscFunctionReturn(0);
+  }
+
+ private:
+  PetscInt first_cp(const Model& m) const { return m.beam(beam_).first_cp() + basis_.span; }
+  /// phi of the span's 3 control points, then the 3 multipliers.
+  std::array<PetscInt, 12> dofs(const DofMap& map, const Model& m) const {
+    std::array<PetscInt, 12> d{};
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) d[3 * a + k] = map.q(first_cp(m) + a, k);
+    for (int k = 0; k < 3; ++k) d[9 + k] = extra_offset() + k;
+    return d;
+  }
+  int beam_;
+  double s_;
+  Eigen::Vector3d X_;
+  int cp_ = -1;
+  PointBasis basis_;
+  bool owned_ = false;
+};
+
+void register_support_effects(EffectRegistry& r) {
+  r.add("clamp", [](const Model& m, const EffectParams& p) { return std::make_unique<Clamp>(m, p); });
+  r.add("fixed", [](const Model& m, const EffectParams& p) { return std::make_unique<Fixed>(m, p); });
+  r.add("spherical", [](const Model& m, const EffectParams& p) { return std::make_unique<Spherical>(m, p); });
+}
+
+}  // namespace slidebeam::effects

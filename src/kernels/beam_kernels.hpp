@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Element kernels of the director beam (formulation.md sections 1-4).
+///
+/// Every strain of both measures is a bilinear form c * z_a . z_b in the field vector at a
+/// quadrature point, z = (phi', d1, d2, d3, d1', d2', d3') in R^21. One table of such terms per
+/// measure therefore gives the strain, its gradient B = d eps/dz (linear in z) and its Hessian
+/// (constant), and so the energy, the internal force and the exact tangent. The same property
+/// makes the averaged-strain energy-momentum scheme exact.
+///
+/// Pure functions of local data: no PETSc, no MPI, no heap allocation.
+
+#include <Eigen/Dense>
+#include <array>
+
+namespace slidebeam::kernels {
+
+enum class StrainMeasure { SimoReissner, Seed };
+enum class Quadrature { Full, Reduced };
+
+/// Blocks of the field vector z at a quadrature point.
+enum FieldBlock : int { kPhiS = 0, kD1 = 1, kD2 = 2, kD3 = 3, kD1S = 4, kD2S = 5, kD3S = 6 };
+constexpr int kNz = 21;       ///< size of z
+constexpr int kNq = 12;       ///< coordinates per control point: phi, d1, d2, d3
+constexpr int kNqEl = 3 * kNq;  ///< coordinates of a quadratic span (3 control points)
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using VecZ = Eigen::Matrix<double, kNz, 1>;
+using MatZ = Eigen::Matrix<double, kNz, kNz>;
+using Mat6Z = Eigen::Matrix<double, 6, kNz>;
+using VecEl = Eigen::Matrix<double, kNqEl, 1>;
+using MatEl = Eigen::Matrix<double, kNqEl, kNqEl>;
+using MatZEl = Eigen::Matrix<double, kNz, kNqEl>;
+using Vec12 = Eigen::Matrix<double, kNq, 1>;
+using Mat12 = Eigen::Matrix<double, kNq, kNq>;
+using Mat6x12 = Eigen::Matrix<double, 6, kNq>;
+
+/// c * z_a . z_b
+struct BilinearTerm {
+  int a;
+  int b;
+  double c;
+};
+/// One strain component: a sum of at most two bilinear terms.
+struct QuadraticForm {
+  int n_terms;
+  std::array<BilinearTerm, 2> terms;
+};
+/// Six strains in the order (axial, shear 2, shear 3, torsion, bending about d2, bending about d3),
+/// matching the stiffness diag(EA, kGA2, kGA3, GJ, EI2, EI3).
+using StrainTable = std::array<QuadraticForm, 6>;
+
+/// The table of a strain measure (without constants: reference strains are subtracted instead).
+const StrainTable& strain_table(StrainMeasure m);
+
+/// Section stiffness diag(EA, kGA2, kGA3, GJ, EI2, EI3).
+using Stiffness = Vec6;
+
+/// Quadratic forms: value, gradient, and Hessian accumulation. Shared by strains and constraints.
+template <int N>
+double form_value(const QuadraticForm& f, const Eigen::Matrix<double, N, 1>& z) {
+  double v = 0.0;
+  for (int t = 0; t < f.n_terms; ++t) {
+    const auto& T = f.terms[t];
+    v += T.c * z.template segment<3>(3 * T.a).dot(z.template segment<3>(3 * T.b));
+  }
+  return v;
+}
+template <int N>
+void form_gradient(const QuadraticForm& f, const Eigen::Matrix<double, N, 1>& z,
+                   Eigen::Ref<Eigen::Matrix<double, 1, N>, 0, Eigen::InnerStride<>> g) {
+  g.setZero();
+  for (int t = 0; t < f.n_terms; ++t) {
+    const auto& T = f.terms[t];
+    g.template segment<3>(3 * T.a) += T.c * z.template segment<3>(3 * T.b).transpose();
+    g.template segment<3>(3 * T.b) += T.c * z.template segment<3>(3 * T.a).transpose();
+  }
+}
+/// H += w * d^2 f / dz^2
+template <int N>
+void form_add_hessian(const QuadraticForm& f, double w, Eigen::Matrix<double, N, N>& H) {
+  for (int t = 0; t < f.n_terms; ++t) {
+    const auto& T = f.terms[t];
+    for (int k = 0; k < 3; ++k) {
+      H(3 * T.a + k, 3 * T.b + k) += w * T.c;
+      H(3 * T.b + k, 3 * T.a + k) += w * T.c;
+    }
+  }
+}
+
+/// Basis data of one quadrature point of a span: N and dN/ds (already divided by the
+/// parameter-to-arc-length factor) and the integration weight in arc length.
+struct GaussPoint {
+  std::array<double, 3> N;
+  std::array<double, 3> dN;
+  double w;
+};
+
+/// Map z = P q from the 36 coordinates of a span's control points to the field vector.
+MatZEl field_map(const GaussPoint& gp);
+
+/// Strains at z.
+Vec6 strains(const StrainTable& T, const VecZ& z);
+
+/// Gauss-Legendre points and weights on [0,1] for a quadrature rule (3 = full, 2 = reduced).
+int gauss_rule(Quadrature q, std::array<double, 3>& x, std::array<double, 3>& w);
+
+/// Strain energy of one quadrature point: w/2 (eps - eps0)^T C (eps - eps0).
+double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                      const VecEl& q);
+
+/// Internal force r += w B(q_grad)^T C (eps_stress - eps0) where eps_stress is the mean strain of
+/// the given states (one state: statics/midpoint; two: the energy-momentum averaged strain).
+/// K (optional) += d r / d q_new with q_grad = (q_old + q_new)/2 when two states are given.
+void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                              const VecEl& q, VecEl& r, MatEl* K);
+
+/// Orthonormality constraints of one control point (seed eq. 2), as quadratic forms in the
+/// control point's 12 coordinates (blocks phi, d1, d2, d3).
+const std::array<QuadraticForm, 6>& orthonormality_forms();
+Vec6 orthonormality(const Vec12& q);
+Mat6x12 orthonormality_jacobian(const Vec12& q);
+/// sum_k lambda_k d^2 Phi_k / dq^2
+Mat12 orthonormality_hessian(const Vec6& lambda);
+
+}  // namespace slidebeam::kernels

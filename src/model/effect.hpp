@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file The effect interface: one physical term of the model (a beam's elastic energy, gravity, a
+/// load, a support, ...) behind residual, tangent and energy, registered by name. The model
+/// assembles exactly the effects a scene creates.
+
+#include "model/dof_map.hpp"
+
+#include <petscmat.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace slidebeam {
+
+class Model;
+
+/// Parameters of an effect, as given by the scene (numbers, vectors, strings).
+struct EffectParams {
+  std::map<std::string, double> num;
+  std::map<std::string, std::vector<double>> vec;
+  std::map<std::string, std::string> str;
+
+  double number(const std::string& key) const;
+  double number(const std::string& key, double fallback) const;
+  const std::vector<double>& vector(const std::string& key, size_t expected_size) const;
+  const std::string& string(const std::string& key) const;
+  std::string string(const std::string& key, const std::string& fallback) const;
+};
+
+/// Ghosted values of the unknowns an effect reads, indexed by global unknown.
+class LocalValues {
+ public:
+  LocalValues(const std::vector<PetscInt>& dofs, PetscScalar* data) : dofs_(&dofs), data_(data) {}
+  /// Pointer to the 18 unknowns of control point cp (12 coordinates, then 6 multipliers).
+  PetscScalar* cp(const DofMap& map, PetscInt cp) const { return data_ + index(map.q(cp, 0)); }
+  PetscScalar& at(PetscInt global) const { return data_[index(global)]; }
+
+ private:
+  PetscInt index(PetscInt global) const;
+  const std::vector<PetscInt>* dofs_;
+  PetscScalar* data_;
+};
+
+/// Evaluation state handed to effects.
+struct EvalContext {
+  const Model& model;
+  const DofMap& map;
+  double t;                 ///< time (static: pseudo-time of the load step)
+  const LocalValues& x;     ///< current unknowns (ghosted)
+};
+
+/// Adds element matrices into the global Jacobian (or records the sparsity pattern).
+class MatSink {
+ public:
+  explicit MatSink(Mat A) : A_(A) {}
+  /// A(rows, cols) += values (row-major, rows.size() x cols.size()).
+  PetscErrorCode add(PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols, const PetscScalar* v) const;
+  Mat mat() const { return A_; }
+
+ private:
+  Mat A_;
+};
+
+class Effect {
+ public:
+  virtual ~Effect() = default;
+
+  /// Registered name of the effect type ("beam_elastic", "gravity", ...).
+  virtual std::string type() const = 0;
+  /// Human-readable label of this instance ("beam_elastic[strip]").
+  virtual std::string label() const = 0;
+
+  /// Number of extra global unknowns (multipliers) this effect introduces.
+  virtual PetscInt n_extra() const { return 0; }
+  /// First global index of this effect's extra unknowns (set by the model).
+  void set_extra_offset(PetscInt first) { extra_offset_ = first; }
+  PetscInt extra_offset() const { return extra_offset_; }
+
+  /// Choose the items (elements, points) this rank evaluates. Called once after numbering.
+  virtual void distribute(const Model& model) = 0;
+  /// Global unknowns read by this rank's items (for the ghost scatter).
+  virtual void needed_dofs(const Model& model, std::vector<PetscInt>& dofs) const = 0;
+  /// Record every Jacobian entry the effect may ever touch (values are ignored).
+  virtual PetscErrorCode pattern(const Model& model, const MatSink& sink) const = 0;
+
+  /// r += dPi/dq (internal forces minus external forces, constraint rows); local ghosted layout.
+  virtual PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const = 0;
+  /// J += d r / d x.
+  virtual PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const = 0;
+  /// This rank's share of the effect's potential energy (0 for non-potential effects).
+  virtual double energy(const EvalContext&) const { return 0.0; }
+
+  /// Unknowns this effect prescribes (Dirichlet), with their values. Called on every rank;
+  /// return only rows owned by this rank.
+  virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
+
+ private:
+  PetscInt extra_offset_ = -1;
+};
+
+using EffectFactory = std::function<std::unique_ptr<Effect>(const Model&, const EffectParams&)>;
+
+/// Name -> factory. The built-in effect types are registered on first use (explicitly, not by
+/// static initialisers, which a static library may drop).
+class EffectRegistry {
+ public:
+  static EffectRegistry& instance();
+  void add(const std::string& name, EffectFactory f);
+  std::unique_ptr<Effect> create(const std::string& name, const Model& model, const EffectParams& p) const;
+  std::vector<std::string> names() const;
+
+ private:
+  std::map<std::string, EffectFactory> factories_;
+};
+
+/// Adds the built-in effects (effects/*.cpp) to a registry.
+void register_builtin_effects(EffectRegistry& registry);
+
+}  // namespace slidebeam

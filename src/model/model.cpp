@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: MIT
+#include "model/model.hpp"
+
+#include "util/petsc_check.hpp"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+namespace slidebeam {
+
+namespace {
+PetscClassId slidebeam_classid() {
+  static PetscClassId id = 0;
+  if (!id) PetscClassIdRegister("slidebeam", &id);
+  return id;
+}
+PetscLogEvent event(const std::string& name) {
+  static std::map<std::string, PetscLogEvent> events;
+  auto it = events.find(name);
+  if (it != events.end()) return it->second;
+  PetscLogEvent e = 0;
+  PetscLogEventRegister(name.c_str(), slidebeam_classid(), &e);
+  events[name] = e;
+  return e;
+}
+}  // namespace
+
+Model::Model(MPI_Comm comm) : comm_(comm) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+  ev_residual_ = event("SBAssembleResid");
+  ev_jacobian_ = event("SBAssembleJac");
+  ev_ghost_ = event("SBGhostUpdate");
+}
+
+Model::~Model() {
+  // Effects may hold no PETSc objects; destroy ours. Safe after PetscFinalize only if never created.
+  VecScatterDestroy(&scatter_);
+  VecDestroy(&x_local_);
+  VecDestroy(&r_local_);
+  VecDestroy(&x_);
+  VecDestroy(&r_);
+  MatDestroy(&J_);
+}
+
+int Model::add_beam(const BeamSpec& spec) {
+  if (finalized_) throw std::logic_error("add_beam after finalize");
+  for (const auto& b : beams_)
+    if (b.name() == spec.name) throw std::invalid_argument("duplicate beam name '" + spec.name + "'");
+  beams_.emplace_back(spec, static_cast<int>(beams_.size()), static_cast<int>(n_cp_total_));
+  n_cp_total_ += beams_.back().n_cp();
+  return static_cast<int>(beams_.size()) - 1;
+}
+
+int Model::add_effect(const std::string& type, const EffectParams& params) {
+  if (finalized_) throw std::logic_error("add_effect after finalize");
+  effects_.push_back(EffectRegistry::instance().create(type, *this, params));
+  effect_events_.push_back(event("SB:" + type));
+  return static_cast<int>(effects_.size()) - 1;
+}
+
+void Model::finalize() {
+  if (finalized_) return;
+  if (beams_.empty()) throw std::invalid_argument("the model has no beams");
+  PetscInt n_extra = 0;
+  for (auto& e : effects_) {
+    e->set_extra_offset(DofMap::kBlock * n_cp_total_ + n_extra);
+    n_extra += e->n_extra();
+  }
+  map_ = DofMap(n_cp_total_, n_extra, rank_, size_);
+  for (auto& e : effects_) e->distribute(*this);
+
+  // Ghost scatter: every unknown an effect on this rank reads.
+  for (const auto& e : effects_) e->needed_dofs(*this, ghost_dofs_);
+  std::sort(ghost_dofs_.begin(), ghost_dofs_.end());
+  ghost_dofs_.erase(std::unique(ghost_dofs_.begin(), ghost_dofs_.end()), ghost_dofs_.end());
+  const PetscInt n_ghost = static_cast<PetscInt>(ghost_dofs_.size());
+
+  SB_CHECK(VecCreateMPI(comm_, map_.local_size(), map_.global_size(), &x_));
+  SB_CHECK(VecSetOptionsPrefix(x_, "sb_x_"));
+  SB_CHECK(VecDuplicate(x_, &r_));
+  SB_CHECK(VecCreateSeq(PETSC_COMM_SELF, n_ghost, &x_local_));
+  SB_CHECK(VecDuplicate(x_local_, &r_local_));
+  IS is = nullptr;
+  SB_CHECK(ISCreateGeneral(PETSC_COMM_SELF, n_ghost, ghost_dofs_.data(), PETSC_COPY_VALUES, &is));
+  SB_CHECK(VecScatterCreate(x_, is, x_local_, nullptr, &scatter_));
+  SB_CHECK(ISDestroy(&is));
+
+  // Jacobian with exact preallocation: record every block effects may touch, plus the diagonal.
+  Mat P = nullptr;
+  SB_CHECK(MatCreate(comm_, &P));
+  SB_CHECK(MatSetType(P, MATPREALLOCATOR));
+  SB_CHECK(MatSetSizes(P, map_.local_size(), map_.local_size(), map_.global_size(), map_.global_size()));
+  SB_CHECK(MatSetUp(P));
+  MatSink psink(P);
+  for (const auto& e : effects_) SB_CHECK(e->pattern(*this, psink));
+  for (PetscInt i = map_.owned_lo(); i < map_.owned_hi(); ++i) {
+    const PetscScalar zero = 0.0;
+    SB_CHECK(MatSetValues(P, 1, &i, 1, &i, &zero, ADD_VALUES));
+  }
+  SB_CHECK(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
+  SB_CHECK(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
+  SB_CHECK(MatCreate(comm_, &J_));
+  SB_CHECK(MatSetOptionsPrefix(J_, "sb_J_"));
+  SB_CHECK(MatSetSizes(J_, map_.local_size(), map_.local_size(), map_.global_size(), map_.global_size()));
+  SB_CHECK(MatSetType(J_, MATAIJ));
+  SB_CHECK(MatSetFromOptions(J_));
+  SB_CHECK(MatPreallocatorPreallocate(P, PETSC_TRUE, J_));
+  SB_CHECK(MatDestroy(&P));
+  SB_CHECK(MatSetOption(J_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  SB_CHECK(MatSetOption(J_, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+
+  // Prescribed unknowns (supports): owned rows only, later effects win on duplicates.
+  std::map<PetscInt, PetscScalar> bc;
+  for (const auto& e : effects_) {
+    std::vector<PetscInt> rows;
+    std::vector<PetscScalar> vals;
+    e->prescribed(*this, rows, vals);
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (rows[i] >= map_.owned_lo() && rows[i] < map_.owned_hi()) bc[rows[i]] = vals[i];
+  }
+  for (const auto& kv : bc) {
+    bc_rows_.push_back(kv.first);
+    bc_values_.push_back(kv.second);
+  }
+  finalized_ = true;
+  set_reference_state(x_);
+}
+
+void Model::apply_prescribed(Vec x) const {
+  PetscScalar* a = nullptr;
+  SB_CHECK(VecGetArray(x, &a));
+  for (size_t i = 0; i < bc_rows_.size(); ++i) a[bc_rows_[i] - map_.owned_lo()] = bc_values_[i];
+  SB_CHECK(VecRestoreArray(x, &a));
+}
+
+void Model::set_reference_state(Vec x) const {
+  SB_CHECK(VecSet(x, 0.0));
+  PetscScalar* a = nullptr;
+  SB_CHECK(VecGetArray(x, &a));
+  for (const auto& b : beams_) {
+    for (int c = 0; c < b.n_cp(); ++c) {
+      const PetscInt cp = b.first_cp() + c;
+      if (!map_.owns_cp(cp)) continue;
+      for (int k = 0; k < 12; ++k) a[map_.q(cp, k) - map_.owned_lo()] = b.q_ref()[12 * c + k];
+    }
+  }
+  SB_CHECK(VecRestoreArray(x, &a));
+  apply_prescribed(x);
+}
+
+PetscErrorCode Model::update_ghosts(Vec x) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ev_ghost_, 0, 0, 0, 0));
+  PetscCall(VecScatterBegin(scatter_, x, x_local_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter_, x, x_local_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(PetscLogEventEnd(ev_ghost_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::assemble_residual(double t, Vec x, Vec F) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ev_residual_, 0, 0, 0, 0));
+  PetscCall(update_ghosts(x));
+  PetscCall(VecZeroEntries(r_local_));
+  PetscScalar *xa = nullptr, *ra = nullptr;
+  PetscCall(VecGetArray(x_local_, &xa));
+  PetscCall(VecGetArray(r_local_, &ra));
+  {
+    LocalValues xv(ghost_dofs_, xa), rv(ghost_dofs_, ra);
+    EvalContext ctx{*this, map_, t, xv};
+    for (size_t k = 0; k < effects_.size(); ++k) {
+      PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
+      PetscCall(effects_[k]->residual(ctx, rv));
+      PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
+    }
+  }
+  PetscCall(VecRestoreArray(r_local_, &ra));
+  PetscCall(VecRestoreArray(x_local_, &xa));
+  PetscCall(VecZeroEntries(F));
+  PetscCall(VecScatterBegin(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
+  if (!bc_rows_.empty()) {
+    const PetscScalar* xg = nullptr;
+    PetscScalar* f = nullptr;
+    PetscCall(VecGetArrayRead(x, &xg));
+    PetscCall(VecGetArray(F, &f));
+    for (size_t i = 0; i < bc_rows_.size(); ++i) {
+      const PetscInt l = bc_rows_[i] - map_.owned_lo();
+      f[l] = xg[l] - bc_values_[i];
+    }
+    PetscCall(VecRestoreArray(F, &f));
+    PetscCall(VecRestoreArrayRead(x, &xg));
+  }
+  PetscCall(PetscLogEventEnd(ev_residual_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::assemble_jacobian(double t, Vec x, Mat J) const {
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ev_jacobian_, 0, 0, 0, 0));
+  PetscCall(update_ghosts(x));
+  PetscCall(MatZeroEntries(J));
+  PetscScalar* xa = nullptr;
+  PetscCall(VecGetArray(x_local_, &xa));
+  {
+    LocalValues xv(ghost_dofs_, xa);
+    EvalContext ctx{*this, map_, t, xv};
+    MatSink sink(J);
+    for (size_t k = 0; k < effects_.size(); ++k) {
+      PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
+      PetscCall(effects_[k]->jacobian(ctx, sink));
+      PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
+    }
+  }
+  PetscCall(VecRestoreArray(x_local_, &xa));
+  PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  // Prescribed unknowns: identity rows and columns (x already satisfies them, so dropping the
+  // columns changes nothing and keeps the matrix symmetric).
+  PetscCall(MatZeroRowsColumns(J, static_cast<PetscInt>(bc_rows_.size()), bc_rows_.data(), 1.0, nullptr, nullptr));
+  PetscCall(PetscLogEventEnd(ev_jacobian_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+std::vector<double> Model::effect_energies(double t, Vec x) const {
+  SB_CHECK(update_ghosts(x));
+  std::vector<double> e(effects_.size(), 0.0);
+  PetscScalar* xa = nullptr;
+  SB_CHECK(VecGetArray(x_local_, &xa));
+  {
+    LocalValues xv(ghost_dofs_, xa);
+    EvalContext ctx{*this, map_, t, xv};
+    for (size_t k = 0; k < effects_.size(); ++k) e[k] = effects_[k]->energy(ctx);
+  }
+  SB_CHECK(VecRestoreArray(x_local_, &xa));
+  MPI_Allreduce(MPI_IN_PLACE, e.data(), static_cast<int>(e.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  return e;
+}
+
+std::vector<double> Model::beam_coordinates(int beam_index, Vec x) const {
+  const Beam& b = beam(beam_index);
+  std::vector<double> q(static_cast<size_t>(12 * b.n_cp()), 0.0);
+  const PetscScalar* a = nullptr;
+  SB_CHECK(VecGetArrayRead(x, &a));
+  for (int c = 0; c < b.n_cp(); ++c) {
+    const PetscInt cp = b.first_cp() + c;
+    if (!map_.owns_cp(cp)) continue;
+    for (int k = 0; k < 12; ++k) q[12 * c + k] = a[map_.q(cp, k) - map_.owned_lo()];
+  }
+  SB_CHECK(VecRestoreArrayRead(x, &a));
+  MPI_Allreduce(MPI_IN_PLACE, q.data(), static_cast<int>(q.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  return q;
+}
+
+}  // namespace slidebeam

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file The model: beams, effects, numbering, and assembly of the residual and Jacobian into
+/// distributed PETSc objects. Knows nothing about time stepping or Newton.
+
+#include "model/beam.hpp"
+#include "model/dof_map.hpp"
+#include "model/effect.hpp"
+
+#include <petscmat.h>
+#include <petscvec.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace slidebeam {
+
+class Model {
+ public:
+  explicit Model(MPI_Comm comm);
+  ~Model();
+  Model(const Model&) = delete;
+  Model& operator=(const Model&) = delete;
+
+  MPI_Comm comm() const { return comm_; }
+  int rank() const { return rank_; }
+
+  /// Add a beam; returns its index. Only before finalize().
+  int add_beam(const BeamSpec& spec);
+  /// Create an effect by registered type name; returns its index. Only before finalize().
+  int add_effect(const std::string& type, const EffectParams& params);
+
+  /// Number unknowns, distribute effects, build ghost scatter, vectors and the preallocated Jacobian.
+  void finalize();
+  bool finalized() const { return finalized_; }
+
+  const std::vector<Beam>& beams() const { return beams_; }
+  const Beam& beam(int i) const { return beams_.at(static_cast<size_t>(i)); }
+  const std::vector<std::unique_ptr<Effect>>& effects() const { return effects_; }
+  const DofMap& dof_map() const { return map_; }
+  PetscInt n_cp_total() const { return n_cp_total_; }
+
+  /// Global unknowns (coordinates, multipliers, extras), residual vector and Jacobian owned by the model.
+  Vec x() const { return x_; }
+  Vec residual_vector() const { return r_; }
+  Mat jacobian() const { return J_; }
+
+  /// Reset x to the reference configuration (multipliers zero, prescribed values applied).
+  void set_reference_state(Vec x) const;
+  /// Apply prescribed values to x.
+  void apply_prescribed(Vec x) const;
+
+  /// Assemble F(x) at time t (Dirichlet rows: x_i - xbar_i).
+  PetscErrorCode assemble_residual(double t, Vec x, Vec F) const;
+  /// Assemble J(x) at time t (Dirichlet rows and columns: identity).
+  PetscErrorCode assemble_jacobian(double t, Vec x, Mat J) const;
+  /// Potential energy of each effect at x (collective); same order as effects().
+  std::vector<double> effect_energies(double t, Vec x) const;
+
+  /// Coordinates (n_cp x 12, row-major) of a beam's control points at x, on every rank (collective).
+  std::vector<double> beam_coordinates(int beam, Vec x) const;
+
+  /// Prescribed rows owned by this rank and their values.
+  const std::vector<PetscInt>& prescribed_rows() const { return bc_rows_; }
+
+ private:
+  PetscErrorCode update_ghosts(Vec x) const;
+  PetscErrorCode register_events();
+
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  bool finalized_ = false;
+  std::vector<Beam> beams_;
+  std::vector<std::unique_ptr<Effect>> effects_;
+  PetscInt n_cp_total_ = 0;
+  DofMap map_;
+
+  // ghosting: sorted global indices needed on this rank, scatter global -> local work vector
+  std::vector<PetscInt> ghost_dofs_;
+  VecScatter scatter_ = nullptr;
+  Vec x_local_ = nullptr, r_local_ = nullptr;
+
+  Vec x_ = nullptr, r_ = nullptr;
+  Mat J_ = nullptr;
+
+  std::vector<PetscInt> bc_rows_;
+  std::vector<PetscScalar> bc_values_;
+
+  std::vector<PetscLogEvent> effect_events_;
+  PetscLogEvent ev_residual_ = 0, ev_jacobian_ = 0, ev_ghost_ = 0;
+};
+
+}  // namespace slidebeam

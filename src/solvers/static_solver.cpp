@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/static_solver.hpp"
+
+#include "util/petsc_check.hpp"
+
+namespace slidebeam {
+
+StaticSolver::StaticSolver(Model& model) : model_(model) {
+  if (!model.finalized()) model.finalize();
+  SB_CHECK(SNESCreate(model.comm(), &snes_));
+  SB_CHECK(SNESSetType(snes_, SNESNEWTONLS));
+  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &StaticSolver::form_function, this));
+  SB_CHECK(SNESSetJacobian(snes_, model.jacobian(), model.jacobian(), &StaticSolver::form_jacobian, this));
+  // Exact Newton: full steps (a line search on a saddle-point residual norm mostly gets in the way).
+  SNESLineSearch ls = nullptr;
+  SB_CHECK(SNESGetLineSearch(snes_, &ls));
+  SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+  SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-10, 1e-14, 50, 10000));
+  // Sparse direct solve. The saddle-point matrix has zero diagonal entries (multipliers, and d1
+  // for the seed's strains), so the factorisation must pivot: PETSc's own LU does not.
+  // Serial: SuperLU; parallel: MUMPS. Both can be changed from the options database.
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  SB_CHECK(SNESGetKSP(snes_, &ksp));
+  SB_CHECK(KSPSetType(ksp, KSPPREONLY));
+  SB_CHECK(KSPGetPC(ksp, &pc));
+  SB_CHECK(PCSetType(pc, PCLU));
+  int size = 1;
+  MPI_Comm_size(model.comm(), &size);
+  SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
+  SB_CHECK(SNESSetFromOptions(snes_));
+}
+
+StaticSolver::~StaticSolver() { SNESDestroy(&snes_); }
+
+PetscErrorCode StaticSolver::form_function(SNES, Vec x, Vec F, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<StaticSolver*>(ctx);
+  PetscCall(self->model_.assemble_residual(self->t_, x, F));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticSolver::form_jacobian(SNES, Vec x, Mat J, Mat, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<StaticSolver*>(ctx);
+  PetscCall(self->model_.assemble_jacobian(self->t_, x, J));
+  PetscFunctionReturn(0);
+}
+
+SolveResult StaticSolver::solve(double t) {
+  t_ = t;
+  model_.apply_prescribed(model_.x());
+  SB_CHECK(SNESSolve(snes_, nullptr, model_.x()));
+  SolveResult r;
+  SNESConvergedReason reason;
+  SB_CHECK(SNESGetConvergedReason(snes_, &reason));
+  r.reason = static_cast<int>(reason);
+  PetscInt it = 0, lit = 0;
+  SB_CHECK(SNESGetIterationNumber(snes_, &it));
+  SB_CHECK(SNESGetLinearSolveIterations(snes_, &lit));
+  r.iterations = static_cast<int>(it);
+  r.linear_iterations = static_cast<int>(lit);
+  PetscReal fnorm = 0;
+  SB_CHECK(SNESGetFunctionNorm(snes_, &fnorm));
+  r.residual_norm = fnorm;
+  return r;
+}
+
+const char* StaticSolver::reason_name(int reason) { return SNESConvergedReasons[reason]; }
+
+}  // namespace slidebeam

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+// The assembled, distributed Jacobian equals the finite-difference derivative of the assembled
+// residual, with every effect active and any number of ranks (run at np = 1 and 2).
+#include "model/model.hpp"
+#include "util/petsc_check.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace slidebeam;
+
+namespace {
+BeamSpec straight_beam(const std::string& name, int spans, double L, const Eigen::Vector3d& X0,
+                       kernels::StrainMeasure m, kernels::Quadrature q) {
+  BeamSpec s;
+  s.name = name;
+  s.n_spans = spans;
+  s.length = L;
+  s.section = {5e3, 2e3, 2.5e3, 40.0, 60.0, 80.0, 1.0, 0.1, 0.2};
+  s.strain = m;
+  s.quadrature = q;
+  for (int a = 0; a < spans + 2; ++a) {
+    const double xi = bspline::greville(spans, a);
+    const double v[12] = {X0(0) + xi * L, X0(1), X0(2), 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    s.q_ref.insert(s.q_ref.end(), v, v + 12);
+  }
+  return s;
+}
+
+// Deterministic value per global index, the same on every rank.
+double pseudo_random(PetscInt i, double scale) { return scale * std::sin(12.9898 * (i + 1) + 78.233); }
+
+void set_by_index(Vec v, double scale, const std::vector<PetscInt>& zero_rows, bool add) {
+  PetscInt lo, hi;
+  SB_CHECK(VecGetOwnershipRange(v, &lo, &hi));
+  PetscScalar* a;
+  SB_CHECK(VecGetArray(v, &a));
+  for (PetscInt i = lo; i < hi; ++i) a[i - lo] = (add ? a[i - lo] : 0.0) + pseudo_random(i, scale);
+  for (PetscInt r : zero_rows) a[r - lo] = add ? a[r - lo] : 0.0;
+  SB_CHECK(VecRestoreArray(v, &a));
+}
+}  // namespace
+
+TEST(Model, AssembledJacobianMatchesFiniteDifferences) {
+  Model m(PETSC_COMM_WORLD);
+  m.add_beam(straight_beam("A", 5, 3.0, {0, 0, 0}, kernels::StrainMeasure::Seed, kernels::Quadrature::Reduced));
+  m.add_beam(straight_beam("B", 4, 2.0, {0, 1, 0}, kernels::StrainMeasure::SimoReissner, kernels::Quadrature::Full));
+  auto add = [&](const std::string& type, std::map<std::string, double> num,
+                 std::map<std::string, std::vector<double>> vec = {}, std::map<std::string, std::string> str = {}) {
+    m.add_effect(type, EffectParams{num, vec, str});
+  };
+  for (double b : {0.0, 1.0}) {
+    add("beam_elastic", {{"beam", b}});
+    add("director_constraints", {{"beam", b}});
+  }
+  add("clamp", {{"beam", 0}, {"s", 0.0}});
+  add("moment", {{"beam", 0}, {"s", 3.0}, {"tf_t1", 1.0}}, {{"value", {1.0, -2.0, 3.0}}},
+      {{"frame", "material"}, {"tf_type", "ramp"}});
+  add("moment", {{"beam", 0}, {"s", 1.7}}, {{"value", {0.5, 0.2, -1.0}}});
+  add("force", {{"beam", 0}, {"s", 2.2}}, {{"value", {0.0, 1.0, 4.0}}});
+  add("point_mass", {{"beam", 1}, {"s", 2.0}, {"mass", 2.0}});
+  add("gravity", {}, {{"g", {0.0, -9.81, 0.0}}});
+  add("spherical", {{"beam", 1}, {"s", 0.0}}, {{"position", {0.0, 1.0, 0.0}}});
+  add("spherical", {{"beam", 1}, {"s", 1.3}}, {{"position", {1.3, 1.0, 0.0}}});
+  m.finalize();
+
+  Vec x = m.x(), v, F1, F2, Jv;
+  SB_CHECK(VecDuplicate(x, &v));
+  SB_CHECK(VecDuplicate(x, &F1));
+  SB_CHECK(VecDuplicate(x, &F2));
+  SB_CHECK(VecDuplicate(x, &Jv));
+  set_by_index(x, 0.05, m.prescribed_rows(), true);  // deformed, off the constraint manifold, lambda != 0
+  set_by_index(v, 1.0, m.prescribed_rows(), false);
+  const double t = 0.6;
+  SB_CHECK(m.assemble_jacobian(t, x, m.jacobian()));
+  SB_CHECK(MatMult(m.jacobian(), v, Jv));
+  const double h = 1e-6;
+  SB_CHECK(VecAXPY(x, h, v));
+  SB_CHECK(m.assemble_residual(t, x, F1));
+  SB_CHECK(VecAXPY(x, -2 * h, v));
+  SB_CHECK(m.assemble_residual(t, x, F2));
+  SB_CHECK(VecAXPY(F1, -1.0, F2));
+  SB_CHECK(VecScale(F1, 1.0 / (2 * h)));
+  PetscReal nJv, nerr;
+  SB_CHECK(VecNorm(Jv, NORM_2, &nJv));
+  SB_CHECK(VecAXPY(F1, -1.0, Jv));
+  SB_CHECK(VecNorm(F1, NORM_2, &nerr));
+  EXPECT_GT(nJv, 1.0);
+  EXPECT_LT(nerr, 1e-6 * nJv);
+  for (Vec* w : {&v, &F1, &F2, &Jv}) VecDestroy(w);
+}
+
+TEST(Model, UnknownEffectAndBadParametersAreClearErrors) {
+  Model m(PETSC_COMM_WORLD);
+  m.add_beam(straight_beam("A", 2, 1.0, {0, 0, 0}, kernels::StrainMeasure::Seed, kernels::Quadrature::Full));
+  try {
+    m.add_effect("warp_drive", EffectParams{});
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("warp_drive"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("beam_elastic"), std::string::npos);
+  }
+  EXPECT_THROW(m.add_effect("clamp", EffectParams{{{"beam", 0}, {"s", 0.5}}, {}, {}}), std::invalid_argument);
+  EXPECT_THROW(m.add_effect("beam_elastic", EffectParams{{{"beam", 3}}, {}, {}}), std::invalid_argument);
+}
+
+TEST(Model, DofMapCoversEveryUnknownOnce) {
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  for (int n_cp : {3, 7, 50}) {
+    PetscInt total = 0;
+    for (int r = 0; r < size; ++r) {
+      DofMap d(n_cp, 5, r, size);
+      total += d.local_size();
+      for (PetscInt cp = 0; cp < n_cp; ++cp)
+        if (d.owns_cp(cp)) EXPECT_TRUE(d.q(cp, 0) >= d.owned_lo() && d.q(cp, 17) < d.owned_hi());
+    }
+    EXPECT_EQ(total, 18 * n_cp + 5);
+  }
+}

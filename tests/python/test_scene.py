@@ -1,0 +1,541 @@
+"""Tests of slidebeam.scene: loading, normalisation, overrides, error messages."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import pathlib
+import sys
+import textwrap
+
+import pytest
+
+# load scene.py on its own: the package __init__ may import a compiled module not built yet
+_p = pathlib.Path(__file__).resolve().parents[2] / "python" / "slidebeam" / "scene.py"
+_spec = importlib.util.spec_from_file_location("slidebeam_scene_standalone", _p)
+scene = importlib.util.module_from_spec(_spec)
+sys.modules[_spec.name] = scene
+_spec.loader.exec_module(scene)
+
+
+FULL = """
+[scene]
+name = "rollup"
+description = "roll-up of a strip"
+
+[analysis]
+type = "static"
+steps = 20
+t_end = 2.0
+
+[petsc]
+snes_rtol = 1e-10
+snes_max_it = 50
+ksp_type = "preonly"
+snes_monitor = true
+ksp_monitor = false
+options_file = "rollup.opts"
+
+[gravity]
+g = [0.0, -9.80665, 0]
+
+[[beam]]
+name = "strip"
+start = [0, 0, 0]
+end = [10, 0, 0]
+d2 = [0, 2, 0]
+spans = 16
+quadrature = "reduced"
+velocity = [1, 0, 0]
+[beam.section]
+shape = "rectangle"
+b = 0.005
+h = 0.005
+E = 2.07e11
+nu = 0.3
+rho = 7800
+
+[[beam]]
+name = "ring"
+arc = { center = [0, 0, 0], radius = 100.0, normal = [0, 0, 2], start = [100, 0, 0], angle = 45 }
+spans = 8
+strain = "seed"
+[beam.section]
+EA = 1e4
+kGA = 2e4
+GJ = 100
+EI2 = 101
+EI3 = 102
+rhoA = 1
+rhoI2 = 10
+
+[[beam]]
+name = "frame"
+polyline = [[0, 0, 0], [0, 10, 0], [-10, 10, 0]]
+spans = 4
+[beam.section]
+shape = "circle"
+r = 0.01
+E = 1e9
+nu = 0.25
+
+[[support]]
+type = "clamp"
+beam = "strip"
+at = "start"
+
+[[support]]
+type = "spherical"
+beam = "frame"
+at = 15.0
+
+[[support]]
+type = "clamp"
+beam = "ring"
+at = 78.53981633974483
+
+[[support]]
+type = "fixed"
+beam = "strip"
+
+[[load]]
+type = "moment"
+beam = "strip"
+at = "end"
+value = [0, 0, 62.83]
+frame = "material"
+
+[[load]]
+type = "force"
+beam = "ring"
+at = 10
+value = [0, 0, 1]
+time_function = { type = "hat", t0 = 0.5, t1 = 1.0, t2 = 1.5 }
+
+[[point_mass]]
+beam = "frame"
+at = "end"
+mass = 2
+
+[output]
+every = 2
+track = [{ beam = "strip", at = "end" }, { beam = "frame", at = 5 }]
+"""
+
+SMALL = """
+[[beam]]
+name = "strip"
+start = [0, 0, 0]
+end = [10, 0, 0]
+spans = 16
+[beam.section]
+shape = "rectangle"
+b = 0.005
+h = 0.005
+E = 2.07e11
+nu = 0.3
+"""
+
+
+def _write(tmp_path: pathlib.Path, text: str, name: str = "case.toml") -> pathlib.Path:
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+@pytest.fixture
+def full(tmp_path: pathlib.Path):
+    (tmp_path / "rollup.opts").write_text("-snes_view\n")
+    return scene.load_scene(_write(tmp_path, FULL, "rollup.toml"))
+
+
+# ----------------------------------------------------------------------------
+# valid scenes
+
+
+def test_full_scene_top_level(full, tmp_path):
+    assert full.name == "rollup"
+    assert full.description == "roll-up of a strip"
+    assert full.file.endswith("rollup.toml")
+    assert full.base_dir == str(tmp_path.resolve())
+    assert full.gravity == (0.0, -9.80665, 0.0)
+    assert all(isinstance(g, float) for g in full.gravity)
+    assert full.petsc_options == {
+        "snes_rtol": "1e-10", "snes_max_it": "50", "ksp_type": "preonly", "snes_monitor": "",
+    }
+    assert full.petsc_options_file == str((tmp_path / "rollup.opts").resolve())
+    a = full.analysis
+    assert (a.type, a.steps, a.t_end, a.dt, a.dt_min) == ("static", 20, 2.0, None, None)
+    assert (a.integrator, a.newmark_beta, a.newmark_gamma, a.hht_alpha) == ("energy-momentum", 0.25, 0.5, -0.1)
+    assert full.beam_index("frame") == 2
+    with pytest.raises(scene.SceneError, match="nope"):
+        full.beam_index("nope")
+
+
+def test_full_scene_beams(full):
+    strip, ring, frame = full.beams
+    assert [b.index for b in full.beams] == [0, 1, 2]
+    assert strip.geometry.kind == "line"
+    assert strip.geometry.points == ((0.0, 0.0, 0.0), (10.0, 0.0, 0.0))
+    assert strip.geometry.length == 10.0
+    assert strip.d2 == (0.0, 1.0, 0.0)
+    assert (strip.spans, strip.quadrature, strip.strain, strip.formulation) == (16, "reduced", "simo-reissner", "director")
+    assert strip.velocity == (1.0, 0.0, 0.0) and strip.angular_velocity == (0.0, 0.0, 0.0)
+
+    g = ring.geometry
+    assert g.kind == "arc" and g.points == ()
+    assert g.center == (0.0, 0.0, 0.0) and g.radius == 100.0 and g.normal == (0.0, 0.0, 1.0)
+    assert g.start == (100.0, 0.0, 0.0) and g.angle_deg == 45.0
+    assert g.length == pytest.approx(100.0 * math.pi / 4, rel=1e-14)
+    assert ring.d2 is None and ring.strain == "seed" and ring.quadrature == "full"
+    end = g.point_at(g.length)
+    assert end == pytest.approx((100 / math.sqrt(2), 100 / math.sqrt(2), 0.0), abs=1e-10)
+
+    assert frame.geometry.kind == "polyline"
+    assert frame.geometry.points == ((0.0, 0.0, 0.0), (0.0, 10.0, 0.0), (-10.0, 10.0, 0.0))
+    assert frame.geometry.length == 20.0
+    assert frame.geometry.point_at(15.0) == pytest.approx((-5.0, 10.0, 0.0))
+
+
+def test_rectangle_section_numbers(full):
+    b = 0.005
+    sec = full.beams[0].section
+    E, nu, rho = 2.07e11, 0.3, 7800.0
+    G = E / (2 * (1 + nu))
+    A, I = b * b, b**4 / 12
+    J_roark = b**4 * (1 / 3 - 0.21 * (1 - 1 / 12))  # = 0.140833 b^4
+    assert sec.EA == pytest.approx(E * A, rel=1e-14)
+    assert sec.EI2 == pytest.approx(E * I, rel=1e-14) and sec.EI3 == pytest.approx(E * I, rel=1e-14)
+    assert sec.GJ == pytest.approx(G * J_roark, rel=1e-14)
+    # exact Saint-Venant value for a square is 0.1406 b^4; Roark's fit is within 0.2 %
+    assert sec.GJ / G == pytest.approx(0.1406 * b**4, rel=2e-3)
+    assert sec.kGA2 == pytest.approx(5 / 6 * G * A, rel=1e-14) and sec.kGA3 == sec.kGA2
+    assert sec.rhoA == pytest.approx(rho * A) and sec.rhoI2 == pytest.approx(rho * I)
+
+
+def test_rectangle_properties_orientation():
+    # b along d2, h along d3: I2 = b h^3/12 (about d2), I3 = h b^3/12
+    A, I2, I3, J = scene.rectangle_properties(0.02, 0.01)
+    assert A == pytest.approx(2e-4)
+    assert I2 == pytest.approx(0.02 * 0.01**3 / 12)
+    assert I3 == pytest.approx(0.01 * 0.02**3 / 12)
+    # Roark: a = 0.02, c = 0.01, tabulated beta = 0.229 for a/c = 2 (J = beta a c^3)
+    assert J / (0.02 * 0.01**3) == pytest.approx(0.229, rel=5e-3)
+
+
+def test_circle_and_explicit_sections(full):
+    r, E, nu = 0.01, 1e9, 0.25
+    G = E / (2 * (1 + nu))
+    circ = full.beams[2].section
+    assert circ.EA == pytest.approx(E * math.pi * r**2)
+    assert circ.EI2 == pytest.approx(E * math.pi * r**4 / 4) and circ.EI3 == circ.EI2
+    assert circ.GJ == pytest.approx(G * math.pi * r**4 / 2)
+    assert circ.kGA2 == pytest.approx(0.9 * G * math.pi * r**2)
+    assert circ.rhoA == 0.0
+    expl = full.beams[1].section
+    assert expl == scene.Section(EA=1e4, kGA2=2e4, kGA3=2e4, GJ=100.0, EI2=101.0, EI3=102.0,
+                                 rhoA=1.0, rhoI2=10.0, rhoI3=0.0)
+
+
+def test_full_scene_supports_loads_masses_output(full):
+    quarter = 100.0 * math.pi / 4
+    s0, s1, s2, s3 = full.supports
+    assert (s0.type, s0.beam, s0.at, s0.position) == ("clamp", 0, 0.0, (0.0, 0.0, 0.0))
+    assert (s1.type, s1.beam, s1.at) == ("spherical", 2, 15.0)
+    assert s1.position == pytest.approx((-5.0, 10.0, 0.0))
+    assert s2.type == "clamp" and s2.at == quarter  # a float equal to L is normalised to L
+    assert (s3.type, s3.beam, s3.at, s3.position) == ("fixed", 0, None, None)
+
+    m, f = full.loads
+    assert (m.type, m.beam, m.at, m.value, m.frame) == ("moment", 0, 10.0, (0.0, 0.0, 62.83), "material")
+    # default time function of a static analysis: ramp from 0 to t_end
+    assert m.time_function == scene.TimeFunction("ramp", 0.0, 2.0, math.inf)
+    assert (f.type, f.beam, f.at, f.frame) == ("force", 1, 10.0, "spatial")
+    assert f.time_function == scene.TimeFunction("hat", 0.5, 1.0, 1.5)
+
+    assert full.point_masses == (scene.PointMass(beam=2, at=20.0, mass=2.0),)
+    out = full.output
+    assert out.every == 2 and out.samples_per_span == 8
+    assert out.track == (scene.TrackPoint(0, 10.0), scene.TrackPoint(2, 5.0))
+
+
+def test_defaults(tmp_path):
+    sc = scene.load_scene(_write(tmp_path, SMALL, "tiny.toml"))
+    assert sc.name == "tiny" and sc.description == ""
+    assert sc.analysis == scene.Analysis("static", 10, 1.0, None, "energy-momentum", 0.25, 0.5, -0.1, None)
+    assert sc.supports == () and sc.loads == () and sc.point_masses == ()
+    assert sc.gravity is None and sc.petsc_options == {} and sc.petsc_options_file is None
+    assert sc.output == scene.Output(1, (scene.TrackPoint(0, 10.0),), 8)
+    assert sc.beams[0].section.rhoA == 0.0
+
+
+def test_scene_from_dict_dynamic_default_time_function():
+    data = {
+        "analysis": {"type": "dynamic", "dt": 0.01, "t_end": 2},
+        "beam": [{"name": "a", "start": [0, 0, 0], "end": [0, 0, 3], "spans": 2,
+                  "section": {"EA": 1, "kGA2": 2, "kGA3": 3, "GJ": 1, "EI2": 1, "EI3": 1}}],
+        "load": [{"type": "force", "beam": "a", "at": "end", "value": [1, 0, 0]}],
+    }
+    sc = scene.scene_from_dict(data)
+    assert sc.file == "<dict>" and sc.name == "scene"
+    assert sc.analysis.t_end == 2.0 and isinstance(sc.analysis.t_end, float)
+    assert sc.analysis.dt_min == pytest.approx(0.01 / 16)
+    assert sc.loads[0].time_function.type == "constant"
+    assert sc.loads[0].at == 3.0
+    assert (sc.beams[0].section.kGA2, sc.beams[0].section.kGA3) == (2.0, 3.0)
+
+
+# ----------------------------------------------------------------------------
+# time functions
+
+
+def test_time_function_values():
+    const = scene.TimeFunction("constant")
+    assert [const.value(t) for t in (-1.0, 0.0, 1e9)] == [1.0, 1.0, 1.0]
+    ramp = scene.TimeFunction("ramp", 1.0, 3.0)
+    assert [ramp.value(t) for t in (0.0, 1.0, 2.0, 2.5, 3.0, 10.0)] == [0.0, 0.0, 0.5, 0.75, 1.0, 1.0]
+    hat = scene.TimeFunction("hat", 0.0, 1.0, 3.0)
+    assert [hat.value(t) for t in (-1.0, 0.0, 0.5, 1.0, 2.0, 3.0, 4.0)] == [0.0, 0.0, 0.5, 1.0, 0.5, 0.0, 0.0]
+    step = scene.TimeFunction("step", 1.0, 2.0)
+    assert [step.value(t) for t in (0.5, 1.0, 1.5, 2.0, 3.0)] == [0.0, 1.0, 1.0, 0.0, 0.0]
+    forever = scene.TimeFunction("step", 1.0)
+    assert forever.value(1e12) == 1.0 and forever.value(0.0) == 0.0
+
+
+def test_time_function_parsing_defaults():
+    base = {"beam": [{"name": "a", "start": [0, 0, 0], "end": [1, 0, 0], "spans": 1,
+                      "section": {"EA": 1, "kGA": 1, "GJ": 1, "EI2": 1, "EI3": 1}}]}
+    tfs = [{"type": "step", "t0": 0.5}, {"type": "ramp", "t1": 2}, {"type": "constant"}]
+    base["load"] = [{"type": "force", "beam": "a", "at": 0.5, "value": [0, 0, 1], "time_function": tf} for tf in tfs]
+    sc = scene.scene_from_dict(base)
+    assert [ld.time_function for ld in sc.loads] == [
+        scene.TimeFunction("step", 0.5, math.inf, math.inf),
+        scene.TimeFunction("ramp", 0.0, 2.0, math.inf),
+        scene.TimeFunction("constant", 0.0, math.inf, math.inf),
+    ]
+
+
+# ----------------------------------------------------------------------------
+# overrides
+
+
+def test_override_by_index_and_name(tmp_path):
+    path = _write(tmp_path, SMALL)
+    assert scene.load_scene(path, ["beam.0.spans=32"]).beams[0].spans == 32
+    assert scene.load_scene(path, ["beam.strip.spans=33"]).beams[0].spans == 33
+    assert scene.load_scene(path, ["beam.strip.quadrature=reduced"]).beams[0].quadrature == "reduced"
+    assert scene.load_scene(path, ["beam.0.section.b=0.01"]).beams[0].section.EA == pytest.approx(2.07e11 * 5e-5)
+
+
+def test_override_analysis(tmp_path):
+    path = _write(tmp_path, SMALL)
+    sc = scene.load_scene(path, ['analysis.type="dynamic"', "analysis.dt=0.001", "analysis.steps=20"])
+    assert (sc.analysis.type, sc.analysis.dt, sc.analysis.steps) == ("dynamic", 0.001, 20)
+    assert sc.analysis.dt_min == pytest.approx(0.001 / 16)
+    with pytest.raises(scene.SceneError, match="'dt'"):
+        scene.load_scene(path, ['analysis.type="dynamic"'])
+
+
+@pytest.mark.parametrize("override, bad", [
+    ("beam.3.spans=2", "beam.3"),
+    ("beam.nosuch.spans=2", "nosuch"),
+    ("nosuch.key=1", "nosuch"),
+    ("beam.0.spans.x=1", "spans"),
+    ("spans", "spans"),
+])
+def test_override_unknown_path(tmp_path, override, bad):
+    path = _write(tmp_path, SMALL)
+    with pytest.raises(scene.SceneError) as info:
+        scene.load_scene(path, [override])
+    text = str(info.value)
+    assert "case.toml" in text and override in text and bad.split(".")[-1] in text
+
+
+def test_override_unknown_leaf_key_is_rejected(tmp_path):
+    with pytest.raises(scene.SceneError, match="unknown key 'spanz'.*did you mean 'spans'"):
+        scene.load_scene(_write(tmp_path, SMALL), ["beam.0.spanz=3"])
+
+
+# ----------------------------------------------------------------------------
+# bad input: str(err) must name file, table and key
+
+
+def _error(tmp_path: pathlib.Path, text: str) -> scene.SceneError:
+    with pytest.raises(scene.SceneError) as info:
+        scene.load_scene(_write(tmp_path, text, "bad.toml"))
+    return info.value
+
+
+def _assert_names(err: scene.SceneError, *parts: str) -> None:
+    text = str(err)
+    assert "bad.toml" in text, text
+    for part in parts:
+        assert part in text, (part, text)
+
+
+def test_malformed_toml(tmp_path):
+    text = SMALL + "spans = = 3\n"
+    err = _error(tmp_path, text)
+    _assert_names(err, "TOML", f"line {text.count(chr(10))}, column 9")
+    assert err.file.endswith("bad.toml")
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(scene.SceneError, match="cannot read"):
+        scene.load_scene(tmp_path / "nope.toml")
+
+
+def test_unknown_top_level_table(tmp_path):
+    err = _error(tmp_path, SMALL + "[solver]\nx = 1\n")
+    _assert_names(err, "top level", "key 'solver'", "unknown key")
+    assert err.key == "solver" and err.detail.startswith("unknown key")
+
+
+def test_unknown_beam_key_with_suggestion(tmp_path):
+    err = _error(tmp_path, SMALL.replace("spans = 16", "spans = 16\nspanz = 3"))
+    _assert_names(err, "[[beam]] #1 ('strip')", "key 'spanz'", "did you mean 'spans'?")
+
+
+def test_unknown_key_in_section(tmp_path):
+    err = _error(tmp_path, SMALL + "rhoo = 3\n")
+    _assert_names(err, "[[beam]] #1 ('strip').section", "key 'rhoo'", "did you mean 'rho'?")
+
+
+@pytest.mark.parametrize("value, expect", [
+    ('"ten"', "must be an integer, got a string 'ten'"),
+    ("2.5", "must be an integer, got a float 2.5"),
+    ("true", "must be an integer, got true"),
+    ("-3", "must be a positive integer, got -3"),
+    ("0", "must be a positive integer, got 0"),
+])
+def test_bad_spans(tmp_path, value, expect):
+    err = _error(tmp_path, SMALL.replace("spans = 16", f"spans = {value}"))
+    _assert_names(err, "[[beam]] #1 ('strip')", "key 'spans'", expect)
+
+
+def test_zero_length_line(tmp_path):
+    err = _error(tmp_path, SMALL.replace("end = [10, 0, 0]", "end = [0, 0, 0]"))
+    _assert_names(err, "[[beam]] #1 ('strip')", "key 'end'", "zero length")
+
+
+def test_negative_b(tmp_path):
+    err = _error(tmp_path, SMALL.replace("b = 0.005", "b = -0.005"))
+    _assert_names(err, "[[beam]] #1 ('strip').section", "key 'b'", "> 0")
+
+
+def test_non_finite_number(tmp_path):
+    err = _error(tmp_path, SMALL.replace("E = 2.07e11", "E = nan"))
+    _assert_names(err, "section", "key 'E'", "finite")
+
+
+def test_support_on_missing_beam(tmp_path):
+    err = _error(tmp_path, SMALL + '[[support]]\ntype = "clamp"\nbeam = "x"\nat = "start"\n')
+    _assert_names(err, "[[support]] #1", "key 'beam'", "beam 'x' does not exist (beams: strip)")
+
+
+def test_clamp_in_the_middle(tmp_path):
+    err = _error(tmp_path, SMALL + '[[support]]\ntype = "clamp"\nbeam = "strip"\nat = 5.0\n')
+    _assert_names(err, "[[support]] #1", "key 'at'", "'start' or 'end'")
+
+
+def test_fixed_with_at(tmp_path):
+    err = _error(tmp_path, SMALL + '[[support]]\ntype = "fixed"\nbeam = "strip"\nat = 5.0\n')
+    _assert_names(err, "[[support]] #1", "key 'at'", "unknown key")
+
+
+def test_spherical_off_the_beam(tmp_path):
+    err = _error(tmp_path, SMALL + '[[support]]\ntype = "spherical"\nbeam = "strip"\nat = 5.0\n'
+                                   "position = [5, 1, 0]\n")
+    _assert_names(err, "[[support]] #1", "key 'position'", "supports must sit on their beam")
+
+
+def test_load_beyond_the_end(tmp_path):
+    err = _error(tmp_path, SMALL + '[[load]]\ntype = "force"\nbeam = "strip"\nat = 10.5\nvalue = [0, 0, 1]\n')
+    _assert_names(err, "[[load]] #1", "key 'at'", "[0, L]", "10.5")
+
+
+def test_load_at_end_with_round_off_is_clamped(tmp_path):
+    sc = scene.load_scene(_write(tmp_path, SMALL + '[[load]]\ntype = "force"\nbeam = "strip"\n'
+                                                   "at = 10.000000000000001\nvalue = [0, 0, 1]\n"))
+    assert sc.loads[0].at == 10.0
+
+
+def test_material_force_rejected(tmp_path):
+    err = _error(tmp_path, SMALL + '[[load]]\ntype = "force"\nbeam = "strip"\nat = "end"\n'
+                                   'value = [0, 0, 1]\nframe = "material"\n')
+    _assert_names(err, "[[load]] #1", "key 'frame'")
+
+
+def test_bad_time_function(tmp_path):
+    err = _error(tmp_path, SMALL + '[[load]]\ntype = "force"\nbeam = "strip"\nat = "end"\n'
+                                   'value = [0, 0, 1]\ntime_function = { type = "hat", t1 = 2, t2 = 1 }\n')
+    _assert_names(err, "[[load]] #1.time_function", "key 't2'", "> t1")
+
+
+def test_two_geometry_kinds(tmp_path):
+    err = _error(tmp_path, SMALL.replace("spans = 16", "spans = 16\npolyline = [[0, 0, 0], [1, 0, 0]]"))
+    _assert_names(err, "[[beam]] #1 ('strip')", "key 'polyline'", "geometry given twice")
+
+
+def test_no_geometry(tmp_path):
+    err = _error(tmp_path, SMALL.replace("start = [0, 0, 0]\nend = [10, 0, 0]\n", ""))
+    _assert_names(err, "[[beam]] #1 ('strip')", "missing geometry", "'polyline'", "'arc'")
+
+
+def test_arc_start_off_circle(tmp_path):
+    geo = 'arc = { center = [0, 0, 0], radius = 100.0, normal = [0, 0, 1], start = [100, 0, 1], angle = 45 }'
+    err = _error(tmp_path, SMALL.replace("start = [0, 0, 0]\nend = [10, 0, 0]", geo))
+    _assert_names(err, "[[beam]] #1 ('strip').arc", "key 'start'")
+
+
+def test_d2_parallel_to_axis(tmp_path):
+    err = _error(tmp_path, SMALL.replace("spans = 16", "spans = 16\nd2 = [-3, 0, 0]"))
+    _assert_names(err, "[[beam]] #1 ('strip')", "key 'd2'", "parallel")
+
+
+def test_mixed_section(tmp_path):
+    err = _error(tmp_path, SMALL + "EA = 1e4\n")
+    _assert_names(err, "[[beam]] #1 ('strip').section", "key 'EA'", "cannot be mixed")
+
+
+def test_explicit_section_needs_kga(tmp_path):
+    data = {"beam": [{"name": "a", "start": [0, 0, 0], "end": [1, 0, 0], "spans": 1,
+                      "section": {"EA": 1, "kGA2": 1, "GJ": 1, "EI2": 1, "EI3": 1}}]}
+    with pytest.raises(scene.SceneError) as info:
+        scene.scene_from_dict(data, file="x.toml")
+    assert "x.toml" in str(info.value) and "key 'kGA'" in str(info.value)
+
+
+def test_missing_section(tmp_path):
+    text = SMALL[: SMALL.index("[beam.section]")]
+    err = _error(tmp_path, text)
+    _assert_names(err, "[[beam]] #1 ('strip')", "key 'section'", "missing")
+
+
+def test_duplicate_beam_names(tmp_path):
+    err = _error(tmp_path, SMALL + SMALL)
+    _assert_names(err, "[[beam]] #2 ('strip')", "key 'name'", "duplicate beam name 'strip'")
+
+
+def test_no_beams(tmp_path):
+    err = _error(tmp_path, "[analysis]\nsteps = 3\n")
+    _assert_names(err, "top level", "key 'beam'", "at least one")
+
+
+def test_options_file_missing(tmp_path):
+    err = _error(tmp_path, '[petsc]\noptions_file = "missing.opts"\n' + SMALL)
+    _assert_names(err, "[petsc]", "key 'options_file'", "missing.opts")
+
+
+def test_bad_analysis_values(tmp_path):
+    err = _error(tmp_path, '[analysis]\nintegrator = "newmrak"\n' + SMALL)
+    _assert_names(err, "[analysis]", "key 'integrator'", "did you mean 'newmark'?")
+    err = _error(tmp_path, '[analysis]\nhht_alpha = -0.5\n' + SMALL)
+    _assert_names(err, "[analysis]", "key 'hht_alpha'", "[-1/3, 0]")
+
+
+def test_error_attributes():
+    err = scene.SceneError("must be > 0", file="a.toml", table="[[beam]] #1 ('s')", key="spans")
+    assert str(err) == "a.toml: [[beam]] #1 ('s'), key 'spans': must be > 0"
+    assert (err.file, err.table, err.key, err.detail) == ("a.toml", "[[beam]] #1 ('s')", "spans", "must be > 0")
+    assert str(scene.SceneError("oops")) == "oops"
