@@ -118,6 +118,7 @@ PYBIND11_MODULE(_core, m) {
            [](const Model& s, double t, Vec x, Mat J) { SB_CHECK(s.assemble_jacobian(t, x, J)); })
       .def("effect_energies", [](const Model& s, double t, Vec x) { return s.effect_energies(t, x); })
       .def("set_reference_state", [](const Model& s, Vec x) { s.set_reference_state(x); })
+      .def("project_directors", [](const Model& s, Vec x) { s.project_directors(x); })
       .def("beam_coordinates",
            [](const Model& s, int beam, Vec x) {
              const auto q = s.beam_coordinates(beam, x);

@@ -3,6 +3,8 @@
 
 #include "util/petsc_check.hpp"
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <map>
 #include <stdexcept>
@@ -133,6 +135,20 @@ void Model::apply_prescribed(Vec x) const {
   SB_CHECK(VecGetArray(x, &a));
   for (size_t i = 0; i < bc_rows_.size(); ++i) a[bc_rows_[i] - map_.owned_lo()] = bc_values_[i];
   SB_CHECK(VecRestoreArray(x, &a));
+}
+
+void Model::project_directors(Vec x) const {
+  PetscScalar* a = nullptr;
+  SB_CHECK(VecGetArray(x, &a));
+  for (PetscInt cp = 0; cp < n_cp_total_; ++cp) {
+    if (!map_.owns_cp(cp)) continue;
+    Eigen::Map<Eigen::Matrix3d> D(a + map_.q(cp, 3) - map_.owned_lo());  // columns d1, d2, d3
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+    if (R.determinant() > 0) D = R;  // a reflection means the extrapolation was useless: keep it
+  }
+  SB_CHECK(VecRestoreArray(x, &a));
+  apply_prescribed(x);
 }
 
 void Model::set_reference_state(Vec x) const {

@@ -50,6 +50,10 @@ class Model {
   void set_reference_state(Vec x) const;
   /// Apply prescribed values to x.
   void apply_prescribed(Vec x) const;
+  /// Replace each control point's director triad by the nearest rotation (polar decomposition).
+  /// Used after extrapolating a state: a linear extrapolation of rotating directors errs mostly
+  /// off the constraint manifold, and projecting removes that part.
+  void project_directors(Vec x) const;
 
   /// Assemble F(x) at time t (Dirichlet rows: x_i - xbar_i).
   PetscErrorCode assemble_residual(double t, Vec x, Vec F) const;

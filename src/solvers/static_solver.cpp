@@ -15,7 +15,10 @@ StaticSolver::StaticSolver(Model& model) : model_(model) {
   SNESLineSearch ls = nullptr;
   SB_CHECK(SNESGetLineSearch(snes_, &ls));
   SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
-  SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-10, 1e-14, 50, 10000));
+  // Converged when |F| < 1e-10, or |F| fell by 1e-12, or the Newton step is below 1e-12 |x|:
+  // with quadratic convergence the last criterion leaves an error at roundoff level whatever the
+  // units of the scene.
+  SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-12, 1e-12, 50, 10000));
   // Sparse direct solve. The saddle-point matrix has zero diagonal entries (multipliers, and d1
   // for the seed's strains), so the factorisation must pivot: PETSc's own LU does not.
   // Serial: SuperLU; parallel: MUMPS. Both can be changed from the options database.

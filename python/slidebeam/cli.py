@@ -1,0 +1,155 @@
+# SPDX-License-Identifier: MIT
+"""Command line: ``slidebeam run SCENE`` and ``slidebeam check SCENE``.
+
+Exit codes: 0 success, 1 the solve failed (Newton), 2 bad input or unusable output folder,
+3 internal error. Anything after ``--`` goes to the PETSc options database.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+import traceback
+from pathlib import Path
+
+from .scene import Scene, SceneError, load_scene
+
+EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="slidebeam",
+        description="Flexible beams with sliding joints: director beams, B-splines, PETSc.",
+        epilog="Anything after '--' is passed to PETSc, e.g. -- -snes_monitor -log_view",
+    )
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    run = sub.add_parser("run", help="run a scene and write results",
+                         description="Run a scene; write summary.json, history.csv and final_configuration.csv.",
+                         epilog="Example: slidebeam run runs/rollup.toml --out out/rollup -- -snes_monitor")
+    run.add_argument("scene", help="scene file (TOML)")
+    run.add_argument("--out", help="output folder (default: out/<scene name>)")
+    run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                     help="override a scene value, e.g. --set beam.0.spans=32 (repeatable)")
+    run.add_argument("-q", "--quiet", action="store_true", help="no progress output")
+    chk = sub.add_parser("check", help="validate a scene without running it",
+                         description="Validate a scene file and print what it contains.")
+    chk.add_argument("scene", help="scene file (TOML)")
+    chk.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scene value")
+    return p
+
+
+def _rank() -> int:
+    from mpi4py import MPI
+
+    return MPI.COMM_WORLD.Get_rank()
+
+
+def _say(rank: int, text: str, stream=sys.stdout) -> None:
+    if rank == 0:
+        print(text, file=stream, flush=True)
+
+
+def _describe(scene: Scene) -> str:
+    lines = [f"scene '{scene.name}' ({scene.file}): {scene.analysis.type} analysis"]
+    for b in scene.beams:
+        lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} spans, "
+                     f"{b.quadrature} quadrature, {b.strain} strains")
+    lines.append(f"  {len(scene.supports)} supports, {len(scene.loads)} loads, {len(scene.point_masses)} point masses, "
+                 f"gravity {'on' if scene.gravity else 'off'}")
+    return "\n".join(lines)
+
+
+def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
+    scene = load_scene(args.scene, args.set)
+    out = Path(args.out) if args.out else Path("out") / scene.name
+
+    import petsc4py
+
+    petsc4py.init([sys.argv[0], *petsc_args])
+    from mpi4py import MPI
+
+    from .results import prepare_output_dir, write_results
+    from .simulation import Simulation
+
+    comm = MPI.COMM_WORLD
+    error = None
+    if rank == 0:
+        try:
+            prepare_output_dir(out)
+        except OSError as err:
+            error = str(err)
+    error = comm.bcast(error, root=0)
+    if error:
+        _say(rank, f"slidebeam: error: {error}", sys.stderr)
+        return EXIT_INPUT
+
+    t0 = time.perf_counter()
+    sim = Simulation(scene)
+    _say(rank, _describe(scene))
+    _say(rank, "active effects: " + ", ".join(e.label for e in sim.active_effects))
+    if scene.analysis.type != "static":
+        _say(rank, "slidebeam: error: dynamic analysis is not available yet (static only)", sys.stderr)
+        return EXIT_INPUT
+
+    def progress(rec) -> None:
+        if not args.quiet:
+            _say(rank, f"  step {rec.step:4d}/{scene.analysis.steps}  t = {rec.t:.6g}  newton {rec.newton_iterations:2d}"
+                       f"  |F| = {rec.residual_norm:.3e}  {'' if rec.converged else 'FAILED: ' + rec.reason}")
+
+    records = sim.solve_static(progress)
+    wall = time.perf_counter() - t0
+    last = records[-1]
+    complete = last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
+    message = ("converged" if complete else
+               f"Newton failed at load step {last.step} (t = {last.t:.6g}, after halving the increment 8 times): {last.reason}, "
+               f"residual norm {last.residual_norm:.3e}; results hold the last converged state "
+               f"and are marked incomplete")
+    summary = {
+        "scene": scene.name, "scene_file": os.path.abspath(scene.file),
+        "analysis": scene.analysis.type, "complete": complete, "converged": complete, "message": message,
+        "active_effects": [e.label for e in sim.active_effects],
+        "steps": last.step, "steps_requested": scene.analysis.steps,
+        "newton_iterations": sum(r.newton_iterations for r in records),
+        "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
+        "unknowns": sim.x.getSize(), "ranks": comm.Get_size(), "wall_time_s": wall,
+        "final_energy": {"strain": last.strain_energy, "potential": last.potential_energy},
+    }
+    write_results(sim, out, records, summary, rank)
+    if complete:
+        _say(rank, f"done in {wall:.3f} s: {sum(r.newton_iterations for r in records)} Newton iterations; "
+                   f"results in {out}/")
+        return EXIT_OK
+    _say(rank, f"slidebeam: error: {message}", sys.stderr)
+    return EXIT_SOLVE_FAILED
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    petsc_args: list[str] = []
+    if "--" in argv:
+        i = argv.index("--")
+        argv, petsc_args = argv[:i], argv[i + 1:]
+    args = _parser().parse_args(argv)
+    rank = _rank()
+    try:
+        if args.command == "check":
+            scene = load_scene(args.scene, args.set)
+            _say(rank, _describe(scene) + "\nscene is valid")
+            return EXIT_OK
+        return _run(args, petsc_args, rank)
+    except SceneError as err:
+        _say(rank, f"slidebeam: error: {err}", sys.stderr)
+        return EXIT_INPUT
+    except (ValueError, TypeError) as err:  # the core's invalid_argument arrives as ValueError
+        _say(rank, f"slidebeam: error: {err}", sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        _say(rank, "slidebeam: interrupted", sys.stderr)
+        return 130
+    except Exception as err:  # noqa: BLE001 - last line of defence: a message, not a trace
+        _say(rank, f"slidebeam: internal error: {type(err).__name__}: {err}", sys.stderr)
+        if os.environ.get("SLIDEBEAM_DEBUG"):
+            traceback.print_exc()
+        return EXIT_INTERNAL

@@ -1,0 +1,71 @@
+# SPDX-License-Identifier: MIT
+"""Reference configuration of a beam: control points and directors from the scene geometry.
+
+Control points sit where the quadratic B-spline interpolates the reference curve at the
+Greville abscissae (for a straight beam these are the Greville points themselves, so the
+spline is parametrised exactly by arc length and every reference strain vanishes).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from .scene import Beam
+
+
+def default_d2(d1: np.ndarray) -> np.ndarray:
+    """Section axis d2 when the scene gives none: the coordinate axis cyclically after the
+    dominant component of d1 (x -> y, y -> z, z -> x), made orthogonal to d1. Gives the
+    triads (e_X, e_Y, e_Z) for a beam along X and (e_Z, e_X, e_Y) along Z (benchmarks.md S2)."""
+    k = (int(np.argmax(np.abs(d1))) + 1) % 3
+    e = np.eye(3)[k]
+    v = e - e.dot(d1) * d1
+    return v / np.linalg.norm(v)
+
+
+def _rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Smallest rotation taking unit vector a to unit vector b (parallel transport of a frame)."""
+    v = np.cross(a, b)
+    c = float(a.dot(b))
+    if np.linalg.norm(v) < 1e-14:
+        if c > 0:
+            return np.eye(3)
+        raise ValueError("the centre line reverses direction; cannot transport the section frame")
+    K = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    return np.eye(3) + K + K @ K / (1.0 + c)
+
+
+def _tangent(beam: Beam, s: float, h: float) -> np.ndarray:
+    g = beam.geometry
+    a, b = max(s - h, 0.0), min(s + h, g.length)
+    t = np.asarray(g.point_at(b)) - np.asarray(g.point_at(a))
+    return t / np.linalg.norm(t)
+
+
+def reference_coordinates(beam: Beam) -> np.ndarray:
+    """(spans+2) x 12 reference coordinates (phi, d1, d2, d3) of the control points."""
+    n, L = beam.spans, beam.geometry.length
+    xi = np.array([_core.greville(n, a) for a in range(n + 2)])
+    # Collocation at the Greville abscissae (Schoenberg-Whitney holds, the system is regular).
+    A = np.zeros((n + 2, n + 2))
+    for j, x in enumerate(xi):
+        span, N, _, _ = _core.bspline_basis(n, float(x))
+        A[j, span : span + 3] = N
+    X = np.array([beam.geometry.point_at(float(x) * L) for x in xi])
+    P = np.linalg.solve(A, X)
+
+    t0 = np.asarray(beam.geometry.tangent_at_start())
+    d2_0 = np.asarray(beam.d2) if beam.d2 is not None else default_d2(t0)
+    d2_0 = d2_0 - d2_0.dot(t0) * t0
+    d2_0 /= np.linalg.norm(d2_0)
+    frame0 = np.column_stack([t0, d2_0, np.cross(t0, d2_0)])
+    q = np.zeros((n + 2, 12))
+    h = 1e-7 * L
+    for a, x in enumerate(xi):
+        s = float(x) * L
+        # Exact tangent of lines and arcs; at polyline corners the mean of both sides.
+        t = t0 if beam.geometry.kind == "line" else _tangent(beam, s, h)
+        frame = _rotation_between(t0, t) @ frame0
+        q[a, 0:3] = P[a]
+        q[a, 3:12] = frame.T.reshape(-1)
+    return q

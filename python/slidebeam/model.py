@@ -1,0 +1,77 @@
+# SPDX-License-Identifier: MIT
+"""Translate a validated scene into the C++ model: one beam per [[beam]], one effect per
+physical term the scene names (and nothing else)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from . import _core
+from .geometry import reference_coordinates
+from .scene import Scene, TimeFunction
+
+
+@dataclass(frozen=True)
+class EffectInfo:
+    """What the scene asked for, in the order of the model's effects."""
+
+    type: str
+    label: str
+
+
+def _tf(tf: TimeFunction) -> tuple[dict[str, float], dict[str, str]]:
+    return {"tf_t0": tf.t0, "tf_t1": tf.t1, "tf_t2": tf.t2}, {"tf_type": tf.type}
+
+
+def _where(scene: Scene, beam: int, s: float) -> str:
+    b = scene.beams[beam]
+    if s == 0.0:
+        return f"{b.name}@start"
+    if s == b.geometry.length:
+        return f"{b.name}@end"
+    return f"{b.name}@s={s:g}"
+
+
+def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, list[EffectInfo]]:
+    """Create and finalize the C++ model of a scene (collective over comm)."""
+    model = _core.Model(comm)
+    effects: list[EffectInfo] = []
+
+    def add(kind: str, label: str, num: dict | None = None, vec: dict | None = None, text: dict | None = None) -> None:
+        model.add_effect(kind, num or {}, vec or {}, text or {})
+        effects.append(EffectInfo(kind, label))
+
+    for b in scene.beams:
+        sec = b.section
+        model.add_beam(
+            b.name, b.spans, b.geometry.length,
+            {k: getattr(sec, k) for k in ("EA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI2", "rhoI3")},
+            b.strain, b.quadrature, reference_coordinates(b),
+        )
+    for b in scene.beams:
+        add("beam_elastic", f"beam_elastic[{b.name}]", {"beam": b.index})
+        add("director_constraints", f"director_constraints[{b.name}]", {"beam": b.index})
+    for sup in scene.supports:
+        name = scene.beams[sup.beam].name
+        if sup.type == "fixed":
+            add("fixed", f"fixed[{name}]", {"beam": sup.beam})
+        elif sup.type == "clamp":
+            add("clamp", f"clamp[{_where(scene, sup.beam, sup.at)}]", {"beam": sup.beam, "s": sup.at})
+        else:
+            add("spherical", f"spherical[{_where(scene, sup.beam, sup.at)}]", {"beam": sup.beam, "s": sup.at},
+                {"position": list(sup.position)})
+    for load in scene.loads:
+        num, text = _tf(load.time_function)
+        text["frame"] = load.frame
+        add(load.type, f"{load.type}[{_where(scene, load.beam, load.at)}]",
+            {"beam": load.beam, "s": load.at, **num}, {"value": list(load.value)}, text)
+    for pm in scene.point_masses:
+        add("point_mass", f"point_mass[{_where(scene, pm.beam, pm.at)}, {pm.mass:g} kg]",
+            {"beam": pm.beam, "s": pm.at, "mass": pm.mass})
+    if scene.gravity is not None:
+        # Statics: gravity grows with the load steps like every other load; dynamics: constant.
+        tf = (TimeFunction("ramp", 0.0, scene.analysis.t_end, float("inf")) if scene.analysis.type == "static"
+              else TimeFunction("constant", 0.0, float("inf"), float("inf")))
+        num, text = _tf(tf)
+        add("gravity", "gravity", num, {"g": list(scene.gravity)}, text)
+    model.finalize()
+    return model, effects

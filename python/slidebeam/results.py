@@ -1,0 +1,77 @@
+# SPDX-License-Identifier: MIT
+"""Results on disk (rank 0 writes): summary.json, history.csv, final_configuration.csv.
+Files are written whole or not at all (temporary file + rename)."""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from .simulation import Simulation, StepRecord
+
+
+def _atomic_write(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def prepare_output_dir(out: Path) -> None:
+    """Create the output folder and prove it is writable before any work starts."""
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / ".write_test"
+        probe.write_text("ok")
+        probe.unlink()
+    except OSError as err:
+        raise OSError(f"output folder {out} is not writable: {err.strerror or err}") from err
+
+
+def history_csv(sim: Simulation, records: list[StepRecord]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    track_cols = []
+    for tp in sim.scene.output.track:
+        name = f"{sim.scene.beams[tp.beam].name}@{tp.at:g}"
+        track_cols += [f"{name}.x", f"{name}.y", f"{name}.z"]
+    w.writerow(["step", "t", "converged", "reason", "newton_iterations", "residual_norm",
+                "strain_energy", "potential_energy", *track_cols])
+    for r in records:
+        w.writerow([r.step, repr(r.t), int(r.converged), r.reason, r.newton_iterations, repr(r.residual_norm),
+                    repr(r.strain_energy), repr(r.potential_energy), *[repr(v) for p in r.tracked for v in p]])
+    return buf.getvalue()
+
+
+def configuration_csv(sim: Simulation) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["beam", "s", "x", "y", "z", "d1x", "d1y", "d1z", "d2x", "d2y", "d2z", "d3x", "d3y", "d3z"])
+    for b in sim.scene.beams:
+        s, q = sim.centreline(b.index)
+        for si, row in zip(s, q):
+            w.writerow([b.name, repr(float(si)), *[repr(float(v)) for v in row]])
+    return buf.getvalue()
+
+
+def end_positions(sim: Simulation) -> dict[str, dict[str, list[float]]]:
+    out = {}
+    for b in sim.scene.beams:
+        q = sim.evaluate(b.index, [0.0, b.geometry.length])
+        out[b.name] = {"start": q[0, :3].tolist(), "end": q[1, :3].tolist()}
+    return out
+
+
+def write_results(sim: Simulation, out: Path, records: list[StepRecord], summary: dict[str, Any], rank: int) -> None:
+    """Collective (evaluation gathers), rank 0 writes. The summary is written last, so a
+    summary marked complete is never beside partial files."""
+    history = history_csv(sim, records)
+    config = configuration_csv(sim)
+    summary = {**summary, "final_end_positions": end_positions(sim)}
+    if rank != 0:
+        return
+    _atomic_write(out / "history.csv", history)
+    _atomic_write(out / "final_configuration.csv", config)
+    _atomic_write(out / "summary.json", json.dumps(summary, indent=2) + "\n")

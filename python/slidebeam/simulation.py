@@ -1,0 +1,219 @@
+# SPDX-License-Identifier: MIT
+"""A scene turned into a running model: the Python face of the C++ core.
+
+The state, residual, Jacobian and SNES are the very PETSc objects the core uses (petsc4py
+handles, no copies): scripts may read or modify them, or drive SNES themselves.
+"""
+from __future__ import annotations
+
+import shlex
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+from petsc4py import PETSc
+
+from . import _core
+from .model import EffectInfo, build_model
+from .scene import Scene, SceneError
+
+
+@dataclass
+class StepRecord:
+    """One load step (static) as it goes to history.csv."""
+
+    step: int
+    t: float
+    converged: bool
+    reason: str
+    newton_iterations: int
+    residual_norm: float
+    strain_energy: float
+    potential_energy: float
+    tracked: list[tuple[float, float, float]] = field(default_factory=list)
+
+
+def _apply_petsc_options(scene: Scene) -> None:
+    """Scene options (file first, then [petsc]) fill the options database; anything already set,
+    i.e. given on the command line, wins."""
+    opts = PETSc.Options()
+    pairs: list[tuple[str, str]] = []
+    if scene.petsc_options_file:
+        tokens = []
+        for line in Path(scene.petsc_options_file).read_text().splitlines():
+            tokens += shlex.split(line.split("#", 1)[0])
+        i = 0
+        while i < len(tokens):
+            key = tokens[i]
+            if not key.startswith("-"):
+                raise SceneError(f"expected an option starting with '-', got {key!r}", file=scene.petsc_options_file)
+            value = ""
+            if i + 1 < len(tokens) and not (tokens[i + 1].startswith("-") and not _is_number(tokens[i + 1])):
+                value = tokens[i + 1]
+                i += 1
+            pairs.append((key[1:], value))
+            i += 1
+    pairs += list(scene.petsc_options.items())
+    for key, value in pairs:
+        if not opts.hasName(key):
+            opts.setValue(key, value)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+class Simulation:
+    """Model + solver of a scene.
+
+    Args:
+        scene: a validated scene (``load_scene`` or ``scene_from_dict``).
+        comm: an mpi4py communicator (default: PETSc's world communicator).
+    """
+
+    def __init__(self, scene: Scene, comm: object | None = None) -> None:
+        self.scene = scene
+        _apply_petsc_options(scene)
+        self._model, self.effects = build_model(scene, comm)
+        self._solver = _core.StaticSolver(self._model)
+        self.t = 0.0
+        self.use_predictor = True
+
+    # -- PETSc objects shared with the core ------------------------------------------------
+    @property
+    def x(self) -> PETSc.Vec:
+        """Global unknowns: per control point phi, d1, d2, d3, then 6 multipliers; then extras."""
+        return self._model.x
+
+    @property
+    def snes(self) -> PETSc.SNES:
+        return self._solver.snes
+
+    @property
+    def jacobian(self) -> PETSc.Mat:
+        return self._model.jacobian
+
+    @property
+    def residual_vector(self) -> PETSc.Vec:
+        return self._model.residual_vector
+
+    @property
+    def active_effects(self) -> list[EffectInfo]:
+        return list(self.effects)
+
+    # -- evaluation ------------------------------------------------------------------------
+    def residual(self, t: float | None = None, x: PETSc.Vec | None = None) -> PETSc.Vec:
+        """Assemble F(x; t) into the shared residual vector and return it."""
+        self._model.assemble_residual(self.t if t is None else t, x or self.x, self.residual_vector)
+        return self.residual_vector
+
+    def assemble_jacobian(self, t: float | None = None, x: PETSc.Vec | None = None) -> PETSc.Mat:
+        self._model.assemble_jacobian(self.t if t is None else t, x or self.x, self.jacobian)
+        return self.jacobian
+
+    def energies(self) -> dict[str, float]:
+        """Strain energy (beams) and potential energy of conservative external loads."""
+        e = self._model.effect_energies(self.t, self.x)
+        strain = sum(v for info, v in zip(self.effects, e) if info.type == "beam_elastic")
+        potential = sum(v for info, v in zip(self.effects, e) if info.type in ("gravity", "force"))
+        return {"strain": strain, "potential": potential}
+
+    def control_points(self, beam: int | str) -> np.ndarray:
+        """(n_cp, 12) coordinates phi, d1, d2, d3 of a beam's control points (collective)."""
+        return self._model.beam_coordinates(self._beam(beam), self.x)
+
+    def evaluate(self, beam: int | str, s: np.ndarray | float) -> np.ndarray:
+        """Interpolated (phi, d1, d2, d3) at arc lengths s: array (len(s), 12) (collective)."""
+        b = self._beam(beam)
+        q = self.control_points(b)
+        spec = self.scene.beams[b]
+        s_arr = np.atleast_1d(np.asarray(s, dtype=float))
+        out = np.zeros((len(s_arr), 12))
+        for i, si in enumerate(s_arr):
+            span, N, _, _ = _core.bspline_basis(spec.spans, min(max(si / spec.geometry.length, 0.0), 1.0))
+            out[i] = np.asarray(N) @ q[span : span + 3]
+        return out
+
+    def centreline(self, beam: int | str, samples_per_span: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Arc lengths and (phi, d1, d2, d3) sampled along a beam."""
+        b = self._beam(beam)
+        spec = self.scene.beams[b]
+        k = samples_per_span or self.scene.output.samples_per_span
+        s = np.linspace(0.0, spec.geometry.length, spec.spans * k + 1)
+        return s, self.evaluate(b, s)
+
+    # -- solving ---------------------------------------------------------------------------
+    def solve_step(self, t: float) -> _core.SolveResult:
+        """Newton solve of the static equilibrium at (pseudo-)time t from the current state."""
+        self.t = t
+        return self._solver.solve(t)
+
+    def record(self, step: int, result: _core.SolveResult | None) -> StepRecord:
+        e = self.energies()
+        tracked = [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]
+        return StepRecord(
+            step=step, t=self.t,
+            converged=True if result is None else bool(result.converged),
+            reason="initial" if result is None else result.reason_name,
+            newton_iterations=0 if result is None else result.iterations,
+            residual_norm=0.0 if result is None else result.residual_norm,
+            strain_energy=e["strain"], potential_energy=e["potential"], tracked=tracked,
+        )
+
+    def solve_static(self, on_step: Callable[[StepRecord], None] | None = None,
+                     max_cuts: int = 8) -> list[StepRecord]:
+        """Load stepping to t_end in ``analysis.steps`` equal increments.
+
+        Each step starts from a secant predictor (linear extrapolation of the last two
+        converged states), which keeps Newton in its quadratic range for large rotations.
+        A step that fails is retried from the last converged state in halves, down to
+        1/2**max_cuts of the increment; if that fails too, the state is left at the last
+        converged one and the failed attempt is the last record.
+        """
+        a = self.scene.analysis
+        records = [self.record(0, None)]
+        x_prev = self.x.duplicate()
+        x_last = self.x.copy()
+        t_last, dt_last = 0.0, 0.0
+        dt_nominal = a.t_end / a.steps
+        dt = dt_nominal
+        step = 0
+        while t_last < a.t_end * (1 - 1e-12):
+            t_new = min(t_last + dt, a.t_end)
+            if dt_last > 0 and self.use_predictor:  # secant predictor, directors projected back onto rotations
+                self.x.axpy((t_new - t_last) / dt_last, x_last - x_prev)
+                self._model.project_directors(self.x)
+            result = self.solve_step(t_new)
+            if result.converged and np.isfinite(result.residual_norm):
+                step += 1
+                rec = self.record(step, result)
+                records.append(rec)
+                if on_step:
+                    on_step(rec)
+                x_last.copy(x_prev)
+                self.x.copy(x_last)
+                t_last, dt_last = t_new, t_new - t_last
+                dt = min(2 * dt, dt_nominal)  # recover the nominal increment after cuts
+                continue
+            x_last.copy(self.x)  # back to the last converged state
+            if dt < dt_nominal / 2**max_cuts:
+                self.t = t_new
+                fail = self.record(step + 1, result)
+                fail.t = t_new
+                self.t = t_last
+                records.append(fail)
+                if on_step:
+                    on_step(fail)
+                break
+            dt /= 2
+        x_prev.destroy()
+        x_last.destroy()
+        return records
+
+    def _beam(self, beam: int | str) -> int:
+        return self.scene.beam_index(beam) if isinstance(beam, str) else int(beam)
