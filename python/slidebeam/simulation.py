@@ -184,7 +184,9 @@ class Simulation:
         dt = dt_nominal
         step = 0
         while t_last < a.t_end * (1 - 1e-12):
-            t_new = min(t_last + dt, a.t_end)
+            t_new = t_last + dt
+            if t_new > a.t_end - 1e-9 * dt_nominal:  # land exactly on t_end despite rounding
+                t_new = a.t_end
             if dt_last > 0 and self.use_predictor:  # secant predictor, directors projected back onto rotations
                 self.x.axpy((t_new - t_last) / dt_last, x_last - x_prev)
                 self._model.project_directors(self.x)

@@ -36,6 +36,9 @@ class StaticSolver {
  private:
   static PetscErrorCode form_function(SNES, Vec x, Vec F, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec x, Mat J, Mat P, void* ctx);
+  static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                  SNESConvergedReason* reason, void* ctx);
+  double fnorm0_ = 0.0, fnorm_prev_ = 0.0;
   Model& model_;
   SNES snes_ = nullptr;
   double t_ = 0.0;

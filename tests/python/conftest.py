@@ -1,0 +1,56 @@
+# SPDX-License-Identifier: MIT
+"""Test set-up: import the package from python/, initialise PETSc once, keep ranks in step."""
+from __future__ import annotations
+
+import gc
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "python"))
+os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
+os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+
+import petsc4py  # noqa: E402
+
+petsc4py.init([])
+from mpi4py import MPI  # noqa: E402
+from petsc4py import PETSc  # noqa: E402, F401
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", "skip_in_parallel: only meaningful on one rank (spawns its own processes)")
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    if item.get_closest_marker("skip_in_parallel") and MPI.COMM_WORLD.Get_size() > 1:
+        pytest.skip("runs only in serial")
+
+
+def pytest_runtest_teardown(item: pytest.Item) -> None:
+    # PETSc destructors are collective: collect on every rank before the next test starts.
+    gc.collect()
+    MPI.COMM_WORLD.Barrier()
+
+
+@pytest.fixture
+def root() -> Path:
+    return ROOT
+
+
+@pytest.fixture
+def run_cli(tmp_path: Path):
+    """Run scripts/slidebeam in a subprocess (optionally under mpirun)."""
+    import subprocess
+
+    def run(*args: str, np: int = 1, cwd: Path | None = None) -> subprocess.CompletedProcess:
+        cmd = [str(ROOT / "scripts" / "slidebeam"), *args]
+        if np > 1:
+            cmd = ["mpirun", "--oversubscribe", "-n", str(np), *cmd]
+        env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_COMM", "PMIX", "OMPI_MCA_ess", "OMPI_FILE"))}
+        return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd or tmp_path, env=env, timeout=600)
+
+    return run
