@@ -36,6 +36,11 @@ StaticSolver::StaticSolver(Model& model) : model_(model) {
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
   SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
+  // MUMPS sizes its workspace from the analysis; pivoting on the zero diagonal of the
+  // saddle-point matrix needs more (INFOG(1) = -9 otherwise). Users' own value wins.
+  PetscBool has = PETSC_FALSE;
+  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_14", &has));
+  if (!has) SB_CHECK(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", "200"));
   SB_CHECK(SNESSetFromOptions(snes_));
 }
 
