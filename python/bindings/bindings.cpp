@@ -125,6 +125,8 @@ PYBIND11_MODULE(_core, m) {
              return as_array(q, s.beam(beam).n_cp(), 12);
            },
            "control point coordinates (n_cp x 12: phi, d1, d2, d3) on every rank (collective)")
+      .def_property_readonly("prescribed_rows", &Model::prescribed_rows,
+                             "prescribed (support) unknowns owned by this rank, global indices")
       .def("lambda_dofs",
            [](const Model& s) {
              std::vector<PetscInt> d;

@@ -103,6 +103,11 @@ class Simulation:
         return self._model.residual_vector
 
     @property
+    def prescribed_rows(self) -> list[int]:
+        """Global indices of unknowns fixed by supports, owned by this rank."""
+        return list(self._model.prescribed_rows)
+
+    @property
     def active_effects(self) -> list[EffectInfo]:
         return list(self.effects)
 
