@@ -57,7 +57,7 @@ class Model {
 
   /// Assemble F(x) at time t (Dirichlet rows: x_i - xbar_i).
   PetscErrorCode assemble_residual(double t, Vec x, Vec F) const;
-  /// Assemble J(x) at time t (Dirichlet rows and columns: identity).
+  /// Assemble J(x) at time t (Dirichlet rows: identity).
   PetscErrorCode assemble_jacobian(double t, Vec x, Mat J) const;
   /// Potential energy of each effect at x (collective); same order as effects().
   std::vector<double> effect_energies(double t, Vec x) const;

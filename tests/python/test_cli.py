@@ -1,0 +1,117 @@
+# SPDX-License-Identifier: MIT
+"""The command line as a user meets it: help, results, PETSc options, and clear errors."""
+from __future__ import annotations
+
+import csv
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.skip_in_parallel  # each test starts its own processes
+
+SMALL = ["--set", "analysis.steps=3", "--set", "beam.0.spans=6"]
+
+
+def test_help(run_cli):
+    for args in (["--help"], ["run", "--help"], ["check", "--help"]):
+        out = run_cli(*args)
+        assert out.returncode == 0 and "usage" in out.stdout
+
+
+def test_run_writes_results(run_cli, root, tmp_path):
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "res", *SMALL)
+    assert out.returncode == 0, out.stderr
+    assert "active effects: beam_elastic[strip], director_constraints[strip], clamp[strip@start], moment[strip@end]" in out.stdout
+    summary = json.loads((tmp_path / "res" / "summary.json").read_text())
+    assert summary["complete"] and summary["converged"] and summary["steps"] == 3
+    assert summary["active_effects"] == ["beam_elastic[strip]", "director_constraints[strip]", "clamp[strip@start]",
+                                         "moment[strip@end]"]
+    assert summary["newton_iterations"] == sum(summary["newton_iterations_per_step"]) > 0
+    assert set(summary["final_end_positions"]["strip"]) == {"start", "end"}
+    rows = list(csv.DictReader((tmp_path / "res" / "history.csv").open()))
+    assert [int(r["step"]) for r in rows] == [0, 1, 2, 3]
+    tip = [float(rows[-1][f"strip@10.{c}"]) for c in "xyz"]
+    assert tip == pytest.approx(summary["final_end_positions"]["strip"]["end"], abs=1e-12)
+    config = list(csv.DictReader((tmp_path / "res" / "final_configuration.csv").open()))
+    assert len(config) == 6 * 8 + 1 and float(config[-1]["s"]) == 10.0
+
+
+def test_check_validates_only(run_cli, root, tmp_path):
+    out = run_cli("check", str(root / "runs" / "bend45.toml"))
+    assert out.returncode == 0 and "scene is valid" in out.stdout
+    assert not any(tmp_path.iterdir())
+
+
+def test_petsc_options_after_double_dash(run_cli, root):
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "res", *SMALL, "--",
+                  "-snes_test_jacobian", "-log_view")
+    assert out.returncode == 0, out.stderr
+    ratios = [float(v) for v in re.findall(r"\|\|J - Jfd\|\|_F/\|\|J\|\|_F = ([0-9.eE+-]+)", out.stdout)]
+    assert ratios and max(ratios) < 1e-6
+    assert "SBAssembleJac" in out.stdout and "SB:beam_elastic" in out.stdout  # our log events
+
+
+def test_mpi_run_matches_serial(run_cli, root, tmp_path):
+    a = run_cli("run", str(root / "runs" / "bend45.toml"), "--out", "np1", *SMALL)
+    b = run_cli("run", str(root / "runs" / "bend45.toml"), "--out", "np2", *SMALL, np=2)
+    assert a.returncode == 0 and b.returncode == 0, b.stderr
+    ha = list(csv.reader((tmp_path / "np1" / "history.csv").open()))
+    hb = list(csv.reader((tmp_path / "np2" / "history.csv").open()))
+    for ra, rb in zip(ha[1:], hb[1:]):
+        for va, vb in zip(ra[-3:], rb[-3:]):
+            assert abs(float(va) - float(vb)) < 1e-10
+    assert json.loads((tmp_path / "np2" / "summary.json").read_text())["ranks"] == 2
+
+
+BAD = {
+    "malformed": ("[[beam]\nname = 'a'\n", ["TOML syntax error", "line 1"]),
+    "unknown_key": ("[[beam]]\nname='a'\nstart=[0,0,0]\nend=[1,0,0]\nspan=4\n"
+                    "section={EA=1.0,kGA=1.0,GJ=1.0,EI2=1.0,EI3=1.0}\n", ["[[beam]] #1 ('a')", "'span'", "spans"]),
+    "negative_spans": ("[[beam]]\nname='a'\nstart=[0,0,0]\nend=[1,0,0]\nspans=-2\n"
+                       "section={EA=1.0,kGA=1.0,GJ=1.0,EI2=1.0,EI3=1.0}\n", ["[[beam]] #1 ('a')", "'spans'"]),
+    "wrong_type": ("[[beam]]\nname='a'\nstart=[0,0,0]\nend=[1,0,0]\nspans='ten'\n"
+                   "section={EA=1.0,kGA=1.0,GJ=1.0,EI2=1.0,EI3=1.0}\n", ["'spans'", "integer"]),
+    "zero_length": ("[[beam]]\nname='a'\nstart=[0,0,0]\nend=[0,0,0]\nspans=2\n"
+                    "section={EA=1.0,kGA=1.0,GJ=1.0,EI2=1.0,EI3=1.0}\n", ["[[beam]] #1 ('a')"]),
+    "missing_beam": ("[[beam]]\nname='a'\nstart=[0,0,0]\nend=[1,0,0]\nspans=2\n"
+                     "section={EA=1.0,kGA=1.0,GJ=1.0,EI2=1.0,EI3=1.0}\n"
+                     "[[support]]\ntype='clamp'\nbeam='b'\nat='start'\n", ["[[support]] #1", "'beam'", "'b'"]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_input_is_a_clear_error(run_cli, tmp_path, case):
+    text, expected = BAD[case]
+    scene = tmp_path / f"{case}.toml"
+    scene.write_text(text)
+    for args in (("run", str(scene), "--out", "res"), ("check", str(scene))):
+        out = run_cli(*args)
+        assert out.returncode == 2, (case, args, out.stdout, out.stderr)
+        assert "Traceback" not in out.stderr + out.stdout
+        assert f"{case}.toml" in out.stderr
+        for piece in expected:
+            assert piece in out.stderr, (piece, out.stderr)
+    assert not (tmp_path / "res").exists()
+
+
+def test_unwritable_output_folder(run_cli, root, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", str(blocker / "sub"), *SMALL)
+    assert out.returncode == 2 and "not writable" in out.stderr and "Traceback" not in out.stderr
+
+
+def test_newton_failure_is_clean_and_marked_incomplete(run_cli, root, tmp_path):
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "res", *SMALL, "--", "-snes_max_it", "1")
+    assert out.returncode == 1
+    assert "Newton failed at load step 1" in out.stderr and "residual norm" in out.stderr
+    assert "Traceback" not in out.stderr
+    summary = json.loads((tmp_path / "res" / "summary.json").read_text())
+    assert summary["complete"] is False and summary["converged"] is False
+    assert "Newton failed" in summary["message"]
+    rows = list(csv.DictReader((tmp_path / "res" / "history.csv").open()))
+    assert rows[-1]["converged"] == "0"
+    # the configuration written is the last converged one: the undeformed reference
+    assert summary["final_end_positions"]["strip"]["end"] == pytest.approx([10.0, 0.0, 0.0], abs=1e-12)
