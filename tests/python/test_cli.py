@@ -11,7 +11,7 @@ import pytest
 
 pytestmark = pytest.mark.skip_in_parallel  # each test starts its own processes
 
-SMALL = ["--set", "analysis.steps=3", "--set", "beam.0.spans=6"]
+SMALL = ["--set", "analysis.steps=3", "--set", "beam.0.spans=6"]  # fast variants of the scenes
 
 
 def test_help(run_cli):

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Set up on Debian 12: install what is missing (apt-get), then configure and build.
+# Idempotent: a second run only rebuilds what changed.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+packages=(petsc-dev python3-petsc4py python3-mpi4py python3-meshio python3-h5py python3-numpy python3-pytest
+          python3-matplotlib libeigen3-dev libhdf5-openmpi-dev openmpi-bin pybind11-dev python3-pybind11
+          libgtest-dev cmake g++ make pkg-config)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=""
+  [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+# Debian's petsc4py imports only under /usr/bin/python3: pin it.
+cmake -S "$here" -B "$here/build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
+cmake --build "$here/build" -j"$(nproc)" 2>&1 | grep -vE "^(\[|lto-wrapper|gmake)" || true
+test -f "$here/build/unit_tests" && ls "$here"/python/slidebeam/_core*.so >/dev/null
+echo "setup: built $here/build and python/slidebeam/_core"

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Set up (scripts/setup.sh), then run every test: C++ unit tests (ctest, 1 and 2 ranks),
+# pytest serial, pytest under mpirun -n 2.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$here/scripts/setup.sh"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+export PYTHONPATH="$here/python${PYTHONPATH:+:$PYTHONPATH}"
+cd "$here"
+echo "== C++ unit tests (ctest)"
+ctest --test-dir build --output-on-failure
+echo "== pytest, serial"
+/usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
+echo "== pytest, mpirun -n 2"
+mpirun -n 2 /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
+echo "== all tests passed"
