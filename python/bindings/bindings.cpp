@@ -126,14 +126,7 @@ PYBIND11_MODULE(_core, m) {
            },
            "control point coordinates (n_cp x 12: phi, d1, d2, d3) on every rank (collective)")
       .def_property_readonly("prescribed_rows", &Model::prescribed_rows,
-                             "prescribed (support) unknowns owned by this rank, global indices")
-      .def("lambda_dofs",
-           [](const Model& s) {
-             std::vector<PetscInt> d;
-             for (PetscInt cp = 0; cp < s.n_cp_total(); ++cp)
-               for (int k = 0; k < 6; ++k) d.push_back(s.dof_map().lambda(cp, k));
-             return d;
-           });
+                             "prescribed (support) unknowns owned by this rank, global indices");
 
   py::class_<SolveResult>(m, "SolveResult")
       .def_readonly("reason", &SolveResult::reason)

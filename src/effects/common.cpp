@@ -59,7 +59,5 @@ void scatter_span(const DofMap& map, const LocalValues& r, const Beam& b, int e,
   }
 }
 
-std::string where(const std::string& effect, const std::string& what) { return effect + ": " + what; }
-
 }  // namespace effects
 }  // namespace slidebeam

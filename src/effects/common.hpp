@@ -31,7 +31,4 @@ std::array<PetscInt, kernels::kNqEl> span_q_dofs(const DofMap& map, const Beam& 
 /// r(span coordinates) += v.
 void scatter_span(const DofMap& map, const LocalValues& r, const Beam& b, int e, const kernels::VecEl& v);
 
-/// Clear message for an effect parameter problem.
-std::string where(const std::string& effect, const std::string& what);
-
 }  // namespace slidebeam::effects

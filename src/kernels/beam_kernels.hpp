@@ -109,9 +109,8 @@ int gauss_rule(Quadrature q, std::array<double, 3>& x, std::array<double, 3>& w)
 double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                       const VecEl& q);
 
-/// Internal force r += w B(q_grad)^T C (eps_stress - eps0) where eps_stress is the mean strain of
-/// the given states (one state: statics/midpoint; two: the energy-momentum averaged strain).
-/// K (optional) += d r / d q_new with q_grad = (q_old + q_new)/2 when two states are given.
+/// Internal force of one quadrature point, r += w B(q)^T C (eps(q) - eps0) with B = d eps/dq,
+/// and (if K is given) the exact tangent K += d r/dq = w [B^T C B + sum_k sigma_k d^2 eps_k/dq^2].
 void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                               const VecEl& q, VecEl& r, MatEl* K);
 

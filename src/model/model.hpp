@@ -70,7 +70,6 @@ class Model {
 
  private:
   PetscErrorCode update_ghosts(Vec x) const;
-  PetscErrorCode register_events();
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
