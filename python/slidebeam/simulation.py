@@ -34,20 +34,32 @@ class StepRecord:
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
 
 
+def options_file_of(scene: Scene) -> Path | None:
+    """The scene's PETSc options file: `[petsc] options_file`, else `<scene>.opts` beside it."""
+    if scene.petsc_options_file:
+        return Path(scene.petsc_options_file)
+    if scene.file and not scene.file.startswith("<"):
+        beside = Path(scene.file).with_suffix(".opts")
+        if beside.is_file():
+            return beside
+    return None
+
+
 def _apply_petsc_options(scene: Scene) -> None:
     """Scene options (file first, then [petsc]) fill the options database; anything already set,
     i.e. given on the command line, wins."""
     opts = PETSc.Options()
     pairs: list[tuple[str, str]] = []
-    if scene.petsc_options_file:
+    options_file = options_file_of(scene)
+    if options_file:
         tokens = []
-        for line in Path(scene.petsc_options_file).read_text().splitlines():
+        for line in options_file.read_text().splitlines():
             tokens += shlex.split(line.split("#", 1)[0])
         i = 0
         while i < len(tokens):
             key = tokens[i]
             if not key.startswith("-"):
-                raise SceneError(f"expected an option starting with '-', got {key!r}", file=scene.petsc_options_file)
+                raise SceneError(f"expected an option starting with '-', got {key!r}", file=str(options_file))
             value = ""
             if i + 1 < len(tokens) and not (tokens[i + 1].startswith("-") and not _is_number(tokens[i + 1])):
                 value = tokens[i + 1]

@@ -53,6 +53,18 @@ def test_petsc_options_after_double_dash(run_cli, root):
     assert "SBAssembleJac" in out.stdout and "SB:beam_elastic" in out.stdout  # our log events
 
 
+def test_options_file_beside_scene(run_cli, root, tmp_path):
+    scene = tmp_path / "rollup.toml"
+    scene.write_text((root / "runs" / "rollup.toml").read_text())
+    (tmp_path / "rollup.opts").write_text("# solver settings for rollup.toml\n-snes_converged_reason\n-snes_max_it 30\n")
+    out = run_cli("run", str(scene), "--out", "res", *SMALL)
+    assert out.returncode == 0, out.stderr
+    assert "Nonlinear solve converged due to" in out.stdout
+    (tmp_path / "rollup.opts").write_text("snes_monitor\n")
+    out = run_cli("run", str(scene), "--out", "res", *SMALL)
+    assert out.returncode == 2 and "rollup.opts" in out.stderr and "Traceback" not in out.stderr
+
+
 def test_mpi_run_matches_serial(run_cli, root, tmp_path):
     a = run_cli("run", str(root / "runs" / "bend45.toml"), "--out", "np1", *SMALL)
     b = run_cli("run", str(root / "runs" / "bend45.toml"), "--out", "np2", *SMALL, np=2)
