@@ -55,7 +55,6 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("n_spans"), py::arg("xi"), "(span, N[3], dN/dxi[3], d2N/dxi2[3]) at xi in [0,1]");
   m.def("greville", &bspline::greville, py::arg("n_spans"), py::arg("a"));
-  m.def("effect_types", [] { return EffectRegistry::instance().names(); });
 
   py::class_<Model>(m, "Model")
       .def(py::init([](py::object comm) { return std::make_unique<Model>(comm_from_py(comm)); }),
@@ -98,20 +97,6 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("x", &Model::x, "global unknowns (petsc4py Vec, shared with the core)")
       .def_property_readonly("residual_vector", &Model::residual_vector)
       .def_property_readonly("jacobian", &Model::jacobian)
-      .def_property_readonly("global_size", [](const Model& s) { return s.dof_map().global_size(); })
-      .def_property_readonly("n_beams", [](const Model& s) { return s.beams().size(); })
-      .def_property_readonly("effect_labels",
-                             [](const Model& s) {
-                               std::vector<std::string> l;
-                               for (const auto& e : s.effects()) l.push_back(e->label());
-                               return l;
-                             })
-      .def_property_readonly("effect_types",
-                             [](const Model& s) {
-                               std::vector<std::string> l;
-                               for (const auto& e : s.effects()) l.push_back(e->type());
-                               return l;
-                             })
       .def("assemble_residual",
            [](const Model& s, double t, Vec x, Vec F) { SB_CHECK(s.assemble_residual(t, x, F)); })
       .def("assemble_jacobian",

@@ -223,7 +223,6 @@ class Simulation:
             if dt < dt_nominal / 2**max_cuts:
                 self.t = t_new
                 fail = self.record(step + 1, result)
-                fail.t = t_new
                 self.t = t_last
                 records.append(fail)
                 if on_step:
