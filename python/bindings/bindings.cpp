@@ -7,6 +7,7 @@
 #include "kernels/bspline.hpp"
 #include "model/model.hpp"
 #include "solvers/static_solver.hpp"
+#include "solvers/time_integrator.hpp"
 #include "util/petsc_check.hpp"
 
 #include <mpi4py/mpi4py.h>
@@ -119,11 +120,43 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("linear_iterations", &SolveResult::linear_iterations)
       .def_readonly("residual_norm", &SolveResult::residual_norm)
       .def_property_readonly("converged", &SolveResult::converged)
-      .def_property_readonly("reason_name", [](const SolveResult& r) { return StaticSolver::reason_name(r.reason); });
+      .def_property_readonly("reason_name", [](const SolveResult& r) { return reason_name(r.reason); });
 
   py::class_<StaticSolver>(m, "StaticSolver")
       .def(py::init<Model&>(), py::arg("model"), py::keep_alive<1, 2>())
       .def("solve", &StaticSolver::solve, py::arg("t"))
       .def_property("time", &StaticSolver::time, &StaticSolver::set_time)
       .def_property_readonly("snes", &StaticSolver::snes, "the SNES (petsc4py, shared with the core)");
+
+  py::class_<TimeIntegrator>(m, "TimeIntegrator")
+      .def(py::init([](Model& model, const std::string& kind, double beta, double gamma, double alpha) {
+             IntegratorParams p;
+             p.kind = integrator_from(kind);
+             p.beta = beta;
+             p.gamma = gamma;
+             p.alpha = alpha;
+             return std::make_unique<TimeIntegrator>(model, p);
+           }),
+           py::arg("model"), py::arg("kind"), py::arg("beta") = 0.25, py::arg("gamma") = 0.5, py::arg("alpha") = 0.0,
+           py::keep_alive<1, 2>())
+      .def("initialize", [](TimeIntegrator& s, double t, Vec x, Vec v) { s.initialize(t, x, v); },
+           py::arg("t"), py::arg("x"), py::arg("v"))
+      .def("step", &TimeIntegrator::step, py::arg("h"))
+      .def_property_readonly("time", &TimeIntegrator::time)
+      .def_property_readonly("x", &TimeIntegrator::x, "state x_n (petsc4py Vec, shared with the core)")
+      .def_property_readonly("v", &TimeIntegrator::v)
+      .def_property_readonly("a", &TimeIntegrator::a)
+      .def_property_readonly("mass", &TimeIntegrator::mass)
+      .def_property_readonly("snes", &TimeIntegrator::snes)
+      .def("kinetic_energy", &TimeIntegrator::kinetic_energy)
+      .def("momenta",
+           [](const TimeIntegrator& s) {
+             const Momenta p = s.momenta();
+             return py::make_tuple(p.linear, p.angular);
+           },
+           "(linear, angular about the origin) of the current state")
+      .def("constraint_residual", &TimeIntegrator::constraint_residual)
+      .def("prepare_step", &TimeIntegrator::prepare_step, py::arg("h"))
+      .def("step_residual", [](TimeIntegrator& s, Vec x, Vec F) { SB_CHECK(s.step_residual(x, F)); })
+      .def("step_jacobian", [](TimeIntegrator& s, Vec x, Mat J) { SB_CHECK(s.step_jacobian(x, J)); });
 }

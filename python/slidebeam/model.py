@@ -47,9 +47,12 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             {k: getattr(sec, k) for k in ("EA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI2", "rhoI3")},
             b.strain, b.quadrature, reference_coordinates(b),
         )
+    dynamic = scene.analysis.type == "dynamic"
     for b in scene.beams:
         add("beam_elastic", f"beam_elastic[{b.name}]", {"beam": b.index})
         add("director_constraints", f"director_constraints[{b.name}]", {"beam": b.index})
+        if dynamic:
+            add("beam_inertia", f"beam_inertia[{b.name}]", {"beam": b.index})
     for sup in scene.supports:
         name = scene.beams[sup.beam].name
         if sup.type == "fixed":

@@ -446,6 +446,12 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
 
     analysis = _parse_analysis(_Table(top.raw("analysis", {}), file, "[analysis]", "analysis"))
     beams = _parse_beams(_array_of_tables(data, "beam", file), file)
+    if analysis.type == "dynamic":
+        for b in beams:
+            if not b.section.rhoA > 0:
+                raise SceneError(f"a dynamic analysis needs mass: give rho (shape sections) or rhoA > 0 "
+                                 f"(explicit resultants)", file, f"[[beam]] #{b.index + 1} ('{b.name}').section",
+                                 "rhoA")
     supports = tuple(
         _parse_support(_Table(raw, file, f"[[support]] #{i + 1}", "support"), beams)
         for i, raw in enumerate(_array_of_tables(data, "support", file))
@@ -558,15 +564,23 @@ def _parse_analysis(t: _Table) -> Analysis:
         dt_min = dt / 16.0
     if dt is not None and dt_min is not None and dt_min > dt:
         raise t.error("dt_min", f"must not exceed dt = {dt}, got {dt_min}")
+    integrator = t.choice("integrator", _INTEGRATORS, "energy-momentum")
+    alpha = t.number("hht_alpha", -0.1, check=lambda a: -1.0 / 3.0 <= a <= 0.0, requirement="in [-1/3, 0]")
+    # Newmark: the trapezoidal rule; HHT: its standard companions, second order and
+    # unconditionally stable for linear problems (Hilber, Hughes & Taylor 1977).
+    hht = integrator == "hht"
+    beta = t.number("newmark_beta", (1.0 - alpha) ** 2 / 4.0 if hht else 0.25, check=lambda b: b > 0,
+                    requirement="> 0")
+    gamma = t.number("newmark_gamma", 0.5 - alpha if hht else 0.5, check=lambda g: g >= 0.5, requirement=">= 1/2")
     return Analysis(
         type=kind,
         steps=t.integer("steps", 10),
         t_end=t.number("t_end", 1.0, **positive),  # type: ignore[arg-type]
         dt=dt,
-        integrator=t.choice("integrator", _INTEGRATORS, "energy-momentum"),
-        newmark_beta=t.number("newmark_beta", 0.25),
-        newmark_gamma=t.number("newmark_gamma", 0.5),
-        hht_alpha=t.number("hht_alpha", -0.1, check=lambda a: -1.0 / 3.0 <= a <= 0.0, requirement="in [-1/3, 0]"),
+        integrator=integrator,
+        newmark_beta=beta,  # type: ignore[arg-type]
+        newmark_gamma=gamma,  # type: ignore[arg-type]
+        hht_alpha=alpha,  # type: ignore[arg-type]
         dt_min=dt_min,
     )
 

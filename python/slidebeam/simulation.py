@@ -15,6 +15,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from . import _core
+from .dynamics import DynamicRecord, RunOutcome, initial_velocity, run_dynamic
 from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
 
@@ -93,18 +94,45 @@ class Simulation:
         _apply_petsc_options(scene)
         self._model, self.effects = build_model(scene, comm)
         self._solver = _core.StaticSolver(self._model)
-        self.t = 0.0
+        self._t = 0.0
         self.use_predictor = True
+        self.integrator: _core.TimeIntegrator | None = None
+        a = scene.analysis
+        if a.type == "dynamic":
+            self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,
+                                                   gamma=a.newmark_gamma,
+                                                   alpha=a.hht_alpha if a.integrator == "hht" else 0.0)
+            v = self._model.x.duplicate()
+            initial_velocity(self, v)
+            self.integrator.initialize(0.0, self._model.x, v)
+            v.destroy()
+
+    @property
+    def t(self) -> float:
+        """Current (pseudo-)time."""
+        return self.integrator.time if self.integrator is not None else self._t
+
+    @t.setter
+    def t(self, value: float) -> None:
+        if self.integrator is not None:
+            raise AttributeError("the time of a dynamic simulation advances only by stepping")
+        self._t = value
 
     # -- PETSc objects shared with the core ------------------------------------------------
     @property
     def x(self) -> PETSc.Vec:
-        """Global unknowns: per control point phi, d1, d2, d3, then 6 multipliers; then extras."""
-        return self._model.x
+        """Global unknowns: per control point phi, d1, d2, d3, then 6 multipliers; then extras.
+        In a dynamic simulation, the integrator's state at the current time."""
+        return self.integrator.x if self.integrator is not None else self._model.x
+
+    @property
+    def v(self) -> PETSc.Vec | None:
+        """Velocity (dynamic simulations; zero at multipliers)."""
+        return self.integrator.v if self.integrator is not None else None
 
     @property
     def snes(self) -> PETSc.SNES:
-        return self._solver.snes
+        return self.integrator.snes if self.integrator is not None else self._solver.snes
 
     @property
     def jacobian(self) -> PETSc.Mat:
@@ -172,7 +200,7 @@ class Simulation:
 
     def record(self, step: int, result: _core.SolveResult | None) -> StepRecord:
         e = self.energies()
-        tracked = [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]
+        tracked = self.tracked_points()
         return StepRecord(
             step=step, t=self.t,
             converged=True if result is None else bool(result.converged),
@@ -232,6 +260,38 @@ class Simulation:
         x_prev.destroy()
         x_last.destroy()
         return records
+
+    def first_control_point(self, beam: int | str) -> int:
+        """Global index of a beam's first control point."""
+        b = self._beam(beam)
+        return sum(other.spans + 2 for other in self.scene.beams[:b])
+
+    def tracked_points(self) -> list[tuple[float, float, float]]:
+        return [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]
+
+    def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,
+                       rejected: int) -> DynamicRecord:
+        """Energies, momenta, constraint residual and tracked points of the current state."""
+        assert self.integrator is not None
+        e = self.energies()
+        lin, ang = self.integrator.momenta()
+        return DynamicRecord(
+            step=step, t=self.t, dt=dt,
+            converged=True if result is None else bool(result.converged),
+            reason="initial" if result is None else result.reason_name,
+            newton_iterations=0 if result is None else result.iterations,
+            residual_norm=0.0 if result is None else result.residual_norm,
+            kinetic_energy=self.integrator.kinetic_energy(), strain_energy=e["strain"],
+            potential_energy=e["potential"], linear_momentum=tuple(lin), angular_momentum=tuple(ang),
+            constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
+            tracked=self.tracked_points(),
+        )
+
+    def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:
+        """Integrate a dynamic scene to t_end (see :func:`slidebeam.dynamics.run_dynamic`)."""
+        if self.integrator is None:
+            raise ValueError("run_dynamic needs [analysis] type = \"dynamic\"")
+        return run_dynamic(self, on_step)
 
     def _beam(self, beam: int | str) -> int:
         return self.scene.beam_index(beam) if isinstance(beam, str) else int(beam)

@@ -42,10 +42,8 @@ class BeamElastic final : public Effect {
     PetscFunctionBeginUser;
     const Beam& b = ctx.model.beam(beam_);
     for (int e : spans_) {
-      const VecEl q = gather_span(ctx, b, e);
       VecEl re = VecEl::Zero();
-      for (int g = 0; g < b.n_gp(); ++g)
-        kernels::beam_gp_residual_tangent(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q, re, nullptr);
+      element(ctx, b, e, re, nullptr);
       scatter_span(ctx.map, r, b, e, re);
     }
     PetscFunctionReturn(0);
@@ -54,11 +52,9 @@ class BeamElastic final : public Effect {
     PetscFunctionBeginUser;
     const Beam& b = ctx.model.beam(beam_);
     for (int e : spans_) {
-      const VecEl q = gather_span(ctx, b, e);
       VecEl re = VecEl::Zero();
       MatEl K = MatEl::Zero();
-      for (int g = 0; g < b.n_gp(); ++g)
-        kernels::beam_gp_residual_tangent(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q, re, &K);
+      element(ctx, b, e, re, &K);
       const RowMajorEl Kr = K;
       const auto d = span_q_dofs(ctx.map, b, e);
       PetscCall(J.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), Kr.data()));
@@ -69,7 +65,7 @@ class BeamElastic final : public Effect {
     const Beam& b = ctx.model.beam(beam_);
     double U = 0.0;
     for (int e : spans_) {
-      const VecEl q = gather_span(ctx, b, e);
+      const VecEl q = gather_span(ctx.x, ctx.map, b, e);
       for (int g = 0; g < b.n_gp(); ++g)
         U += kernels::beam_gp_energy(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q);
     }
@@ -77,6 +73,20 @@ class BeamElastic final : public Effect {
   }
 
  private:
+  /// Internal force (and tangent d/dx) of span e under the context's step rule.
+  void element(const EvalContext& ctx, const Beam& b, int e, VecEl& re, MatEl* K) const {
+    if (ctx.rule == StepRule::EnergyMomentum) {
+      const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, e), q1 = gather_span(ctx.x, ctx.map, b, e);
+      for (int g = 0; g < b.n_gp(); ++g)
+        kernels::beam_gp_residual_tangent_em(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q0, q1, re, K);
+      return;
+    }
+    const VecEl q = gather_span(ctx.xf, ctx.map, b, e);
+    for (int g = 0; g < b.n_gp(); ++g)
+      kernels::beam_gp_residual_tangent(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q, re, K);
+    if (K && ctx.theta != 1.0) *K *= ctx.theta;
+  }
+
   int beam_;
   std::string name_;
   std::vector<int> spans_;
@@ -113,9 +123,12 @@ class DirectorConstraints final : public Effect {
     for (PetscInt cp : cps_) {
       const PetscScalar* x = ctx.x.cp(ctx.map, cp);
       const kernels::Vec12 q = Eigen::Map<const kernels::Vec12>(x);
+      const kernels::Vec12 qf = Eigen::Map<const kernels::Vec12>(ctx.xf.cp(ctx.map, cp));
       const kernels::Vec6 lam = Eigen::Map<const kernels::Vec6>(x + kernels::kNq);
       PetscScalar* rc = r.cp(ctx.map, cp);
-      Eigen::Map<kernels::Vec12>(rc) += kernels::orthonormality_jacobian(q).transpose() * lam;
+      // Constraint forces at the force state (exact discrete gradient of quadratic constraints
+      // at the midpoint), constraints themselves at the end of the step.
+      Eigen::Map<kernels::Vec12>(rc) += kernels::orthonormality_jacobian(qf).transpose() * lam;
       Eigen::Map<kernels::Vec6>(rc + kernels::kNq) += kernels::orthonormality(q);
     }
     PetscFunctionReturn(0);
@@ -126,12 +139,12 @@ class DirectorConstraints final : public Effect {
     for (PetscInt cp : cps_) {
       const PetscScalar* x = ctx.x.cp(ctx.map, cp);
       const kernels::Vec12 q = Eigen::Map<const kernels::Vec12>(x);
+      const kernels::Vec12 qf = Eigen::Map<const kernels::Vec12>(ctx.xf.cp(ctx.map, cp));
       const kernels::Vec6 lam = Eigen::Map<const kernels::Vec6>(x + kernels::kNq);
-      const kernels::Mat6x12 G = kernels::orthonormality_jacobian(q);
       Mat18 A = Mat18::Zero();
-      A.topLeftCorner<12, 12>() = kernels::orthonormality_hessian(lam);
-      A.topRightCorner<12, 6>() = G.transpose();
-      A.bottomLeftCorner<6, 12>() = G;
+      A.topLeftCorner<12, 12>() = ctx.theta * kernels::orthonormality_hessian(lam);
+      A.topRightCorner<12, 6>() = kernels::orthonormality_jacobian(qf).transpose();
+      A.bottomLeftCorner<6, 12>() = kernels::orthonormality_jacobian(q);
       PetscInt d[DofMap::kBlock];
       for (int k = 0; k < DofMap::kBlock; ++k) d[k] = ctx.map.q(cp, 0) + k;
       PetscCall(J.add(DofMap::kBlock, d, DofMap::kBlock, d, A.data()));
@@ -145,7 +158,62 @@ class DirectorConstraints final : public Effect {
   std::vector<PetscInt> cps_;
 };
 
+/// Kinetic energy of one beam (formulation.md section 4): the constant consistent mass
+/// M^AB = int N^A N^B ds (x) diag(rho A, 0, rho I3, rho I2). d1 carries no inertia. Assembled
+/// once into the mass matrix; the time integrator applies it.
+class BeamInertia final : public Effect {
+ public:
+  BeamInertia(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
+  std::string type() const override { return "beam_inertia"; }
+  std::string label() const override { return "beam_inertia[" + name_ + "]"; }
+
+  void distribute(const Model& m) override {
+    const Beam& b = m.beam(beam_);
+    for (int e = 0; e < b.n_spans(); ++e)
+      if (owns_span(m, b, e)) spans_.push_back(e);
+  }
+  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    const Beam& b = m.beam(beam_);
+    const RowMajorEl zero = RowMajorEl::Zero();
+    for (int e : spans_) {
+      const auto d = span_q_dofs(m.dof_map(), b, e);
+      PetscCall(sink.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), zero.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
+  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+  PetscErrorCode mass(const Model& m, const MatSink& M) const override {
+    PetscFunctionBeginUser;
+    const Beam& b = m.beam(beam_);
+    const Section& sec = b.section();
+    const double rho[4] = {sec.rhoA, 0.0, sec.rhoI3, sec.rhoI2};  // phi, d1, d2, d3
+    for (int e : spans_) {
+      RowMajorEl A = RowMajorEl::Zero();
+      for (int g = 0; g < 3; ++g) {
+        const auto& gp = b.gp_full(e, g);
+        for (int a = 0; a < 3; ++a)
+          for (int c = 0; c < 3; ++c)
+            for (int blk = 0; blk < 4; ++blk)
+              for (int k = 0; k < 3; ++k)
+                A(kernels::kNq * a + 3 * blk + k, kernels::kNq * c + 3 * blk + k) += gp.w * gp.N[a] * gp.N[c] * rho[blk];
+      }
+      const auto d = span_q_dofs(m.dof_map(), b, e);
+      PetscCall(M.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), A.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
+ private:
+  int beam_;
+  std::string name_;
+  std::vector<int> spans_;
+};
+
 void register_beam_effects(EffectRegistry& r) {
+  r.add("beam_inertia", [](const Model& m, const EffectParams& p) { return std::make_unique<BeamInertia>(m, p); });
   r.add("beam_elastic", [](const Model& m, const EffectParams& p) { return std::make_unique<BeamElastic>(m, p); });
   r.add("director_constraints",
         [](const Model& m, const EffectParams& p) { return std::make_unique<DirectorConstraints>(m, p); });

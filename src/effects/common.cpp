@@ -36,10 +36,10 @@ void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>
     for (PetscInt k = 0; k < DofMap::kBlock; ++k) dofs.push_back(map.q(cp, 0) + k);
 }
 
-kernels::VecEl gather_span(const EvalContext& ctx, const Beam& b, int e) {
+kernels::VecEl gather_span(const LocalValues& x, const DofMap& map, const Beam& b, int e) {
   kernels::VecEl q;
   for (int a = 0; a < 3; ++a) {
-    const PetscScalar* c = ctx.x.cp(ctx.map, b.first_cp() + e + a);
+    const PetscScalar* c = x.cp(map, b.first_cp() + e + a);
     for (int k = 0; k < kernels::kNq; ++k) q(kernels::kNq * a + k) = c[k];
   }
   return q;

@@ -22,8 +22,8 @@ inline bool owns_span(const Model& m, const Beam& b, int e) { return m.dof_map()
 /// Add the 18 unknowns of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
-/// The 36 coordinates of span e (control points e, e+1, e+2).
-kernels::VecEl gather_span(const EvalContext& ctx, const Beam& b, int e);
+/// The 36 coordinates of span e (control points e, e+1, e+2) in the state x.
+kernels::VecEl gather_span(const LocalValues& x, const DofMap& map, const Beam& b, int e);
 
 /// Global indices of the 36 coordinates of span e.
 std::array<PetscInt, kernels::kNqEl> span_q_dofs(const DofMap& map, const Beam& b, int e);

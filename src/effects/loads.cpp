@@ -33,31 +33,59 @@ struct BeamPoint {
   }
   PetscInt cp(const Model& m, int a) const { return m.beam(beam).first_cp() + basis.span + a; }
   bool owned(const Model& m) const { return owns_span(m, m.beam(beam), basis.span); }
-  /// Interpolated block (0 = phi, 1..3 = d1..d3) at the point.
-  Eigen::Vector3d field(const EvalContext& ctx, int block) const {
+  /// Interpolated block (0 = phi, 1..3 = d1..d3) at the point in the state x.
+  Eigen::Vector3d field(const EvalContext& ctx, const LocalValues& x, int block) const {
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
-    for (int a = 0; a < 3; ++a) v += basis.N[a] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, cp(ctx.model, a)) + 3 * block);
+    for (int a = 0; a < 3; ++a) v += basis.N[a] * Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, cp(ctx.model, a)) + 3 * block);
     return v;
   }
 };
 }  // namespace
 
-/// A lumped mass at a beam point. Statics: its weight, through the gravity effect.
+/// A lumped mass at a beam point: m N^A(s) N^B(s) on the phi blocks of the mass matrix. Its
+/// weight comes through the gravity effect.
 class PointMass final : public Effect {
  public:
-  PointMass(const Model& m, const EffectParams& p) : point(m, p, "point_mass"), mass(p.number("mass")) {
-    if (!(mass > 0)) throw std::invalid_argument("point_mass: mass must be > 0");
+  PointMass(const Model& m, const EffectParams& p) : point(m, p, "point_mass"), kg(p.number("mass")) {
+    if (!(kg > 0)) throw std::invalid_argument("point_mass: mass must be > 0");
   }
   std::string type() const override { return "point_mass"; }
-  std::string label() const override { return "point_mass[" + std::to_string(mass) + " kg]"; }
-  void distribute(const Model&) override {}
+  std::string label() const override { return "point_mass[" + std::to_string(kg) + " kg]"; }
+  void distribute(const Model& m) override { owned_ = point.owned(m); }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
-  PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const auto d = phi_dofs(m);
+    const double zero[81] = {};
+    PetscCall(sink.add(9, d.data(), 9, d.data(), zero));
+    PetscFunctionReturn(0);
+  }
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
   PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+  PetscErrorCode mass(const Model& m, const MatSink& M) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    Eigen::Matrix<double, 9, 9, Eigen::RowMajor> A = Eigen::Matrix<double, 9, 9, Eigen::RowMajor>::Zero();
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        A.block<3, 3>(3 * a, 3 * b) = kg * point.basis.N[a] * point.basis.N[b] * Eigen::Matrix3d::Identity();
+    const auto d = phi_dofs(m);
+    PetscCall(M.add(9, d.data(), 9, d.data(), A.data()));
+    PetscFunctionReturn(0);
+  }
 
   BeamPoint point;
-  double mass;
+  double kg;  ///< the mass
+
+ private:
+  std::array<PetscInt, 9> phi_dofs(const Model& m) const {
+    std::array<PetscInt, 9> d{};
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) d[3 * a + k] = m.dof_map().q(point.cp(m, a), k);
+    return d;
+  }
+  bool owned_ = false;
 };
 
 /// Uniform gravity on every beam (rho A) and on every point mass of the model.
@@ -98,7 +126,7 @@ class Gravity final : public Effect {
     }
     for (const auto* pm : masses_)
       for (int a = 0; a < 3; ++a)
-        Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, pm->point.cp(ctx.model, a))) -= pm->point.basis.N[a] * pm->mass * g;
+        Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, pm->point.cp(ctx.model, a))) -= pm->point.basis.N[a] * pm->kg * g;
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
@@ -114,7 +142,7 @@ class Gravity final : public Effect {
         V -= gp.w * b.section().rhoA * g.dot(phi);
       }
     }
-    for (const auto* pm : masses_) V -= pm->mass * g.dot(pm->point.field(ctx, 0));
+    for (const auto* pm : masses_) V -= pm->kg * g.dot(pm->point.field(ctx, ctx.x, 0));
     return V;
   }
 
@@ -165,7 +193,7 @@ class PointLoad final : public Effect {
     }
     const Eigen::Vector3d M = amp * moment_vector(ctx);
     for (int i = 1; i <= 3; ++i) {
-      const Eigen::Vector3d Fi = 0.5 * M.cross(point_.field(ctx, i));
+      const Eigen::Vector3d Fi = 0.5 * M.cross(point_.field(ctx, ctx.xf, i));
       for (int a = 0; a < 3; ++a)
         Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, point_.cp(ctx.model, a)) + 3 * i) -= point_.basis.N[a] * Fi;
     }
@@ -179,11 +207,11 @@ class PointLoad final : public Effect {
     // dF_i/dd_k = 1/2 (delta_ik [M]x - m_k [d_i]x), the second term only in the material frame.
     Eigen::Matrix<double, 27, 27, Eigen::RowMajor> K = Eigen::Matrix<double, 27, 27, Eigen::RowMajor>::Zero();
     for (int i = 1; i <= 3; ++i) {
-      const Eigen::Vector3d di = point_.field(ctx, i);
+      const Eigen::Vector3d di = point_.field(ctx, ctx.xf, i);
       for (int k = 1; k <= 3; ++k) {
         Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
-        if (i == k) D += 0.5 * skew(M);
-        if (material_) D -= 0.5 * amp * value_(k - 1) * skew(di);
+        if (i == k) D += 0.5 * ctx.theta * skew(M);
+        if (material_) D -= 0.5 * ctx.theta * amp * value_(k - 1) * skew(di);
         for (int a = 0; a < 3; ++a)
           for (int b = 0; b < 3; ++b)
             K.block<3, 3>(9 * a + 3 * (i - 1), 9 * b + 3 * (k - 1)) -= point_.basis.N[a] * point_.basis.N[b] * D;
@@ -196,13 +224,14 @@ class PointLoad final : public Effect {
   double energy(const EvalContext& ctx) const override {
     // A force of fixed direction is conservative; a moment in 3D is not, so it has no potential.
     if (!owned_ || moment_) return 0.0;
-    return -f_(ctx.t) * value_.dot(point_.field(ctx, 0));
+    return -f_(ctx.t) * value_.dot(point_.field(ctx, ctx.x, 0));
   }
 
  private:
   Eigen::Vector3d moment_vector(const EvalContext& ctx) const {
     if (!material_) return value_;
-    return value_(0) * point_.field(ctx, 1) + value_(1) * point_.field(ctx, 2) + value_(2) * point_.field(ctx, 3);
+    return value_(0) * point_.field(ctx, ctx.xf, 1) + value_(1) * point_.field(ctx, ctx.xf, 2) +
+           value_(2) * point_.field(ctx, ctx.xf, 3);
   }
   std::array<PetscInt, 27> director_dofs(const DofMap& map, const Model& m) const {
     std::array<PetscInt, 27> d{};

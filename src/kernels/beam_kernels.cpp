@@ -101,6 +101,23 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
   }
 }
 
+void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K) {
+  const MatZEl P = field_map(gp);
+  const VecZ z0 = P * q0, z1 = P * q1, zm = 0.5 * (z0 + z1);
+  Mat6Z Bm;
+  for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], zm, Bm.row(k));
+  const Vec6 sigma = C.cwiseProduct(0.5 * (strains(T, z0) + strains(T, z1)) - eps0);
+  r.noalias() += gp.w * (P.transpose() * (Bm.transpose() * sigma));
+  if (K) {
+    Mat6Z B1;
+    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z1, B1.row(k));
+    MatZ Kz = 0.5 * (Bm.transpose() * C.asDiagonal() * B1);
+    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], 0.5 * sigma(k), Kz);
+    K->noalias() += gp.w * (P.transpose() * Kz * P);
+  }
+}
+
 const std::array<QuadraticForm, 6>& orthonormality_forms() { return kOrthonormality; }
 
 Vec6 orthonormality(const Vec12& q) {

@@ -114,6 +114,13 @@ double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0
 void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                               const VecEl& q, VecEl& r, MatEl* K);
 
+/// Energy-momentum internal force of one quadrature point (formulation.md section 6): the
+/// gradient at the midpoint q_m = (q0 + q1)/2 with the AVERAGED strain,
+/// r += w B(q_m)^T C (1/2 (eps(q0) + eps(q1)) - eps0), so that U(q1) - U(q0) = r . (q1 - q0) exactly.
+/// K (if given) += d r / d q1 = w [1/2 sum_k sigma_k d^2 eps_k/dq^2 + 1/2 B(q_m)^T C B(q1)].
+void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K);
+
 /// Orthonormality constraints of one control point (seed eq. 2), as quadratic forms in the
 /// control point's 12 coordinates (blocks phi, d1, d2, d3).
 const std::array<QuadraticForm, 6>& orthonormality_forms();

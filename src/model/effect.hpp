@@ -45,12 +45,26 @@ class LocalValues {
   PetscScalar* data_;
 };
 
+/// How an effect evaluates its forces within a time step (formulation.md section 6).
+///  - Endpoint: forces at x (statics, Newmark, HHT).
+///  - Theta: forces at the state xf = (1 - theta) x_old + theta x, so their derivative with
+///    respect to x is theta times the derivative at xf (midpoint rule: theta = 1/2).
+///  - EnergyMomentum: as Theta with theta = 1/2, except that terms with a discrete gradient
+///    (strain energy: averaged strains) use it.
+/// In every rule, constraint rows are evaluated at x (constraints hold at the end of the step)
+/// and multipliers are always read from x.
+enum class StepRule { Endpoint, Theta, EnergyMomentum };
+
 /// Evaluation state handed to effects.
 struct EvalContext {
   const Model& model;
   const DofMap& map;
-  double t;                 ///< time (static: pseudo-time of the load step)
-  const LocalValues& x;     ///< current unknowns (ghosted)
+  double t;                 ///< time of the loads (static: pseudo-time of the load step)
+  const LocalValues& x;     ///< current unknowns (ghosted): end of the step
+  const LocalValues& xf;    ///< where forces are evaluated (== x for Endpoint)
+  const LocalValues& x_old; ///< start of the step (== x for statics)
+  StepRule rule = StepRule::Endpoint;
+  double theta = 1.0;       ///< d xf / d x
 };
 
 /// Adds element matrices into the global Jacobian (or records the sparsity pattern).
@@ -91,6 +105,8 @@ class Effect {
   virtual PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const = 0;
   /// J += d r / d x.
   virtual PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const = 0;
+  /// M += the effect's constant mass matrix (inertia effects only).
+  virtual PetscErrorCode mass(const Model&, const MatSink&) const { return 0; }
   /// This rank's share of the effect's potential energy (0 for non-potential effects).
   virtual double energy(const EvalContext&) const { return 0.0; }
 

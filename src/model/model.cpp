@@ -41,6 +41,9 @@ Model::~Model() {
   VecScatterDestroy(&scatter_);
   VecDestroy(&x_local_);
   VecDestroy(&r_local_);
+  VecDestroy(&x_old_local_);
+  VecDestroy(&xf_local_);
+  VecDestroy(&q_mask_);
   VecDestroy(&x_);
   VecDestroy(&r_);
   MatDestroy(&J_);
@@ -84,6 +87,8 @@ void Model::finalize() {
   SB_CHECK(VecDuplicate(x_, &r_));
   SB_CHECK(VecCreateSeq(PETSC_COMM_SELF, n_ghost, &x_local_));
   SB_CHECK(VecDuplicate(x_local_, &r_local_));
+  SB_CHECK(VecDuplicate(x_local_, &x_old_local_));
+  SB_CHECK(VecDuplicate(x_local_, &xf_local_));
   IS is = nullptr;
   SB_CHECK(ISCreateGeneral(PETSC_COMM_SELF, n_ghost, ghost_dofs_.data(), PETSC_COPY_VALUES, &is));
   SB_CHECK(VecScatterCreate(x_, is, x_local_, nullptr, &scatter_));
@@ -126,8 +131,68 @@ void Model::finalize() {
     bc_rows_.push_back(kv.first);
     bc_values_.push_back(kv.second);
   }
+  // Coordinates versus multipliers/extras.
+  SB_CHECK(VecDuplicate(x_, &q_mask_));
+  {
+    PetscScalar* a = nullptr;
+    SB_CHECK(VecGetArray(q_mask_, &a));
+    for (PetscInt i = map_.owned_lo(); i < map_.owned_hi(); ++i) {
+      const bool coordinate = i < DofMap::kBlock * n_cp_total_ && i % DofMap::kBlock < 12;
+      a[i - map_.owned_lo()] = coordinate ? 1.0 : 0.0;
+    }
+    SB_CHECK(VecRestoreArray(q_mask_, &a));
+  }
+  for (const auto& e : effects_)
+    if (e->type() == "beam_inertia" || e->type() == "point_mass") has_inertia_ = true;
   finalized_ = true;
   set_reference_state(x_);
+}
+
+Mat Model::create_mass_matrix() const {
+  Mat M = nullptr;
+  SB_CHECK(MatDuplicate(J_, MAT_DO_NOT_COPY_VALUES, &M));
+  SB_CHECK(MatZeroEntries(M));
+  MatSink sink(M);
+  for (const auto& e : effects_) SB_CHECK(e->mass(*this, sink));
+  SB_CHECK(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
+  SB_CHECK(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+  return M;
+}
+
+Momenta Model::momenta(Vec x, Vec p) const {
+  Momenta out;
+  const PetscScalar *xa = nullptr, *pa = nullptr;
+  SB_CHECK(VecGetArrayRead(x, &xa));
+  SB_CHECK(VecGetArrayRead(p, &pa));
+  Eigen::Vector3d L = Eigen::Vector3d::Zero(), J = Eigen::Vector3d::Zero();
+  for (PetscInt cp = 0; cp < n_cp_total_; ++cp) {
+    if (!map_.owns_cp(cp)) continue;
+    const PetscInt o = map_.q(cp, 0) - map_.owned_lo();
+    // J = sum_A phi^A x p_phi^A + sum_i d_i^A x p_di^A (benchmarks.md 3.7)
+    for (int blk = 0; blk < 4; ++blk) {
+      const Eigen::Map<const Eigen::Vector3d> y(xa + o + 3 * blk), py(pa + o + 3 * blk);
+      if (blk == 0) L += py;
+      J += y.cross(py);
+    }
+  }
+  SB_CHECK(VecRestoreArrayRead(p, &pa));
+  SB_CHECK(VecRestoreArrayRead(x, &xa));
+  double buf[6] = {L(0), L(1), L(2), J(0), J(1), J(2)};
+  MPI_Allreduce(MPI_IN_PLACE, buf, 6, MPI_DOUBLE, MPI_SUM, comm_);
+  for (int k = 0; k < 3; ++k) {
+    out.linear[k] = buf[k];
+    out.angular[k] = buf[3 + k];
+  }
+  return out;
+}
+
+PetscErrorCode Model::set_step_start(Vec x_old) {
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(ev_ghost_, 0, 0, 0, 0));
+  PetscCall(VecScatterBegin(scatter_, x_old, x_old_local_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter_, x_old, x_old_local_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(PetscLogEventEnd(ev_ghost_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
 }
 
 void Model::apply_prescribed(Vec x) const {
@@ -175,54 +240,83 @@ PetscErrorCode Model::update_ghosts(Vec x) const {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Model::assemble_residual(double t, Vec x, Vec F) const {
+PetscErrorCode Model::assemble_effects_residual(const StepEval& ev, Vec x, Vec F) const {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev_residual_, 0, 0, 0, 0));
   PetscCall(update_ghosts(x));
   PetscCall(VecZeroEntries(r_local_));
-  PetscScalar *xa = nullptr, *ra = nullptr;
+  PetscScalar *xa = nullptr, *ra = nullptr, *oa = nullptr, *fa = nullptr;
+  const bool two_states = ev.rule != StepRule::Endpoint;
+  if (two_states) PetscCall(VecAXPBYPCZ(xf_local_, 1.0 - ev.theta, ev.theta, 0.0, x_old_local_, x_local_));
   PetscCall(VecGetArray(x_local_, &xa));
   PetscCall(VecGetArray(r_local_, &ra));
+  if (two_states) {
+    PetscCall(VecGetArray(x_old_local_, &oa));
+    PetscCall(VecGetArray(xf_local_, &fa));
+  }
   {
     LocalValues xv(ghost_dofs_, xa), rv(ghost_dofs_, ra);
-    EvalContext ctx{*this, map_, t, xv};
+    LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
+    EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0};
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
       PetscCall(effects_[k]->residual(ctx, rv));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }
   }
+  if (two_states) {
+    PetscCall(VecRestoreArray(xf_local_, &fa));
+    PetscCall(VecRestoreArray(x_old_local_, &oa));
+  }
   PetscCall(VecRestoreArray(r_local_, &ra));
   PetscCall(VecRestoreArray(x_local_, &xa));
   PetscCall(VecZeroEntries(F));
   PetscCall(VecScatterBegin(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
-  if (!bc_rows_.empty()) {
-    const PetscScalar* xg = nullptr;
-    PetscScalar* f = nullptr;
-    PetscCall(VecGetArrayRead(x, &xg));
-    PetscCall(VecGetArray(F, &f));
-    for (size_t i = 0; i < bc_rows_.size(); ++i) {
-      const PetscInt l = bc_rows_[i] - map_.owned_lo();
-      f[l] = xg[l] - bc_values_[i];
-    }
-    PetscCall(VecRestoreArray(F, &f));
-    PetscCall(VecRestoreArrayRead(x, &xg));
-  }
   PetscCall(PetscLogEventEnd(ev_residual_, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Model::assemble_jacobian(double t, Vec x, Mat J) const {
+PetscErrorCode Model::set_prescribed_residual_rows(Vec x, Vec F) const {
+  PetscFunctionBeginUser;
+  if (bc_rows_.empty()) PetscFunctionReturn(0);
+  const PetscScalar* xg = nullptr;
+  PetscScalar* f = nullptr;
+  PetscCall(VecGetArrayRead(x, &xg));
+  PetscCall(VecGetArray(F, &f));
+  for (size_t i = 0; i < bc_rows_.size(); ++i) {
+    const PetscInt l = bc_rows_[i] - map_.owned_lo();
+    f[l] = xg[l] - bc_values_[i];
+  }
+  PetscCall(VecRestoreArray(F, &f));
+  PetscCall(VecRestoreArrayRead(x, &xg));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::assemble_residual(double t, Vec x, Vec F) const {
+  PetscFunctionBeginUser;
+  PetscCall(assemble_effects_residual(StepEval{StepRule::Endpoint, t, 1.0}, x, F));
+  PetscCall(set_prescribed_residual_rows(x, F));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J) const {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev_jacobian_, 0, 0, 0, 0));
   PetscCall(update_ghosts(x));
   PetscCall(MatZeroEntries(J));
-  PetscScalar* xa = nullptr;
+  PetscScalar *xa = nullptr, *oa = nullptr, *fa = nullptr;
+  const bool two_states = ev.rule != StepRule::Endpoint;
+  if (two_states) PetscCall(VecAXPBYPCZ(xf_local_, 1.0 - ev.theta, ev.theta, 0.0, x_old_local_, x_local_));
   PetscCall(VecGetArray(x_local_, &xa));
+  if (two_states) {
+    PetscCall(VecGetArray(x_old_local_, &oa));
+    PetscCall(VecGetArray(xf_local_, &fa));
+  }
   {
     LocalValues xv(ghost_dofs_, xa);
-    EvalContext ctx{*this, map_, t, xv};
+    LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
+    EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0};
     MatSink sink(J);
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
@@ -230,13 +324,29 @@ PetscErrorCode Model::assemble_jacobian(double t, Vec x, Mat J) const {
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }
   }
+  if (two_states) {
+    PetscCall(VecRestoreArray(xf_local_, &fa));
+    PetscCall(VecRestoreArray(x_old_local_, &oa));
+  }
   PetscCall(VecRestoreArray(x_local_, &xa));
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  PetscCall(PetscLogEventEnd(ev_jacobian_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::set_prescribed_jacobian_rows(Mat J) const {
+  PetscFunctionBeginUser;
   // Prescribed unknowns: identity rows (F_i = x_i - xbar_i). The columns stay, so J is the exact
   // derivative of F (what -snes_test_jacobian checks); LU does not need symmetry.
   PetscCall(MatZeroRows(J, static_cast<PetscInt>(bc_rows_.size()), bc_rows_.data(), 1.0, nullptr, nullptr));
-  PetscCall(PetscLogEventEnd(ev_jacobian_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::assemble_jacobian(double t, Vec x, Mat J) const {
+  PetscFunctionBeginUser;
+  PetscCall(assemble_effects_jacobian(StepEval{StepRule::Endpoint, t, 1.0}, x, J));
+  PetscCall(set_prescribed_jacobian_rows(J));
   PetscFunctionReturn(0);
 }
 
@@ -247,7 +357,7 @@ std::vector<double> Model::effect_energies(double t, Vec x) const {
   SB_CHECK(VecGetArray(x_local_, &xa));
   {
     LocalValues xv(ghost_dofs_, xa);
-    EvalContext ctx{*this, map_, t, xv};
+    EvalContext ctx{*this, map_, t, xv, xv, xv};
     for (size_t k = 0; k < effects_.size(); ++k) e[k] = effects_[k]->energy(ctx);
   }
   SB_CHECK(VecRestoreArray(x_local_, &xa));

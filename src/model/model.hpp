@@ -10,11 +10,25 @@
 #include <petscmat.h>
 #include <petscvec.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace slidebeam {
+
+/// Which rule and load time effects use in one evaluation (see StepRule).
+struct StepEval {
+  StepRule rule = StepRule::Endpoint;
+  double t = 0.0;      ///< load time
+  double theta = 1.0;  ///< Theta rule: forces at (1 - theta) x_old + theta x
+};
+
+/// Linear and angular momentum (about the origin) of a state.
+struct Momenta {
+  std::array<double, 3> linear{};
+  std::array<double, 3> angular{};
+};
 
 class Model {
  public:
@@ -55,10 +69,30 @@ class Model {
   /// off the constraint manifold, and projecting removes that part.
   void project_directors(Vec x) const;
 
-  /// Assemble F(x) at time t (Dirichlet rows: x_i - xbar_i).
+  /// Assemble the static F(x) at time t (Dirichlet rows: x_i - xbar_i).
   PetscErrorCode assemble_residual(double t, Vec x, Vec F) const;
-  /// Assemble J(x) at time t (Dirichlet rows: identity).
+  /// Assemble the static J(x) at time t (Dirichlet rows: identity).
   PetscErrorCode assemble_jacobian(double t, Vec x, Mat J) const;
+
+  /// Start state x_old of a time step, read by the Theta and EnergyMomentum rules (collective).
+  PetscErrorCode set_step_start(Vec x_old);
+  /// F = sum of the effects' residuals under a step rule; prescribed rows are NOT overwritten.
+  PetscErrorCode assemble_effects_residual(const StepEval& ev, Vec x, Vec F) const;
+  /// J = sum of the effects' tangents d F / d x (assembled); prescribed rows NOT overwritten.
+  PetscErrorCode assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J) const;
+  /// Prescribed rows of F become x_i - xbar_i.
+  PetscErrorCode set_prescribed_residual_rows(Vec x, Vec F) const;
+  /// Prescribed rows of J become identity rows (columns kept: J stays the exact derivative).
+  PetscErrorCode set_prescribed_jacobian_rows(Mat J) const;
+
+  /// True when some effect contributes inertia (a dynamic model).
+  bool has_inertia() const { return has_inertia_; }
+  /// New constant mass matrix with the Jacobian's sparsity pattern (so M and J add cheaply).
+  Mat create_mass_matrix() const;
+  /// 1 at coordinate unknowns (phi, d_i), 0 at multipliers and extras.
+  Vec coordinate_mask() const { return q_mask_; }
+  /// Linear and angular momentum of the state x with momentum vector p = M v (collective).
+  Momenta momenta(Vec x, Vec p) const;
   /// Potential energy of each effect at x (collective); same order as effects().
   std::vector<double> effect_energies(double t, Vec x) const;
 
@@ -83,6 +117,9 @@ class Model {
   std::vector<PetscInt> ghost_dofs_;
   VecScatter scatter_ = nullptr;
   Vec x_local_ = nullptr, r_local_ = nullptr;
+  Vec x_old_local_ = nullptr, xf_local_ = nullptr;
+  Vec q_mask_ = nullptr;
+  bool has_inertia_ = false;
 
   Vec x_ = nullptr, r_ = nullptr;
   Mat J_ = nullptr;

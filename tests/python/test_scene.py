@@ -273,7 +273,7 @@ def test_scene_from_dict_dynamic_default_time_function():
     data = {
         "analysis": {"type": "dynamic", "dt": 0.01, "t_end": 2},
         "beam": [{"name": "a", "start": [0, 0, 0], "end": [0, 0, 3], "spans": 2,
-                  "section": {"EA": 1, "kGA2": 2, "kGA3": 3, "GJ": 1, "EI2": 1, "EI3": 1}}],
+                  "section": {"EA": 1, "kGA2": 2, "kGA3": 3, "GJ": 1, "EI2": 1, "EI3": 1, "rhoA": 1}}],
         "load": [{"type": "force", "beam": "a", "at": "end", "value": [1, 0, 0]}],
     }
     sc = scene.scene_from_dict(data)
@@ -329,11 +329,27 @@ def test_override_by_index_and_name(tmp_path):
 
 def test_override_analysis(tmp_path):
     path = _write(tmp_path, SMALL)
-    sc = scene.load_scene(path, ['analysis.type="dynamic"', "analysis.dt=0.001", "analysis.steps=20"])
+    dyn = ['analysis.type="dynamic"', "beam.0.section.rho=1.0"]
+    sc = scene.load_scene(path, [*dyn, "analysis.dt=0.001", "analysis.steps=20"])
     assert (sc.analysis.type, sc.analysis.dt, sc.analysis.steps) == ("dynamic", 0.001, 20)
     assert sc.analysis.dt_min == pytest.approx(0.001 / 16)
     with pytest.raises(scene.SceneError, match="'dt'"):
-        scene.load_scene(path, ['analysis.type="dynamic"'])
+        scene.load_scene(path, dyn)
+    with pytest.raises(scene.SceneError, match="needs mass.*rhoA"):
+        scene.load_scene(path, ['analysis.type="dynamic"', "analysis.dt=0.001"])
+
+
+def test_hht_defaults_are_the_standard_companions():
+    data = {
+        "analysis": {"type": "dynamic", "dt": 0.01, "integrator": "hht", "hht_alpha": -0.2},
+        "beam": [{"name": "a", "start": [0, 0, 0], "end": [0, 0, 3], "spans": 2,
+                  "section": {"EA": 1, "kGA": 2, "GJ": 1, "EI2": 1, "EI3": 1, "rhoA": 1}}],
+    }
+    a = scene.scene_from_dict(data).analysis
+    assert (a.newmark_beta, a.newmark_gamma) == pytest.approx((1.2**2 / 4, 0.7))
+    data["analysis"]["integrator"] = "newmark"
+    a = scene.scene_from_dict(data).analysis
+    assert (a.newmark_beta, a.newmark_gamma) == (0.25, 0.5)
 
 
 @pytest.mark.parametrize("override, bad", [

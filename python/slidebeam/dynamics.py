@@ -1,0 +1,142 @@
+# SPDX-License-Identifier: MIT
+"""Time stepping of a dynamic scene: initial rigid motion, the step loop with step-size cuts
+on Newton failure, and the per-step record that goes to history.csv.
+
+The numerics (one SNES solve per step, the four integrators) live in the C++ core
+(``_core.TimeIntegrator``); this module is the policy around it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+from petsc4py import PETSc
+
+if TYPE_CHECKING:
+    from .simulation import Simulation
+
+BLOCK = 18  # unknowns per control point: phi, d1, d2, d3, then 6 multipliers
+
+
+@dataclass
+class DynamicRecord:
+    """One time step as it goes to history.csv."""
+
+    step: int
+    t: float
+    dt: float
+    converged: bool
+    reason: str
+    newton_iterations: int
+    residual_norm: float
+    kinetic_energy: float
+    strain_energy: float
+    potential_energy: float
+    linear_momentum: tuple[float, float, float]
+    angular_momentum: tuple[float, float, float]
+    constraint_residual: float
+    rejected_steps: int = 0
+    tracked: list[tuple[float, float, float]] = field(default_factory=list)
+
+    @property
+    def total_energy(self) -> float:
+        return self.kinetic_energy + self.strain_energy + self.potential_energy
+
+    @staticmethod
+    def header() -> list[str]:
+        return ["step", "t", "dt", "converged", "reason", "newton_iterations", "rejected_steps", "residual_norm",
+                "kinetic_energy", "strain_energy", "potential_energy", "total_energy",
+                "linear_momentum.x", "linear_momentum.y", "linear_momentum.z",
+                "angular_momentum.x", "angular_momentum.y", "angular_momentum.z", "constraint_residual"]
+
+    def row(self) -> list[object]:
+        return [self.step, repr(self.t), repr(self.dt), int(self.converged), self.reason, self.newton_iterations,
+                self.rejected_steps, repr(self.residual_norm), repr(self.kinetic_energy), repr(self.strain_energy),
+                repr(self.potential_energy), repr(self.total_energy), *[repr(v) for v in self.linear_momentum],
+                *[repr(v) for v in self.angular_momentum], repr(self.constraint_residual)]
+
+
+def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
+    """Rigid initial motion of each beam: phi_dot = v + w x (phi - phi(0)), d_i_dot = w x d_i,
+    with the beam's ``velocity`` v and ``angular_velocity`` w about its first point (s = 0)."""
+    lo, hi = v.getOwnershipRange()
+    arr = v.getArray()
+    arr[:] = 0.0
+    for beam in sim.scene.beams:
+        vel, omega = np.asarray(beam.velocity), np.asarray(beam.angular_velocity)
+        if not (vel.any() or omega.any()):
+            continue
+        q = sim.control_points(beam.index)
+        origin = sim.evaluate(beam.index, 0.0)[0, :3]
+        first = sim.first_control_point(beam.index)
+        for c in range(q.shape[0]):
+            base = BLOCK * (first + c)
+            if not lo <= base < hi:
+                continue
+            rates = [vel + np.cross(omega, q[c, :3] - origin)] + [np.cross(omega, q[c, 3 * k:3 * k + 3]) for k in (1, 2, 3)]
+            arr[base - lo:base - lo + 12] = np.concatenate(rates)
+    v.setArray(arr)
+
+
+@dataclass
+class RunOutcome:
+    records: list[DynamicRecord]
+    complete: bool
+    message: str
+    rejected_steps: int
+
+
+def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:
+    """Step from t = 0 to t_end with the scene's integrator.
+
+    A step whose Newton solve fails (or produces NaN/Inf) is retried from the last good state
+    with half the step, down to ``dt_min``; after a success the step grows back (doubling) to
+    ``dt``. If even ``dt_min`` fails, the run stops with the last good state kept. Records are
+    taken every ``output.every`` steps and at the end.
+    """
+    a = sim.scene.analysis
+    integ = sim.integrator
+    assert a.dt is not None and a.dt_min is not None
+    every = max(1, sim.scene.output.every)
+    records = [sim.record_dynamic(0, None, 0.0, 0)]
+    if on_step:
+        on_step(records[0])
+    dt, step, rejected, rejected_since_record = a.dt, 0, 0, 0
+    t_end = a.t_end
+    message = "completed"
+    complete = True
+    while integ.time < t_end * (1 - 1e-12):
+        h = min(dt, t_end - integ.time)
+        if t_end - (integ.time + h) < 1e-9 * a.dt:  # land exactly on t_end
+            h = t_end - integ.time
+        result = integ.step(h)
+        if result.converged and math.isfinite(result.residual_norm):
+            step += 1
+            last = integ.time >= t_end * (1 - 1e-12)
+            if step % every == 0 or last:
+                rec = sim.record_dynamic(step, result, h, rejected_since_record)
+                rejected_since_record = 0
+                records.append(rec)
+                if on_step:
+                    on_step(rec)
+            dt = min(2 * dt, a.dt)
+            continue
+        rejected += 1
+        rejected_since_record += 1
+        if h / 2 < a.dt_min * (1 - 1e-12):
+            # the failed attempt, with the values of the last good state that is kept
+            fail = sim.record_dynamic(step + 1, result, h, rejected_since_record)
+            fail.converged = False
+            records.append(fail)
+            if on_step:
+                on_step(fail)
+            complete = False
+            message = (f"Newton failed at step {step + 1} (t = {integ.time:.6g} -> {integ.time + h:.6g}, "
+                       f"dt = {h:.3g}, minimum dt_min = {a.dt_min:.3g}): {result.reason_name}, "
+                       f"residual norm {result.residual_norm:.3e}; results hold the last good state "
+                       f"(t = {integ.time:.6g}) and are marked incomplete")
+            break
+        dt = h / 2
+    return RunOutcome(records, complete, message, rejected)

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/newton.hpp"
+
+#include "util/petsc_check.hpp"
+
+namespace slidebeam {
+
+PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
+  PetscFunctionBeginUser;
+  PetscCall(SNESSetType(snes, SNESNEWTONLS));
+  // Exact Newton: full steps (a line search on a saddle-point residual norm mostly gets in the way).
+  SNESLineSearch ls = nullptr;
+  PetscCall(SNESGetLineSearch(snes, &ls));
+  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+  // Converged when |F| < 1e-10, or |F| fell by 1e-12, or the Newton step is below 1e-12 |x|:
+  // with quadratic convergence the last criterion leaves an error at roundoff level whatever the
+  // units of the scene.
+  PetscCall(SNESSetTolerances(snes, 1e-10, 1e-12, 1e-12, 50, 10000));
+  // The first iterate of a director beam often has a residual 1e4-1e6 times the initial one
+  // (linearised directors leave the constraint manifold) and then converges quadratically:
+  // that is not divergence, so PETSc's dtol test is off. NaN/Inf and max_it still stop.
+  PetscCall(SNESSetDivergenceTolerance(snes, -1.0));
+  PetscCall(SNESSetConvergenceTest(snes, &RoundoffTest::test, test, nullptr));
+  // Sparse direct solve. The saddle-point matrix has zero diagonal entries (multipliers, and d1
+  // for the seed's strains), so the factorisation must pivot: PETSc's own LU does not.
+  // Serial: SuperLU; parallel: MUMPS. Both can be changed from the options database.
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  MPI_Comm comm;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(snes), &comm));
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  PetscCall(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
+  // MUMPS sizes its workspace from the analysis; pivoting on the zero diagonal of the
+  // saddle-point matrix needs more (INFOG(1) = -9 otherwise). Users' own value wins.
+  PetscBool has = PETSC_FALSE;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_14", &has));
+  if (!has) PetscCall(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", "200"));
+  PetscFunctionReturn(0);
+}
+
+/// PETSc's default test, plus: converged at roundoff. In large units (EA = 1e7, coordinates of
+/// 100) the residual bottoms out well above any fixed atol, and the multiplier part of the
+/// Newton step stays noisy, so stol cannot fire either. Once the residual is 1e6 below the
+/// step's initial residual and no longer falls quadratically, it is at roundoff: stop there.
+PetscErrorCode RoundoffTest::test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                  SNESConvergedReason* reason, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<RoundoffTest*>(ctx);
+  PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
+  if (it == 0) self->fnorm0 = fnorm;
+  if (*reason == SNES_CONVERGED_ITERATING && it > 1 && fnorm <= 1e-6 * self->fnorm0 &&
+      fnorm >= 0.5 * self->fnorm_prev) {
+    PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
+                        (double)self->fnorm0));
+    *reason = SNES_CONVERGED_FNORM_RELATIVE;
+  }
+  self->fnorm_prev = fnorm;
+  PetscFunctionReturn(0);
+}
+
+SolveResult solve_result(SNES snes) {
+  SolveResult r;
+  SNESConvergedReason reason;
+  SB_CHECK(SNESGetConvergedReason(snes, &reason));
+  r.reason = static_cast<int>(reason);
+  PetscInt it = 0, lit = 0;
+  SB_CHECK(SNESGetIterationNumber(snes, &it));
+  SB_CHECK(SNESGetLinearSolveIterations(snes, &lit));
+  r.iterations = static_cast<int>(it);
+  r.linear_iterations = static_cast<int>(lit);
+  PetscReal fnorm = 0;
+  SB_CHECK(SNESGetFunctionNorm(snes, &fnorm));
+  r.residual_norm = fnorm;
+  return r;
+}
+
+const char* reason_name(int reason) { return SNESConvergedReasons[reason]; }
+
+}  // namespace slidebeam

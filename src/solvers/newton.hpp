@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Newton set-up shared by the static solver and the time integrators: SNES defaults
+/// that suit the banded saddle-point systems of director beams, a roundoff-aware convergence
+/// test, and the summary of a solve. The options database overrides every default.
+
+#include <petscsnes.h>
+
+namespace slidebeam {
+
+struct SolveResult {
+  int reason = 0;            ///< SNESConvergedReason
+  int iterations = 0;        ///< Newton iterations
+  int linear_iterations = 0; ///< total KSP iterations
+  double residual_norm = 0;  ///< final ||F||_2
+  bool converged() const { return reason > 0; }
+};
+
+/// Memory of the roundoff convergence test (one per SNES).
+struct RoundoffTest {
+  double fnorm0 = 0.0, fnorm_prev = 0.0;
+  static PetscErrorCode test(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                             SNESConvergedReason* reason, void* ctx);
+};
+
+/// Newton line search off, tolerances, divergence test off, roundoff test, direct LU (SuperLU
+/// serial, MUMPS parallel). Call before SNESSetFromOptions.
+PetscErrorCode configure_newton(SNES snes, RoundoffTest* test);
+
+/// Reason, iterations and final residual of the last SNESSolve.
+SolveResult solve_result(SNES snes);
+
+/// Name of a SNESConvergedReason.
+const char* reason_name(int reason);
+
+}  // namespace slidebeam

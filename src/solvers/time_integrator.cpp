@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/time_integrator.hpp"
+
+#include "util/petsc_check.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace slidebeam {
+
+IntegratorKind integrator_from(const std::string& name) {
+  if (name == "energy-momentum") return IntegratorKind::EnergyMomentum;
+  if (name == "midpoint") return IntegratorKind::Midpoint;
+  if (name == "newmark") return IntegratorKind::Newmark;
+  if (name == "hht") return IntegratorKind::HHT;
+  throw std::invalid_argument("unknown integrator '" + name + "' (energy-momentum, midpoint, newmark, hht)");
+}
+
+namespace {
+bool is_midpoint_type(IntegratorKind k) { return k == IntegratorKind::EnergyMomentum || k == IntegratorKind::Midpoint; }
+}  // namespace
+
+TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : model_(model), params_(params) {
+  if (!model.finalized()) model.finalize();
+  if (!model.has_inertia()) throw std::invalid_argument("a dynamic model needs inertia (beam_inertia or point_mass)");
+  if (!is_midpoint_type(params.kind)) {
+    if (!(params.beta > 0)) throw std::invalid_argument("Newmark beta must be > 0");
+    if (params.kind == IntegratorKind::HHT && (params.alpha < -1.0 / 3.0 || params.alpha > 0))
+      throw std::invalid_argument("HHT alpha must lie in [-1/3, 0]");
+  }
+  PetscLogEventRegister("SBTimeStep", 0, &ev_step_);
+  M_ = model.create_mass_matrix();
+  SB_CHECK(VecDuplicate(model.x(), &x_));
+  SB_CHECK(VecDuplicate(x_, &v_));
+  SB_CHECK(VecDuplicate(x_, &a_));
+  SB_CHECK(VecDuplicate(x_, &x1_));
+  SB_CHECK(VecDuplicate(x_, &xt_));
+  SB_CHECK(VecDuplicate(x_, &w_));
+  SB_CHECK(VecDuplicate(x_, &f_hist_));
+  SB_CHECK(VecDuplicate(x_, &work_));
+  SB_CHECK(VecCopy(model.x(), x_));
+  SB_CHECK(VecZeroEntries(v_));
+  SB_CHECK(VecZeroEntries(a_));
+
+  SB_CHECK(SNESCreate(model.comm(), &snes_));
+  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &TimeIntegrator::form_function, this));
+  SB_CHECK(SNESSetJacobian(snes_, model.jacobian(), model.jacobian(), &TimeIntegrator::form_jacobian, this));
+  SB_CHECK(configure_newton(snes_, &test_));
+  SB_CHECK(SNESSetFromOptions(snes_));
+}
+
+TimeIntegrator::~TimeIntegrator() {
+  SNESDestroy(&snes_);
+  MatDestroy(&M_);
+  for (Vec* v : {&x_, &v_, &a_, &x1_, &xt_, &w_, &f_hist_, &work_}) VecDestroy(v);
+}
+
+StepEval TimeIntegrator::step_eval() const {
+  switch (params_.kind) {
+    case IntegratorKind::EnergyMomentum: return {StepRule::EnergyMomentum, t_ + 0.5 * h_, 0.5};
+    case IntegratorKind::Midpoint: return {StepRule::Theta, t_ + 0.5 * h_, 0.5};
+    default: return {StepRule::Endpoint, t_ + h_, 1.0};
+  }
+}
+
+void TimeIntegrator::initialize(double t, Vec x, Vec v) {
+  t_ = t;
+  SB_CHECK(VecCopy(x, x_));
+  model_.apply_prescribed(x_);
+  SB_CHECK(VecPointwiseMult(v_, v, model_.coordinate_mask()));
+  SB_CHECK(VecZeroEntries(a_));
+  if (!is_midpoint_type(params_.kind)) consistent_acceleration();
+}
+
+/// Newmark and HHT need a_0. M is singular on d1 (and on multipliers), so a_0 and the initial
+/// multipliers come from the constrained system at t_0:
+///   [ M  G^T ] [a_0]      [ -(f_int - f_ext)(q_0) ]
+///   [ G   0  ] [lam_0] =  [ -v^T Phi'' v          ]
+/// G and G^T are the effects' tangent with theta = 0 (forces frozen, constraint terms kept); the
+/// curvature term is the exact second difference Phi(q+v) + Phi(q-v) - 2 Phi(q) of the quadratic
+/// (or linear) constraints.
+void TimeIntegrator::consistent_acceleration() {
+  Mat A = model_.jacobian();
+  Vec mask = model_.coordinate_mask();
+  SB_CHECK(model_.set_step_start(x_));
+  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, t_, 0.0}, x_, A));
+  SB_CHECK(MatAXPY(A, 1.0, M_, SAME_NONZERO_PATTERN));
+  SB_CHECK(model_.set_prescribed_jacobian_rows(A));
+
+  Vec xz = xt_, f0 = w_, fp = f_hist_, rhs = work_;  // scratch (the step recomputes them)
+  SB_CHECK(VecPointwiseMult(xz, x_, mask));          // multipliers 0
+  const StepEval ev{StepRule::Endpoint, t_, 1.0};
+  SB_CHECK(model_.assemble_effects_residual(ev, xz, f0));
+  SB_CHECK(VecPointwiseMult(rhs, f0, mask));
+  SB_CHECK(VecScale(rhs, -1.0));
+  // constraint rows: -(F(x+v) + F(x-v) - 2 F(x)), with rhs = -f0 on coordinate rows kept
+  Vec curv = x1_;
+  SB_CHECK(VecWAXPY(a_, 1.0, v_, xz));
+  SB_CHECK(model_.assemble_effects_residual(ev, a_, fp));
+  SB_CHECK(VecCopy(fp, curv));
+  SB_CHECK(VecWAXPY(a_, -1.0, v_, xz));
+  SB_CHECK(model_.assemble_effects_residual(ev, a_, fp));
+  SB_CHECK(VecAXPY(curv, 1.0, fp));
+  SB_CHECK(VecAXPY(curv, -2.0, f0));
+  {
+    PetscScalar *r = nullptr, *c = nullptr;
+    const PetscScalar* mk = nullptr;
+    PetscInt lo = 0, hi = 0;
+    SB_CHECK(VecGetOwnershipRange(rhs, &lo, &hi));
+    SB_CHECK(VecGetArray(rhs, &r));
+    SB_CHECK(VecGetArray(curv, &c));
+    SB_CHECK(VecGetArrayRead(mask, &mk));
+    for (PetscInt i = 0; i < hi - lo; ++i)
+      if (mk[i] == 0.0) r[i] = -c[i];
+    for (PetscInt row : model_.prescribed_rows()) r[row - lo] = 0.0;
+    SB_CHECK(VecRestoreArrayRead(mask, &mk));
+    SB_CHECK(VecRestoreArray(curv, &c));
+    SB_CHECK(VecRestoreArray(rhs, &r));
+  }
+  // The Newton solver's own linear solver (same options; SNES resets its operators every solve).
+  KSP ksp = nullptr;
+  SB_CHECK(SNESGetKSP(snes_, &ksp));
+  SB_CHECK(KSPSetOperators(ksp, A, A));
+  Vec y = x1_;
+  SB_CHECK(KSPSolve(ksp, rhs, y));
+  KSPConvergedReason reason;
+  SB_CHECK(KSPGetConvergedReason(ksp, &reason));
+  if (reason < 0)
+    throw std::runtime_error(std::string("initial acceleration: the constrained mass system could not be solved (") +
+                             KSPConvergedReasons[reason] + ")");
+  SB_CHECK(VecPointwiseMult(a_, y, mask));
+  // x_ = mask * x_ + (1 - mask) * y: the consistent initial multipliers
+  SB_CHECK(VecAXPY(y, -1.0, a_));      // y: multipliers only
+  SB_CHECK(VecPointwiseMult(x_, x_, mask));
+  SB_CHECK(VecAXPY(x_, 1.0, y));
+  model_.apply_prescribed(x_);
+}
+
+void TimeIntegrator::prepare_step(double h) {
+  h_ = h;
+  SB_CHECK(model_.set_step_start(x_));
+  SB_CHECK(VecWAXPY(xt_, h, v_, x_));
+  scale_ = 1.0;
+  has_history_force_ = false;
+  if (is_midpoint_type(params_.kind)) {
+    c0_ = 2.0 / (h * h);
+  } else {
+    c0_ = 1.0 / (params_.beta * h * h);
+    SB_CHECK(VecAXPY(xt_, h * h * (0.5 - params_.beta), a_));
+    if (params_.kind == IntegratorKind::HHT && params_.alpha != 0.0) {
+      // -alpha F(x_n; t_n) on coordinate rows (constraint rows hold at t_{n+1} only)
+      scale_ = 1.0 + params_.alpha;
+      has_history_force_ = true;
+      SB_CHECK(model_.assemble_effects_residual(StepEval{StepRule::Endpoint, t_, 1.0}, x_, f_hist_));
+      SB_CHECK(VecPointwiseMult(f_hist_, f_hist_, model_.coordinate_mask()));
+      SB_CHECK(VecScale(f_hist_, -params_.alpha));
+    }
+  }
+}
+
+PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
+  PetscFunctionBeginUser;
+  PetscCall(model_.assemble_effects_residual(step_eval(), x1, F));
+  if (scale_ != 1.0) PetscCall(VecScale(F, scale_));
+  PetscCall(VecWAXPY(w_, -1.0, xt_, x1));
+  PetscCall(VecScale(w_, c0_));
+  PetscCall(MatMultAdd(M_, w_, F, F));
+  if (has_history_force_) PetscCall(VecAXPY(F, 1.0, f_hist_));
+  PetscCall(model_.set_prescribed_residual_rows(x1, F));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {
+  PetscFunctionBeginUser;
+  PetscCall(model_.assemble_effects_jacobian(step_eval(), x1, J));
+  if (scale_ != 1.0) PetscCall(MatScale(J, scale_));
+  PetscCall(MatAXPY(J, c0_, M_, SAME_NONZERO_PATTERN));
+  PetscCall(model_.set_prescribed_jacobian_rows(J));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::form_function(SNES, Vec x, Vec F, void* ctx) {
+  return static_cast<TimeIntegrator*>(ctx)->step_residual(x, F);
+}
+
+PetscErrorCode TimeIntegrator::form_jacobian(SNES, Vec x, Mat J, Mat, void* ctx) {
+  return static_cast<TimeIntegrator*>(ctx)->step_jacobian(x, J);
+}
+
+SolveResult TimeIntegrator::step(double h) {
+  SB_CHECK(PetscLogEventBegin(ev_step_, 0, 0, 0, 0));
+  prepare_step(h);
+  // Predictor: x_n + h v_n (+ h^2/2 a_n), multipliers of t_n.
+  SB_CHECK(VecWAXPY(x1_, h, v_, x_));
+  if (!is_midpoint_type(params_.kind)) SB_CHECK(VecAXPY(x1_, 0.5 * h * h, a_));
+  model_.apply_prescribed(x1_);
+  SB_CHECK(SNESSolve(snes_, nullptr, x1_));
+  SolveResult r = solve_result(snes_);
+  PetscReal norm = 0;
+  SB_CHECK(VecNorm(x1_, NORM_2, &norm));
+  if (r.converged() && !std::isfinite(norm)) r.reason = SNES_DIVERGED_FNORM_NAN;
+  if (r.converged()) {
+    Vec mask = model_.coordinate_mask();
+    if (is_midpoint_type(params_.kind)) {
+      // v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n
+      SB_CHECK(VecAXPBYPCZ(v_, 2.0 / h, -2.0 / h, -1.0, x1_, x_));
+      SB_CHECK(VecPointwiseMult(v_, v_, mask));
+    } else {
+      // a_{n+1} = c0 (x_{n+1} - x~),  v_{n+1} = v_n + h ((1 - gamma) a_n + gamma a_{n+1})
+      SB_CHECK(VecWAXPY(w_, -1.0, xt_, x1_));
+      SB_CHECK(VecPointwiseMult(w_, w_, mask));
+      SB_CHECK(VecScale(w_, c0_));
+      SB_CHECK(VecAXPBYPCZ(v_, h * (1.0 - params_.gamma), h * params_.gamma, 1.0, a_, w_));
+      SB_CHECK(VecCopy(w_, a_));
+    }
+    SB_CHECK(VecCopy(x1_, x_));
+    t_ += h;
+  }
+  SB_CHECK(PetscLogEventEnd(ev_step_, 0, 0, 0, 0));
+  return r;
+}
+
+double TimeIntegrator::kinetic_energy() const {
+  SB_CHECK(MatMult(M_, v_, work_));
+  PetscScalar e = 0;
+  SB_CHECK(VecDot(v_, work_, &e));
+  return 0.5 * e;
+}
+
+Momenta TimeIntegrator::momenta() const {
+  SB_CHECK(MatMult(M_, v_, work_));
+  return model_.momenta(x_, work_);
+}
+
+double TimeIntegrator::constraint_residual() const {
+  SB_CHECK(model_.assemble_effects_residual(StepEval{StepRule::Endpoint, t_, 1.0}, x_, work_));
+  const PetscScalar *f = nullptr, *mk = nullptr;
+  PetscInt n = 0;
+  SB_CHECK(VecGetLocalSize(work_, &n));
+  SB_CHECK(VecGetArrayRead(work_, &f));
+  SB_CHECK(VecGetArrayRead(model_.coordinate_mask(), &mk));
+  double m = 0.0;
+  for (PetscInt i = 0; i < n; ++i)
+    if (mk[i] == 0.0) m = std::max(m, std::abs(f[i]));
+  SB_CHECK(VecRestoreArrayRead(model_.coordinate_mask(), &mk));
+  SB_CHECK(VecRestoreArrayRead(work_, &f));
+  MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, model_.comm());
+  return m;
+}
+
+}  // namespace slidebeam
