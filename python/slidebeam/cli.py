@@ -89,9 +89,8 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     sim = Simulation(scene)
     _say(rank, _describe(scene))
     _say(rank, "active effects: " + ", ".join(e.label for e in sim.active_effects))
-    if scene.analysis.type != "static":
-        _say(rank, "slidebeam: error: dynamic analysis is not available yet (static only)", sys.stderr)
-        return EXIT_INPUT
+    if scene.analysis.type == "dynamic":
+        return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0)
 
     def progress(rec) -> None:
         if not args.quiet:
@@ -122,6 +121,49 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
                    f"results in {out}/")
         return EXIT_OK
     _say(rank, f"slidebeam: error: {message}", sys.stderr)
+    return EXIT_SOLVE_FAILED
+
+
+def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float) -> int:
+    from .results import write_results
+
+    a = scene.analysis
+    n_steps = max(1, round(a.t_end / a.dt))
+    report_every = max(1, n_steps // 20)  # about 20 progress lines per run
+    next_report = [0]
+
+    def progress(rec) -> None:
+        if args.quiet:
+            return
+        if rec.converged and rec.step < next_report[0] and rec.t < a.t_end * (1 - 1e-12):
+            return
+        next_report[0] = rec.step + report_every
+        _say(rank, f"  step {rec.step:6d}  t = {rec.t:10.5g}  newton {rec.newton_iterations:2d}  "
+                   f"E = {rec.total_energy:.10e}  |constraints| = {rec.constraint_residual:.1e}"
+                   f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
+
+    outcome = sim.run_dynamic(progress)
+    wall = time.perf_counter() - t0
+    recs = outcome.records
+    last = recs[-1] if outcome.complete else recs[-2]
+    summary = {
+        "scene": scene.name, "scene_file": os.path.abspath(scene.file), "analysis": "dynamic",
+        "integrator": a.integrator, "complete": outcome.complete, "converged": outcome.complete,
+        "message": outcome.message, "active_effects": [e.label for e in sim.active_effects],
+        "t_end": a.t_end, "t_reached": sim.t, "dt": a.dt, "dt_min": a.dt_min,
+        "steps": sum(1 for r in recs[1:] if r.converged), "rejected_steps": outcome.rejected_steps,
+        "newton_iterations": sum(r.newton_iterations for r in recs),
+        "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
+        "final_energy": {"kinetic": last.kinetic_energy, "strain": last.strain_energy,
+                         "potential": last.potential_energy, "total": last.total_energy},
+        "max_constraint_residual": max(r.constraint_residual for r in recs),
+    }
+    write_results(sim, out, recs, summary, rank)
+    if outcome.complete:
+        _say(rank, f"done in {wall:.3f} s: {summary['steps']} steps, {summary['newton_iterations']} Newton iterations; "
+                   f"results in {out}/")
+        return EXIT_OK
+    _say(rank, f"slidebeam: error: {outcome.message}", sys.stderr)
     return EXIT_SOLVE_FAILED
 
 

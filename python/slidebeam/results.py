@@ -10,6 +10,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+from .dynamics import DynamicRecord
 from .simulation import Simulation, StepRecord
 
 
@@ -30,13 +31,20 @@ def prepare_output_dir(out: Path) -> None:
         raise OSError(f"output folder {out} is not writable: {err.strerror or err}") from err
 
 
-def history_csv(sim: Simulation, records: list[StepRecord]) -> str:
+def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]) -> str:
+    """One row per recorded step; tracked points last, as <beam>@<s>.x/.y/.z."""
     buf = io.StringIO()
     w = csv.writer(buf)
     track_cols = []
     for tp in sim.scene.output.track:
         name = f"{sim.scene.beams[tp.beam].name}@{tp.at:g}"
         track_cols += [f"{name}.x", f"{name}.y", f"{name}.z"]
+    if sim.integrator is not None:
+        w.writerow([*DynamicRecord.header(), *track_cols])
+        for d in records:
+            assert isinstance(d, DynamicRecord)
+            w.writerow([*d.row(), *[repr(v) for p in d.tracked for v in p]])
+        return buf.getvalue()
     w.writerow(["step", "t", "converged", "reason", "newton_iterations", "residual_norm",
                 "strain_energy", "potential_energy", *track_cols])
     for r in records:
@@ -64,7 +72,8 @@ def end_positions(sim: Simulation) -> dict[str, dict[str, list[float]]]:
     return out
 
 
-def write_results(sim: Simulation, out: Path, records: list[StepRecord], summary: dict[str, Any], rank: int) -> None:
+def write_results(sim: Simulation, out: Path, records: list[StepRecord] | list[DynamicRecord], summary: dict[str, Any],
+                  rank: int) -> None:
     """Collective (evaluation gathers), rank 0 writes. The summary is written last, so a
     summary marked complete is never beside partial files."""
     history = history_csv(sim, records)
