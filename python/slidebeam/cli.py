@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Command line: ``slidebeam run SCENE`` and ``slidebeam check SCENE``.
+"""Command line: ``slidebeam run SCENE``, ``slidebeam check SCENE`` and ``slidebeam plot RUN...``.
 
 Exit codes: 0 success, 1 the solve failed (Newton), 2 bad input or unusable output folder,
 3 internal error. Anything after ``--`` goes to the PETSc options database.
@@ -37,6 +37,12 @@ def _parser() -> argparse.ArgumentParser:
                          description="Validate a scene file and print what it contains.")
     chk.add_argument("scene", help="scene file (TOML)")
     chk.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scene value")
+    plot = sub.add_parser("plot", help="plot energy and momentum of dynamic runs (PNG)",
+                          description="Draw total energy, its relative change, linear and angular momentum over "
+                                      "time for one or more run folders, one colour per run.",
+                          epilog="Example: slidebeam plot out/em out/midpoint --out energy.png")
+    plot.add_argument("runs", nargs="+", help="run folders (with history.csv)")
+    plot.add_argument("--out", help="PNG file (default: <first run>/energy_momentum.png)")
     return p
 
 
@@ -176,12 +182,22 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     rank = _rank()
     try:
+        if args.command == "plot":
+            from .plots import plot_energy_momentum
+
+            runs = [Path(r) for r in args.runs]
+            png = plot_energy_momentum(runs, Path(args.out) if args.out else runs[0] / "energy_momentum.png")
+            _say(rank, f"wrote {png}")
+            return EXIT_OK
         if args.command == "check":
             scene = load_scene(args.scene, args.set)
             _say(rank, _describe(scene) + "\nscene is valid")
             return EXIT_OK
         return _run(args, petsc_args, rank)
     except SceneError as err:
+        _say(rank, f"slidebeam: error: {err}", sys.stderr)
+        return EXIT_INPUT
+    except FileNotFoundError as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
     except (ValueError, TypeError) as err:  # the core's invalid_argument arrives as ValueError

@@ -1,0 +1,81 @@
+# SPDX-License-Identifier: MIT
+"""Energy and momentum over time for one or more run folders (history.csv of dynamic runs)."""
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+
+
+def read_history(run_dir: Path) -> dict[str, np.ndarray]:
+    """Columns of a run's history.csv as float arrays (text columns are skipped)."""
+    path = Path(run_dir) / "history.csv"
+    if not path.is_file():
+        raise FileNotFoundError(f"{path} does not exist (is {run_dir} a slidebeam run folder?)")
+    with path.open() as f:
+        rows = list(csv.DictReader(f))
+    out: dict[str, np.ndarray] = {}
+    for key in rows[0] if rows else []:
+        try:
+            out[key] = np.array([float(r[key]) for r in rows])
+        except ValueError:
+            continue
+    return out
+
+
+def _label(run_dir: Path) -> str:
+    summary = Path(run_dir) / "summary.json"
+    if summary.is_file():
+        s = json.loads(summary.read_text())
+        text = s.get("integrator") or s.get("scene", Path(run_dir).name)
+        return text if s.get("complete", True) else f"{text} (stopped at t = {s.get('t_reached', float('nan')):.3g})"
+    return Path(run_dir).name
+
+
+def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
+    """Four panels: total energy, its change relative to the largest energy of the run,
+    linear momentum and angular momentum (all components), one line style per run."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(2, 2, figsize=(12, 8), sharex=True)
+    typical = []
+    for k, run in enumerate(run_dirs):
+        h = read_history(run)
+        if "total_energy" not in h:
+            raise ValueError(f"{run}: history.csv has no total_energy column (not a dynamic run)")
+        t, H = h["t"], h["total_energy"]
+        ok = h["converged"] > 0
+        t, H = t[ok], H[ok]
+        label = _label(run)
+        color = f"C{k}"
+        ax[0, 0].plot(t, H, color=color, label=label)
+        typical.append(np.abs(H[: max(2, len(H) // 2)]).max())
+        scale = max(np.abs(h["kinetic_energy"][ok]).max(), np.abs(H).max(), 1e-300)
+        dH = np.abs(np.diff(H)) / scale
+        ax[0, 1].semilogy(t[1:], np.maximum(dH, 1e-17), color=color, label=label)
+        for c, style in zip("xyz", ("-", "--", ":")):
+            ax[1, 0].plot(t, h[f"linear_momentum.{c}"][ok], style, color=color, label=f"{label} L{c}")
+            ax[1, 1].plot(t, h[f"angular_momentum.{c}"][ok], style, color=color, label=f"{label} J{c}")
+    if typical:  # a run that blew up must not flatten the others
+        ax[0, 0].set_ylim(top=3 * max(typical))
+    ax[0, 0].set_title("total energy T + U + V")
+    ax[0, 1].set_title("energy change per recorded step |H_n+1 - H_n| / max energy")
+    ax[1, 0].set_title("linear momentum")
+    ax[1, 1].set_title("angular momentum (about the origin)")
+    for a in ax.flat:
+        a.grid(True, alpha=0.3)
+    for a in ax[1]:
+        a.set_xlabel("t")
+    ax[0, 0].legend(fontsize=8)
+    ax[1, 1].legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    out_png = Path(out_png)
+    out_png.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+    return out_png
