@@ -148,6 +148,8 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("a", &TimeIntegrator::a)
       .def_property_readonly("mass", &TimeIntegrator::mass)
       .def_property_readonly("snes", &TimeIntegrator::snes)
+      .def_property_readonly("jacobian_evaluations", &TimeIntegrator::jacobian_evaluations)
+      .def_property_readonly("jacobian", [](const TimeIntegrator& s) { return s.jacobian(); }, "the step Jacobian (petsc4py)")
       .def("kinetic_energy", &TimeIntegrator::kinetic_energy)
       .def("momenta",
            [](const TimeIntegrator& s) {

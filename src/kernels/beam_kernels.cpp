@@ -73,6 +73,49 @@ MatZEl field_map(const GaussPoint& gp) {
   return P;
 }
 
+namespace {
+// The field map P (21 x 36) is made of scalar multiples of I3: z-block 0 (phi') takes dN_a phi_a,
+// z-block i (d_i) takes N_a d_i,a and z-block 3+i (d_i') takes dN_a d_i,a. Products with P are
+// done block by block (about 10x fewer operations than the dense 21 x 36 products).
+VecZ apply_P(const GaussPoint& gp, const VecEl& q) {
+  VecZ z = VecZ::Zero();
+  for (int a = 0; a < 3; ++a) {
+    const int c = kNq * a;
+    z.segment<3>(3 * kPhiS) += gp.dN[a] * q.segment<3>(c);
+    for (int i = 1; i <= 3; ++i) {
+      z.segment<3>(3 * i) += gp.N[a] * q.segment<3>(c + 3 * i);
+      z.segment<3>(3 * (3 + i)) += gp.dN[a] * q.segment<3>(c + 3 * i);
+    }
+  }
+  return z;
+}
+// r += w P^T g
+void add_Pt(const GaussPoint& gp, double w, const VecZ& g, VecEl& r) {
+  for (int a = 0; a < 3; ++a) {
+    const int c = kNq * a;
+    r.segment<3>(c) += w * gp.dN[a] * g.segment<3>(3 * kPhiS);
+    for (int i = 1; i <= 3; ++i)
+      r.segment<3>(c + 3 * i) += w * (gp.N[a] * g.segment<3>(3 * i) + gp.dN[a] * g.segment<3>(3 * (3 + i)));
+  }
+}
+// K += w P^T Kz P
+void add_Pt_K_P(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
+  Eigen::Matrix<double, kNz, kNqEl> Y;  // Kz P
+  for (int a = 0; a < 3; ++a) {
+    const int c = kNq * a;
+    Y.middleCols<3>(c) = gp.dN[a] * Kz.middleCols<3>(3 * kPhiS);
+    for (int i = 1; i <= 3; ++i)
+      Y.middleCols<3>(c + 3 * i) = gp.N[a] * Kz.middleCols<3>(3 * i) + gp.dN[a] * Kz.middleCols<3>(3 * (3 + i));
+  }
+  for (int a = 0; a < 3; ++a) {
+    const int c = kNq * a;
+    K.middleRows<3>(c) += (w * gp.dN[a]) * Y.middleRows<3>(3 * kPhiS);
+    for (int i = 1; i <= 3; ++i)
+      K.middleRows<3>(c + 3 * i) += (w * gp.N[a]) * Y.middleRows<3>(3 * i) + (w * gp.dN[a]) * Y.middleRows<3>(3 * (3 + i));
+  }
+}
+}  // namespace
+
 Vec6 strains(const StrainTable& T, const VecZ& z) {
   Vec6 e;
   for (int k = 0; k < 6; ++k) e(k) = form_value<kNz>(T[k], z);
@@ -81,40 +124,38 @@ Vec6 strains(const StrainTable& T, const VecZ& z) {
 
 double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                       const VecEl& q) {
-  const VecZ z = field_map(gp) * q;
+  const VecZ z = apply_P(gp, q);
   const Vec6 de = strains(T, z) - eps0;
   return 0.5 * gp.w * de.dot(C.cwiseProduct(de));
 }
 
 void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                               const VecEl& q, VecEl& r, MatEl* K) {
-  const MatZEl P = field_map(gp);
-  const VecZ z = P * q;
+  const VecZ z = apply_P(gp, q);
   Mat6Z B;
   for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z, B.row(k));
   const Vec6 sigma = C.cwiseProduct(strains(T, z) - eps0);
-  r.noalias() += gp.w * (P.transpose() * (B.transpose() * sigma));
+  add_Pt(gp, gp.w, B.transpose() * sigma, r);
   if (K) {
     MatZ Kz = B.transpose() * C.asDiagonal() * B;
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], sigma(k), Kz);
-    K->noalias() += gp.w * (P.transpose() * Kz * P);
+    add_Pt_K_P(gp, gp.w, Kz, *K);
   }
 }
 
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K) {
-  const MatZEl P = field_map(gp);
-  const VecZ z0 = P * q0, z1 = P * q1, zm = 0.5 * (z0 + z1);
+  const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
   Mat6Z Bm;
   for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], zm, Bm.row(k));
   const Vec6 sigma = C.cwiseProduct(0.5 * (strains(T, z0) + strains(T, z1)) - eps0);
-  r.noalias() += gp.w * (P.transpose() * (Bm.transpose() * sigma));
+  add_Pt(gp, gp.w, Bm.transpose() * sigma, r);
   if (K) {
     Mat6Z B1;
     for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z1, B1.row(k));
     MatZ Kz = 0.5 * (Bm.transpose() * C.asDiagonal() * B1);
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], 0.5 * sigma(k), Kz);
-    K->noalias() += gp.w * (P.transpose() * Kz * P);
+    add_Pt_K_P(gp, gp.w, Kz, *K);
   }
 }
 

@@ -43,7 +43,69 @@ PetscInt LocalValues::index(PetscInt global) const {
 PetscErrorCode MatSink::add(PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols,
                             const PetscScalar* v) const {
   PetscFunctionBeginUser;
-  PetscCall(MatSetValues(A_, m, rows, n, cols, v, ADD_VALUES));
+  if (coo_) {
+    coo_->add(m, rows, n, cols, v, scale_);
+  } else if (scale_ == 1.0) {
+    PetscCall(MatSetValues(A_, m, rows, n, cols, v, ADD_VALUES));
+  } else {
+    std::vector<PetscScalar> w(v, v + m * n);
+    for (auto& x : w) x *= scale_;
+    PetscCall(MatSetValues(A_, m, rows, n, cols, w.data(), ADD_VALUES));
+  }
+  PetscFunctionReturn(0);
+}
+
+void CooAssembly::begin() { cursor_ = call_cursor_ = 0; }
+
+void CooAssembly::add(PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols, const PetscScalar* v,
+                      double scale) {
+  const size_t count = static_cast<size_t>(m) * static_cast<size_t>(n);
+  const size_t sig = 2 + static_cast<size_t>(m + n);
+  if (!pattern_changed_) {
+    const PetscInt* c = calls_.data() + call_cursor_;
+    const bool same = call_cursor_ + sig <= calls_.size() && c[0] == m && c[1] == n &&
+                      std::equal(rows, rows + m, c + 2) && std::equal(cols, cols + n, c + 2 + m);
+    if (!same) pattern_changed_ = true;
+  }
+  if (pattern_changed_) {  // (re)record from here on
+    calls_.resize(call_cursor_);
+    calls_.push_back(m);
+    calls_.push_back(n);
+    calls_.insert(calls_.end(), rows, rows + m);
+    calls_.insert(calls_.end(), cols, cols + n);
+    i_.resize(cursor_ + count);
+    j_.resize(cursor_ + count);
+    for (PetscInt a = 0; a < m; ++a)
+      for (PetscInt b = 0; b < n; ++b) {
+        i_[cursor_ + static_cast<size_t>(a * n + b)] = rows[a];
+        j_[cursor_ + static_cast<size_t>(a * n + b)] = cols[b];
+      }
+  }
+  if (v_.size() < cursor_ + count) v_.resize(cursor_ + count);
+  if (scale == 1.0) std::copy(v, v + count, v_.begin() + static_cast<std::ptrdiff_t>(cursor_));
+  else
+    for (size_t k = 0; k < count; ++k) v_[cursor_ + k] = scale * v[k];
+  cursor_ += count;
+  call_cursor_ += sig;
+}
+
+PetscErrorCode CooAssembly::end(Mat A) {
+  PetscFunctionBeginUser;
+  if (cursor_ != i_.size() || call_cursor_ != calls_.size()) pattern_changed_ = true;
+  int changed = pattern_changed_ ? 1 : 0;
+  MPI_Comm comm;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &changed, 1, MPI_INT, MPI_MAX, comm));
+  if (changed) {
+    i_.resize(cursor_);
+    j_.resize(cursor_);
+    calls_.resize(call_cursor_);
+    std::vector<PetscInt> ic(i_), jc(j_);  // PETSc may reorder its input arrays
+    PetscCall(MatSetPreallocationCOO(A, static_cast<PetscCount>(ic.size()), ic.data(), jc.data()));
+    pattern_changed_ = false;
+  }
+  v_.resize(cursor_);
+  PetscCall(MatSetValuesCOO(A, v_.data(), INSERT_VALUES));
   PetscFunctionReturn(0);
 }
 

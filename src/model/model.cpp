@@ -300,11 +300,13 @@ PetscErrorCode Model::assemble_residual(double t, Vec x, Vec F) const {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J) const {
+PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J, CooAssembly* coo, double scale,
+                                                double mass_scale) const {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev_jacobian_, 0, 0, 0, 0));
   PetscCall(update_ghosts(x));
-  PetscCall(MatZeroEntries(J));
+  if (coo) coo->begin();
+  else PetscCall(MatZeroEntries(J));
   PetscScalar *xa = nullptr, *oa = nullptr, *fa = nullptr;
   const bool two_states = ev.rule != StepRule::Endpoint;
   if (two_states) PetscCall(VecAXPBYPCZ(xf_local_, 1.0 - ev.theta, ev.theta, 0.0, x_old_local_, x_local_));
@@ -317,20 +319,31 @@ PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J
     LocalValues xv(ghost_dofs_, xa);
     LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
     EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0};
-    MatSink sink(J);
+    const MatSink sink = coo ? MatSink(coo, scale) : MatSink(J, scale);
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
       PetscCall(effects_[k]->jacobian(ctx, sink));
+      if (mass_scale != 0.0) PetscCall(effects_[k]->mass(*this, coo ? MatSink(coo, mass_scale) : MatSink(J, mass_scale)));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }
+    if (coo)  // every diagonal entry exists (identity rows of supports, pivoting LU)
+      for (PetscInt i = map_.owned_lo(); i < map_.owned_hi(); ++i) {
+        const PetscScalar zero = 0.0;
+        PetscCall(sink.add(1, &i, 1, &i, &zero));
+      }
   }
   if (two_states) {
     PetscCall(VecRestoreArray(xf_local_, &fa));
     PetscCall(VecRestoreArray(x_old_local_, &oa));
   }
   PetscCall(VecRestoreArray(x_local_, &xa));
-  PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  if (coo) {
+    PetscCall(coo->end(J));
+    PetscCall(MatSetOption(J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  } else {
+    PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  }
   PetscCall(PetscLogEventEnd(ev_jacobian_, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -345,7 +358,7 @@ PetscErrorCode Model::set_prescribed_jacobian_rows(Mat J) const {
 
 PetscErrorCode Model::assemble_jacobian(double t, Vec x, Mat J) const {
   PetscFunctionBeginUser;
-  PetscCall(assemble_effects_jacobian(StepEval{StepRule::Endpoint, t, 1.0}, x, J));
+  PetscCall(assemble_effects_jacobian(StepEval{StepRule::Endpoint, t, 1.0}, x, J, J == J_ ? &coo_ : nullptr));
   PetscCall(set_prescribed_jacobian_rows(J));
   PetscFunctionReturn(0);
 }

@@ -78,8 +78,11 @@ class Model {
   PetscErrorCode set_step_start(Vec x_old);
   /// F = sum of the effects' residuals under a step rule; prescribed rows are NOT overwritten.
   PetscErrorCode assemble_effects_residual(const StepEval& ev, Vec x, Vec F) const;
-  /// J = sum of the effects' tangents d F / d x (assembled); prescribed rows NOT overwritten.
-  PetscErrorCode assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J) const;
+  /// J = scale * sum of the effects' tangents d F / d x + mass_scale * M (assembled); prescribed
+  /// rows NOT overwritten. With coo (the assembly record of J), values go through PETSc's COO
+  /// interface; without, through MatSetValues (any J with the model's sparsity pattern).
+  PetscErrorCode assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J, CooAssembly* coo = nullptr,
+                                           double scale = 1.0, double mass_scale = 0.0) const;
   /// Prescribed rows of F become x_i - xbar_i.
   PetscErrorCode set_prescribed_residual_rows(Vec x, Vec F) const;
   /// Prescribed rows of J become identity rows (columns kept: J stays the exact derivative).
@@ -124,6 +127,7 @@ class Model {
   Vec x_ = nullptr, r_ = nullptr;
   Mat J_ = nullptr;
 
+  mutable CooAssembly coo_;  // assembly record of J_
   std::vector<PetscInt> bc_rows_;
   std::vector<PetscScalar> bc_values_;
 

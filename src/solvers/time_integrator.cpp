@@ -42,16 +42,22 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(VecZeroEntries(v_));
   SB_CHECK(VecZeroEntries(a_));
 
+  SB_CHECK(MatDuplicate(model.jacobian(), MAT_DO_NOT_COPY_VALUES, &J_));
   SB_CHECK(SNESCreate(model.comm(), &snes_));
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &TimeIntegrator::form_function, this));
-  SB_CHECK(SNESSetJacobian(snes_, model.jacobian(), model.jacobian(), &TimeIntegrator::form_jacobian, this));
+  SB_CHECK(SNESSetJacobian(snes_, J_, J_, &TimeIntegrator::form_jacobian, this));
   SB_CHECK(configure_newton(snes_, &test_));
+  SB_CHECK(SNESSetConvergenceTest(snes_, &TimeIntegrator::converged, this, nullptr));
+  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_jacobian_reuse", &reuse_, nullptr));
+  SB_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-sb_jacobian_reuse_rate", &reuse_rate_, nullptr));
+  if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(SNESSetFromOptions(snes_));
 }
 
 TimeIntegrator::~TimeIntegrator() {
   SNESDestroy(&snes_);
   MatDestroy(&M_);
+  MatDestroy(&J_);
   for (Vec* v : {&x_, &v_, &a_, &x1_, &xt_, &w_, &f_hist_, &work_}) VecDestroy(v);
 }
 
@@ -80,11 +86,10 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
 /// curvature term is the exact second difference Phi(q+v) + Phi(q-v) - 2 Phi(q) of the quadratic
 /// (or linear) constraints.
 void TimeIntegrator::consistent_acceleration() {
-  Mat A = model_.jacobian();
+  Mat A = J_;
   Vec mask = model_.coordinate_mask();
   SB_CHECK(model_.set_step_start(x_));
-  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, t_, 0.0}, x_, A));
-  SB_CHECK(MatAXPY(A, 1.0, M_, SAME_NONZERO_PATTERN));
+  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, t_, 0.0}, x_, A, &coo_, 1.0, 1.0));
   SB_CHECK(model_.set_prescribed_jacobian_rows(A));
 
   Vec xz = xt_, f0 = w_, fp = f_hist_, rhs = work_;  // scratch (the step recomputes them)
@@ -128,6 +133,8 @@ void TimeIntegrator::consistent_acceleration() {
   if (reason < 0)
     throw std::runtime_error(std::string("initial acceleration: the constrained mass system could not be solved (") +
                              KSPConvergedReasons[reason] + ")");
+  jac_solve_ = -1;  // J_ holds the initial system now: the first step must rebuild it
+  if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(VecPointwiseMult(a_, y, mask));
   // x_ = mask * x_ + (1 - mask) * y: the consistent initial multipliers
   SB_CHECK(VecAXPY(y, -1.0, a_));      // y: multipliers only
@@ -172,9 +179,12 @@ PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
 
 PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {
   PetscFunctionBeginUser;
-  PetscCall(model_.assemble_effects_jacobian(step_eval(), x1, J));
-  if (scale_ != 1.0) PetscCall(MatScale(J, scale_));
-  PetscCall(MatAXPY(J, c0_, M_, SAME_NONZERO_PATTERN));
+  if (J == J_) {  // fast path: one COO pass with the mass terms
+    PetscCall(model_.assemble_effects_jacobian(step_eval(), x1, J, &coo_, scale_, c0_));
+  } else {
+    PetscCall(model_.assemble_effects_jacobian(step_eval(), x1, J, nullptr, scale_));
+    PetscCall(MatAXPY(J, c0_, M_, SUBSET_NONZERO_PATTERN));
+  }
   PetscCall(model_.set_prescribed_jacobian_rows(J));
   PetscFunctionReturn(0);
 }
@@ -183,22 +193,76 @@ PetscErrorCode TimeIntegrator::form_function(SNES, Vec x, Vec F, void* ctx) {
   return static_cast<TimeIntegrator*>(ctx)->step_residual(x, F);
 }
 
-PetscErrorCode TimeIntegrator::form_jacobian(SNES, Vec x, Mat J, Mat, void* ctx) {
-  return static_cast<TimeIntegrator*>(ctx)->step_jacobian(x, J);
+PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<TimeIntegrator*>(ctx);
+  PetscCall(self->step_jacobian(x, J));
+  PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
+  self->jac_solve_ = self->solve_count_;
+  self->jac_c0_ = self->c0_;
+  ++self->jac_evals_;
+  PetscFunctionReturn(0);
+}
+
+/// The roundoff-aware test of static solves, plus modified-Newton control: an iteration made
+/// with an old Jacobian that reduced |F| by less than the reuse rate asks SNES for a fresh
+/// Jacobian at the next iteration; stagnation counts as convergence only with a fresh one.
+PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                         SNESConvergedReason* reason, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<TimeIntegrator*>(ctx);
+  RoundoffTest& rt = self->test_;
+  PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
+  if (it == 0) {
+    rt.fnorm0 = rt.fnorm_prev = fnorm;
+    PetscFunctionReturn(0);
+  }
+  if (*reason == SNES_CONVERGED_ITERATING) {
+    const bool fresh = !self->reuse_ || (self->jac_solve_ == self->solve_count_ && self->jac_iter_ == it - 1);
+    const double rate = fnorm / rt.fnorm_prev;
+    if (!fresh && rate > self->reuse_rate_) {
+      PetscCall(PetscInfo(snes, "Old Jacobian reduced |F| by only %g: rebuilding it\n", rate));
+      PetscCall(SNESSetLagJacobian(snes, -2));
+    } else if (fresh && self->reuse_ && rate > 1.0) {
+      // Far from the solution, reusing even a fresh Jacobian can diverge: full Newton for the
+      // rest of this step.
+      PetscCall(PetscInfo(snes, "|F| grew by %g with a fresh Jacobian: full Newton for this step\n", rate));
+      PetscCall(SNESSetLagJacobian(snes, 1));
+    } else if (fresh && it > 1 && fnorm <= 1e-6 * rt.fnorm0 && rate >= 0.5) {
+      PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
+                          (double)rt.fnorm0));
+      *reason = SNES_CONVERGED_FNORM_RELATIVE;
+    }
+  }
+  rt.fnorm_prev = fnorm;
+  PetscFunctionReturn(0);
 }
 
 SolveResult TimeIntegrator::step(double h) {
   SB_CHECK(PetscLogEventBegin(ev_step_, 0, 0, 0, 0));
   prepare_step(h);
-  // Predictor: x_n + h v_n (+ h^2/2 a_n), multipliers of t_n.
-  SB_CHECK(VecWAXPY(x1_, h, v_, x_));
-  if (!is_midpoint_type(params_.kind)) SB_CHECK(VecAXPY(x1_, 0.5 * h * h, a_));
-  model_.apply_prescribed(x1_);
-  SB_CHECK(SNESSolve(snes_, nullptr, x1_));
-  SolveResult r = solve_result(snes_);
-  PetscReal norm = 0;
-  SB_CHECK(VecNorm(x1_, NORM_2, &norm));
-  if (r.converged() && !std::isfinite(norm)) r.reason = SNES_DIVERGED_FNORM_NAN;
+  ++solve_count_;
+  // Reuse the last Jacobian (lag -1) unless the step size changed (c0 M is part of it) or the
+  // last step failed; then build a fresh one first (lag -2).
+  if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, (jac_solve_ < 0 || c0_ != jac_c0_ || last_failed_) ? -2 : -1));
+  SolveResult r;
+  for (int attempt = 0; attempt < (reuse_ ? 2 : 1); ++attempt) {
+    // Predictor: x_n + h v_n (+ h^2/2 a_n), multipliers of t_n.
+    SB_CHECK(VecWAXPY(x1_, h, v_, x_));
+    if (!is_midpoint_type(params_.kind)) SB_CHECK(VecAXPY(x1_, 0.5 * h * h, a_));
+    model_.apply_prescribed(x1_);
+    // Second attempt: iterations with old Jacobians led astray; full Newton from the predictor.
+    if (attempt == 1) SB_CHECK(SNESSetLagJacobian(snes_, 1));
+    SB_CHECK(SNESSolve(snes_, nullptr, x1_));
+    const int its_before = r.iterations;
+    r = solve_result(snes_);
+    r.iterations += its_before;
+    PetscReal norm = 0;
+    SB_CHECK(VecNorm(x1_, NORM_2, &norm));
+    if (r.converged() && !std::isfinite(norm)) r.reason = SNES_DIVERGED_FNORM_NAN;
+    if (r.converged()) break;
+  }
+  last_failed_ = !r.converged();
   if (r.converged()) {
     Vec mask = model_.coordinate_mask();
     if (is_midpoint_type(params_.kind)) {

@@ -12,6 +12,13 @@
 ///
 /// M is the constant mass matrix; it has no entries on multipliers, so constraint rows are the
 /// effects' constraints at x_{n+1}.
+///
+/// Modified Newton (default; -sb_jacobian_reuse false turns it off): the Jacobian and its LU
+/// factors are kept across iterations and steps (SNES lag -1); a fresh one is built first when the
+/// step size changed or the last step failed, or when an iteration with an old Jacobian
+/// reduced |F| by less than -sb_jacobian_reuse_rate (0.2); a step whose |F| grows even with a
+/// fresh Jacobian turns to full Newton. The solution is
+/// the same; only the path to it changes.
 
 #include "model/model.hpp"
 #include "solvers/newton.hpp"
@@ -50,7 +57,10 @@ class TimeIntegrator {
   Vec v() const { return v_; }
   Vec a() const { return a_; }
   Mat mass() const { return M_; }
+  Mat jacobian() const { return J_; }
   SNES snes() const { return snes_; }
+  /// Number of step-Jacobian assemblies so far (each followed by a factorisation).
+  int jacobian_evaluations() const { return jac_evals_; }
   const IntegratorParams& params() const { return params_; }
 
   /// 1/2 v^T M v of the current state.
@@ -69,6 +79,8 @@ class TimeIntegrator {
  private:
   static PetscErrorCode form_function(SNES, Vec x, Vec F, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec x, Mat J, Mat P, void* ctx);
+  static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                  SNESConvergedReason* reason, void* ctx);
   StepEval step_eval() const;
   void consistent_acceleration();
 
@@ -77,11 +89,21 @@ class TimeIntegrator {
   RoundoffTest test_;
   SNES snes_ = nullptr;
   Mat M_ = nullptr;
+  Mat J_ = nullptr;  // the step Jacobian (own matrix: its factors are reused across steps)
+  CooAssembly coo_;  // assembly record of J_
   Vec x_ = nullptr, v_ = nullptr, a_ = nullptr;   // state at t_n
   Vec x1_ = nullptr;                              // Newton iterate / solution
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
   bool has_history_force_ = false;
+  // modified Newton bookkeeping
+  PetscBool reuse_ = PETSC_TRUE;
+  PetscReal reuse_rate_ = 0.2;
+  int jac_evals_ = 0;
+  long solve_count_ = 0, jac_solve_ = -1;
+  PetscInt jac_iter_ = -1;
+  double jac_c0_ = 0.0;
+  bool last_failed_ = false;
   PetscLogEvent ev_step_ = 0;
 };
 
