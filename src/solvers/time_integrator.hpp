@@ -93,6 +93,8 @@ class TimeIntegrator {
   CooAssembly coo_;  // assembly record of J_
   Vec x_ = nullptr, v_ = nullptr, a_ = nullptr;   // state at t_n
   Vec x1_ = nullptr;                              // Newton iterate / solution
+  Vec v_prev_ = nullptr;                          // v_{n-1} (predictor of midpoint-type schemes)
+  double h_prev_ = 0.0;                           // 0: no previous step
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
   bool has_history_force_ = false;
