@@ -54,7 +54,8 @@ def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
         label = _label(run)
         color = f"C{k}"
         ax[0, 0].plot(t, H, color=color, label=label)
-        typical.append(np.abs(H[: max(2, len(H) // 2)]).max())
+        first_half = H[: max(2, len(H) // 2)]
+        typical.append((first_half.min(), first_half.max()))
         scale = max(np.abs(h["kinetic_energy"][ok]).max(), np.abs(H).max(), 1e-300)
         dH = np.abs(np.diff(H)) / scale
         ax[0, 1].semilogy(t[1:], np.maximum(dH, 1e-17), color=color, label=label)
@@ -62,7 +63,9 @@ def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
             ax[1, 0].plot(t, h[f"linear_momentum.{c}"][ok], style, color=color, label=f"{label} L{c}")
             ax[1, 1].plot(t, h[f"angular_momentum.{c}"][ok], style, color=color, label=f"{label} J{c}")
     if typical:  # a run that blew up must not flatten the others
-        ax[0, 0].set_ylim(top=3 * max(typical))
+        lo, hi = min(a for a, _ in typical), max(b for _, b in typical)
+        pad = 0.25 * (hi - lo) + 1e-12 * max(abs(lo), abs(hi), 1.0)
+        ax[0, 0].set_ylim(lo - pad, hi + pad)
     ax[0, 0].set_title("total energy T + U + V")
     ax[0, 1].set_title("energy change per recorded step |H_n+1 - H_n| / max energy")
     ax[1, 0].set_title("linear momentum")

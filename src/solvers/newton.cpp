@@ -5,7 +5,7 @@
 
 namespace slidebeam {
 
-PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
+PetscErrorCode configure_newton(SNES snes, RoundoffTest* test, bool fast_serial_lu) {
   PetscFunctionBeginUser;
   PetscCall(SNESSetType(snes, SNESNEWTONLS));
   // Exact Newton: full steps (a line search on a saddle-point residual norm mostly gets in the way).
@@ -34,7 +34,13 @@ PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
   PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(snes), &comm));
   int size = 1;
   MPI_Comm_size(comm, &size);
-  PetscCall(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
+  if (size == 1 && fast_serial_lu) {
+    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
+    PetscCall(PCFactorReorderForNonzeroDiagonal(pc, 1e-14));
+    PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGRCM));
+  } else {
+    PetscCall(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
+  }
   // MUMPS sizes its workspace from the analysis; pivoting on the zero diagonal of the
   // saddle-point matrix needs more (INFOG(1) = -9 otherwise). Users' own value wins.
   PetscBool has = PETSC_FALSE;

@@ -47,10 +47,12 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(SNESCreate(model.comm(), &snes_));
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &TimeIntegrator::form_function, this));
   SB_CHECK(SNESSetJacobian(snes_, J_, J_, &TimeIntegrator::form_jacobian, this));
-  SB_CHECK(configure_newton(snes_, &test_));
+  // Serial steps use PETSc's LU (a failed step is retried with full Newton, then smaller dt).
+  SB_CHECK(configure_newton(snes_, &test_, true));
   SB_CHECK(SNESSetConvergenceTest(snes_, &TimeIntegrator::converged, this, nullptr));
   SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_jacobian_reuse", &reuse_, nullptr));
   SB_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-sb_jacobian_reuse_rate", &reuse_rate_, nullptr));
+  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_full_newton_after_rebuild", &full_newton_after_rebuild_, nullptr));
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(SNESSetFromOptions(snes_));
 }
@@ -229,8 +231,8 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
     } else if (!fresh && rate > self->reuse_rate_) {
-      PetscCall(PetscInfo(snes, "Old Jacobian reduced |F| by only %g: rebuilding it\n", rate));
-      PetscCall(SNESSetLagJacobian(snes, -2));
+      PetscCall(PetscInfo(snes, "Old Jacobian reduced |F| by only %g: full Newton for this step\n", rate));
+      PetscCall(SNESSetLagJacobian(snes, self->full_newton_after_rebuild_ ? 1 : -2));
     } else if (fresh && self->reuse_ && rate > 1.0) {
       // Far from the solution, reusing even a fresh Jacobian can diverge: full Newton for the
       // rest of this step.

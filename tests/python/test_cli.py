@@ -127,3 +127,55 @@ def test_newton_failure_is_clean_and_marked_incomplete(run_cli, root, tmp_path):
     assert rows[-1]["converged"] == "0"
     # the configuration written is the last converged one: the undeformed reference
     assert summary["final_end_positions"]["strip"]["end"] == pytest.approx([10.0, 0.0, 0.0], abs=1e-12)
+
+
+DYNAMIC_SCENES = ("flying_spaghetti_2d", "flying_spaghetti_3d", "right_angle_cantilever", "pendulum16", "pendulum64")
+
+
+@pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint", "newmark", "hht"))
+def test_dynamic_scenes_run_with_every_integrator(run_cli, root, tmp_path, integrator):
+    """Every D-scene starts and steps with every integrator (short runs; the full runs are in
+    the README's tables)."""
+    for name in DYNAMIC_SCENES:
+        out = run_cli("run", str(root / "runs" / f"{name}.toml"), "--out", name, "-q",
+                      "--set", f'analysis.integrator="{integrator}"', "--set", "analysis.t_end=0.3"
+                      if not name.startswith("pendulum") else "analysis.t_end=0.02")
+        assert out.returncode == 0, (name, out.stderr)
+        summary = json.loads((tmp_path / name / "summary.json").read_text())
+        assert summary["complete"] and summary["integrator"] == integrator
+
+
+def test_dynamic_run_writes_energy_momentum_history_and_plot(run_cli, root, tmp_path):
+    scene = str(root / "runs" / "flying_spaghetti_2d.toml")
+    out = run_cli("run", scene, "--out", "d1", "--set", "analysis.t_end=3.0")
+    assert out.returncode == 0, out.stderr
+    assert "beam_inertia[spaghetti]" in out.stdout and "done in" in out.stdout
+    rows = list(csv.DictReader((tmp_path / "d1" / "history.csv").open()))
+    assert len(rows) == 31 and float(rows[-1]["t"]) == pytest.approx(3.0)
+    for col in ("kinetic_energy", "strain_energy", "potential_energy", "total_energy", "linear_momentum.x",
+                "angular_momentum.z", "constraint_residual", "newton_iterations", "spaghetti@10.x"):
+        assert col in rows[0]
+    last = rows[-1]
+    total = sum(float(last[k]) for k in ("kinetic_energy", "strain_energy", "potential_energy"))
+    assert float(last["total_energy"]) == pytest.approx(total, rel=1e-12)
+    assert float(last["linear_momentum.x"]) == pytest.approx(8.0 * 2.5, rel=1e-9)  # impulse of F = 8 over 2.5 s
+    summary = json.loads((tmp_path / "d1" / "summary.json").read_text())
+    assert summary["complete"] and summary["steps"] == 30 and summary["max_constraint_residual"] < 1e-9
+    plot = run_cli("plot", "d1", "--out", "d1.png")
+    assert plot.returncode == 0, plot.stderr
+    assert (tmp_path / "d1.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    missing = run_cli("plot", "nowhere")
+    assert missing.returncode == 2 and "history.csv" in missing.stderr and "Traceback" not in missing.stderr
+
+
+def test_dynamic_failure_is_a_clean_stop(run_cli, root, tmp_path):
+    out = run_cli("run", str(root / "runs" / "flying_spaghetti_2d.toml"), "--out", "nm", "-q",
+                  "--set", 'analysis.integrator="newmark"', "--set", "analysis.dt_min=0.05")
+    assert out.returncode == 1
+    assert "Newton failed at step" in out.stderr and "residual norm" in out.stderr
+    assert "Traceback" not in out.stderr
+    summary = json.loads((tmp_path / "nm" / "summary.json").read_text())
+    assert summary["complete"] is False and summary["t_reached"] < 15.0
+    rows = list(csv.DictReader((tmp_path / "nm" / "history.csv").open()))
+    assert rows[-1]["converged"] == "0" and all(r["converged"] == "1" for r in rows[:-1])
+    assert all(v not in ("nan", "inf") for r in rows for v in r.values())
