@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @file Effects of a director beam itself: elastic strain energy and the orthonormality
-/// constraints of its control points.
+/// @file Effects of a director beam itself: elastic strain energy, inertia and the
+/// orthonormality constraints of its control points.
 
 #include "effects/common.hpp"
 
@@ -12,12 +12,12 @@ using kernels::MatEl;
 using kernels::VecEl;
 using RowMajorEl = Eigen::Matrix<double, kernels::kNqEl, kernels::kNqEl, Eigen::RowMajor>;
 
-/// Strain energy of one beam (formulation.md section 3), integrated span by span.
-class BeamElastic final : public Effect {
+/// An effect integrated span by span over one beam: each rank takes the spans it owns, reads
+/// their three control points and may touch the 36 x 36 block of their coordinates.
+class SpanEffect : public Effect {
  public:
-  BeamElastic(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
-  std::string type() const override { return "beam_elastic"; }
-  std::string label() const override { return "beam_elastic[" + name_ + "]"; }
+  SpanEffect(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
+  std::string label() const override { return type() + "[" + name_ + "]"; }
 
   void distribute(const Model& m) override {
     const Beam& b = m.beam(beam_);
@@ -38,6 +38,19 @@ class BeamElastic final : public Effect {
     }
     PetscFunctionReturn(0);
   }
+
+ protected:
+  int beam_;
+  std::string name_;
+  std::vector<int> spans_;
+};
+
+/// Strain energy of one beam (formulation.md section 3), integrated span by span.
+class BeamElastic final : public SpanEffect {
+ public:
+  using SpanEffect::SpanEffect;
+  std::string type() const override { return "beam_elastic"; }
+
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
     const Beam& b = ctx.model.beam(beam_);
@@ -86,10 +99,6 @@ class BeamElastic final : public Effect {
       kernels::beam_gp_residual_tangent(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q, re, K);
     if (K && ctx.theta != 1.0) *K *= ctx.theta;
   }
-
-  int beam_;
-  std::string name_;
-  std::vector<int> spans_;
 };
 
 /// Six orthonormality constraints per control point with their multipliers (seed eq. 2).
@@ -161,28 +170,11 @@ class DirectorConstraints final : public Effect {
 /// Kinetic energy of one beam (formulation.md section 4): the constant consistent mass
 /// M^AB = int N^A N^B ds (x) diag(rho A, 0, rho I3, rho I2). d1 carries no inertia. Assembled
 /// once into the mass matrix; the time integrator applies it.
-class BeamInertia final : public Effect {
+class BeamInertia final : public SpanEffect {
  public:
-  BeamInertia(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
+  using SpanEffect::SpanEffect;
   std::string type() const override { return "beam_inertia"; }
-  std::string label() const override { return "beam_inertia[" + name_ + "]"; }
-
-  void distribute(const Model& m) override {
-    const Beam& b = m.beam(beam_);
-    for (int e = 0; e < b.n_spans(); ++e)
-      if (owns_span(m, b, e)) spans_.push_back(e);
-  }
-  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
-  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    PetscFunctionBeginUser;
-    const Beam& b = m.beam(beam_);
-    const RowMajorEl zero = RowMajorEl::Zero();
-    for (int e : spans_) {
-      const auto d = span_q_dofs(m.dof_map(), b, e);
-      PetscCall(sink.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), zero.data()));
-    }
-    PetscFunctionReturn(0);
-  }
+  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
   PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
   PetscErrorCode mass(const Model& m, const MatSink& M) const override {
@@ -205,11 +197,6 @@ class BeamInertia final : public Effect {
     }
     PetscFunctionReturn(0);
   }
-
- private:
-  int beam_;
-  std::string name_;
-  std::vector<int> spans_;
 };
 
 void register_beam_effects(EffectRegistry& r) {

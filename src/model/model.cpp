@@ -186,14 +186,7 @@ Momenta Model::momenta(Vec x, Vec p) const {
   return out;
 }
 
-PetscErrorCode Model::set_step_start(Vec x_old) {
-  PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(ev_ghost_, 0, 0, 0, 0));
-  PetscCall(VecScatterBegin(scatter_, x_old, x_old_local_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(scatter_, x_old, x_old_local_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(PetscLogEventEnd(ev_ghost_, 0, 0, 0, 0));
-  PetscFunctionReturn(0);
-}
+PetscErrorCode Model::set_step_start(Vec x_old) { return update_ghosts(x_old, x_old_local_); }
 
 void Model::apply_prescribed(Vec x) const {
   PetscScalar* a = nullptr;
@@ -231,45 +224,61 @@ void Model::set_reference_state(Vec x) const {
   apply_prescribed(x);
 }
 
-PetscErrorCode Model::update_ghosts(Vec x) const {
+PetscErrorCode Model::update_ghosts(Vec x, Vec local) const {
   PetscFunctionBeginUser;
+  if (!local) local = x_local_;
   PetscCall(PetscLogEventBegin(ev_ghost_, 0, 0, 0, 0));
-  PetscCall(VecScatterBegin(scatter_, x, x_local_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(scatter_, x, x_local_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterBegin(scatter_, x, local, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter_, x, local, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(PetscLogEventEnd(ev_ghost_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+template <class Body>
+PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const {
+  PetscFunctionBeginUser;
+  PetscCall(update_ghosts(x));
+  // Endpoint rule: one state. Otherwise x_f = (1 - theta) x_old + theta x (x_old ghosted by
+  // set_step_start).
+  const bool two_states = ev.rule != StepRule::Endpoint;
+  if (two_states) PetscCall(VecAXPBYPCZ(xf_local_, 1.0 - ev.theta, ev.theta, 0.0, x_old_local_, x_local_));
+  PetscScalar *xa = nullptr, *oa = nullptr, *fa = nullptr;
+  PetscCall(VecGetArray(x_local_, &xa));
+  if (two_states) {
+    PetscCall(VecGetArray(x_old_local_, &oa));
+    PetscCall(VecGetArray(xf_local_, &fa));
+  }
+  {
+    LocalValues xv(ghost_dofs_, xa);
+    LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
+    const EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0};
+    PetscCall(body(ctx));
+  }
+  if (two_states) {
+    PetscCall(VecRestoreArray(xf_local_, &fa));
+    PetscCall(VecRestoreArray(x_old_local_, &oa));
+  }
+  PetscCall(VecRestoreArray(x_local_, &xa));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode Model::assemble_effects_residual(const StepEval& ev, Vec x, Vec F) const {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev_residual_, 0, 0, 0, 0));
-  PetscCall(update_ghosts(x));
   PetscCall(VecZeroEntries(r_local_));
-  PetscScalar *xa = nullptr, *ra = nullptr, *oa = nullptr, *fa = nullptr;
-  const bool two_states = ev.rule != StepRule::Endpoint;
-  if (two_states) PetscCall(VecAXPBYPCZ(xf_local_, 1.0 - ev.theta, ev.theta, 0.0, x_old_local_, x_local_));
-  PetscCall(VecGetArray(x_local_, &xa));
+  PetscScalar* ra = nullptr;
   PetscCall(VecGetArray(r_local_, &ra));
-  if (two_states) {
-    PetscCall(VecGetArray(x_old_local_, &oa));
-    PetscCall(VecGetArray(xf_local_, &fa));
-  }
-  {
-    LocalValues xv(ghost_dofs_, xa), rv(ghost_dofs_, ra);
-    LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
-    EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0};
+  const LocalValues rv(ghost_dofs_, ra);
+  PetscCall(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+    PetscFunctionBeginUser;
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
       PetscCall(effects_[k]->residual(ctx, rv));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }
-  }
-  if (two_states) {
-    PetscCall(VecRestoreArray(xf_local_, &fa));
-    PetscCall(VecRestoreArray(x_old_local_, &oa));
-  }
+    PetscFunctionReturn(0);
+  }));
   PetscCall(VecRestoreArray(r_local_, &ra));
-  PetscCall(VecRestoreArray(x_local_, &xa));
   PetscCall(VecZeroEntries(F));
   PetscCall(VecScatterBegin(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
@@ -304,26 +313,16 @@ PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J
                                                 double mass_scale) const {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev_jacobian_, 0, 0, 0, 0));
-  PetscCall(update_ghosts(x));
   if (coo) coo->begin();
   else PetscCall(MatZeroEntries(J));
-  PetscScalar *xa = nullptr, *oa = nullptr, *fa = nullptr;
-  const bool two_states = ev.rule != StepRule::Endpoint;
-  if (two_states) PetscCall(VecAXPBYPCZ(xf_local_, 1.0 - ev.theta, ev.theta, 0.0, x_old_local_, x_local_));
-  PetscCall(VecGetArray(x_local_, &xa));
-  if (two_states) {
-    PetscCall(VecGetArray(x_old_local_, &oa));
-    PetscCall(VecGetArray(xf_local_, &fa));
-  }
-  {
-    LocalValues xv(ghost_dofs_, xa);
-    LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
-    EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0};
+  PetscCall(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+    PetscFunctionBeginUser;
     const MatSink sink = coo ? MatSink(coo, scale) : MatSink(J, scale);
+    const MatSink mass_sink = coo ? MatSink(coo, mass_scale) : MatSink(J, mass_scale);
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
       PetscCall(effects_[k]->jacobian(ctx, sink));
-      if (mass_scale != 0.0) PetscCall(effects_[k]->mass(*this, coo ? MatSink(coo, mass_scale) : MatSink(J, mass_scale)));
+      if (mass_scale != 0.0) PetscCall(effects_[k]->mass(*this, mass_sink));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }
     if (coo)  // every diagonal entry exists (identity rows of supports, pivoting LU)
@@ -331,12 +330,8 @@ PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J
         const PetscScalar zero = 0.0;
         PetscCall(sink.add(1, &i, 1, &i, &zero));
       }
-  }
-  if (two_states) {
-    PetscCall(VecRestoreArray(xf_local_, &fa));
-    PetscCall(VecRestoreArray(x_old_local_, &oa));
-  }
-  PetscCall(VecRestoreArray(x_local_, &xa));
+    PetscFunctionReturn(0);
+  }));
   if (coo) {
     PetscCall(coo->end(J));
     PetscCall(MatSetOption(J, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
@@ -364,16 +359,11 @@ PetscErrorCode Model::assemble_jacobian(double t, Vec x, Mat J) const {
 }
 
 std::vector<double> Model::effect_energies(double t, Vec x) const {
-  SB_CHECK(update_ghosts(x));
   std::vector<double> e(effects_.size(), 0.0);
-  PetscScalar* xa = nullptr;
-  SB_CHECK(VecGetArray(x_local_, &xa));
-  {
-    LocalValues xv(ghost_dofs_, xa);
-    EvalContext ctx{*this, map_, t, xv, xv, xv};
+  SB_CHECK(with_context(StepEval{StepRule::Endpoint, t, 1.0}, x, [&](const EvalContext& ctx) -> PetscErrorCode {
     for (size_t k = 0; k < effects_.size(); ++k) e[k] = effects_[k]->energy(ctx);
-  }
-  SB_CHECK(VecRestoreArray(x_local_, &xa));
+    return 0;
+  }));
   MPI_Allreduce(MPI_IN_PLACE, e.data(), static_cast<int>(e.size()), MPI_DOUBLE, MPI_SUM, comm_);
   return e;
 }

@@ -106,7 +106,11 @@ class Model {
   const std::vector<PetscInt>& prescribed_rows() const { return bc_rows_; }
 
  private:
-  PetscErrorCode update_ghosts(Vec x) const;
+  /// Scatter the global x into a ghosted local vector (default: x_local_).
+  PetscErrorCode update_ghosts(Vec x, Vec local = nullptr) const;
+  /// Ghost x, build the evaluation context of a step rule (x, x_f, x_old) and call body(ctx).
+  template <class Body>
+  PetscErrorCode with_context(const StepEval& ev, Vec x, Body&& body) const;
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
