@@ -34,6 +34,9 @@ def main() -> int:
     import petsc4py
 
     petsc4py.init([sys.argv[0], *petsc_args])
+    import signal
+
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # `| head` ends quietly, not via PETSc's handler
     from slidebeam import Simulation, load_scene
 
     integrators = ["energy-momentum"] + (["midpoint", "newmark", "hht"] if args.all_integrators else [])

@@ -67,6 +67,15 @@ def _describe(scene: Scene) -> str:
     return "\n".join(lines)
 
 
+def _quiet_broken_pipe() -> None:
+    """`slidebeam run ... | head` should end quietly, as command-line tools do, not through
+    PETSc's signal handler (which reports a crash and calls MPI_Abort)."""
+    import signal
+
+    if hasattr(signal, "SIGPIPE"):
+        signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+
+
 def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     scene = load_scene(args.scene, args.set)
     out = Path(args.out) if args.out else Path("out") / scene.name
@@ -74,6 +83,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     import petsc4py
 
     petsc4py.init([sys.argv[0], *petsc_args])
+    _quiet_broken_pipe()
     from mpi4py import MPI
 
     from .results import prepare_output_dir, write_results
