@@ -82,10 +82,12 @@ def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
 
 @dataclass
 class RunOutcome:
-    records: list[DynamicRecord]
+    records: list[DynamicRecord]  # every output.every-th step, the last one and a failed attempt
     complete: bool
     message: str
-    rejected_steps: int
+    steps: int                    # accepted steps
+    rejected_steps: int           # failed attempts (retried with a smaller step)
+    newton_iterations: int        # over all attempts
 
 
 def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:
@@ -103,7 +105,7 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
     records = [sim.record_dynamic(0, None, 0.0, 0)]
     if on_step:
         on_step(records[0])
-    dt, step, rejected, rejected_since_record = a.dt, 0, 0, 0
+    dt, step, rejected, rejected_since_record, newton = a.dt, 0, 0, 0, 0
     t_end = a.t_end
     message = "completed"
     complete = True
@@ -112,6 +114,7 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
         if t_end - (integ.time + h) < 1e-9 * a.dt:  # land exactly on t_end
             h = t_end - integ.time
         result = integ.step(h)
+        newton += result.iterations
         if result.converged and math.isfinite(result.residual_norm):
             step += 1
             last = integ.time >= t_end * (1 - 1e-12)
@@ -139,4 +142,4 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
                        f"(t = {integ.time:.6g}) and are marked incomplete")
             break
         dt = h / 2
-    return RunOutcome(records, complete, message, rejected)
+    return RunOutcome(records, complete, message, step, rejected, newton)

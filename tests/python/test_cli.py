@@ -179,3 +179,12 @@ def test_dynamic_failure_is_a_clean_stop(run_cli, root, tmp_path):
     rows = list(csv.DictReader((tmp_path / "nm" / "history.csv").open()))
     assert rows[-1]["converged"] == "0" and all(r["converged"] == "1" for r in rows[:-1])
     assert all(v not in ("nan", "inf") for r in rows for v in r.values())
+
+
+def test_dynamic_summary_counts_every_step_not_only_recorded_ones(run_cli, root, tmp_path):
+    out = run_cli("run", str(root / "runs" / "pendulum16.toml"), "--out", "p", "-q", "--set", "analysis.t_end=0.05")
+    assert out.returncode == 0, out.stderr
+    summary = json.loads((tmp_path / "p" / "summary.json").read_text())
+    rows = list(csv.DictReader((tmp_path / "p" / "history.csv").open()))
+    assert summary["steps"] == 50 and len(rows) == 6  # output.every = 10
+    assert summary["newton_iterations"] >= 50 > sum(int(r["newton_iterations"]) for r in rows)
