@@ -67,6 +67,9 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
         text["frame"] = load.frame
         add(load.type, f"{load.type}[{_where(scene, load.beam, load.at)}]",
             {"beam": load.beam, "s": load.at, **num}, {"value": list(load.value)}, text)
+    for j in scene.rigid_joints:
+        add("rigid_joint", f"rigid_joint[{_where(scene, j.beam_a, j.at_a)}-{_where(scene, j.beam_b, j.at_b)}]",
+            {"beam_a": j.beam_a, "s_a": j.at_a, "beam_b": j.beam_b, "s_b": j.at_b})
     for pm in scene.point_masses:
         add("point_mass", f"point_mass[{_where(scene, pm.beam, pm.at)}, {pm.mass:g} kg]",
             {"beam": pm.beam, "s": pm.at, "mass": pm.mass})

@@ -187,6 +187,16 @@ class PointMass:
 
 
 @dataclass(frozen=True)
+class RigidJoint:
+    """Two beam ends welded together (same point, relative orientation of the reference kept)."""
+
+    beam_a: int
+    at_a: float
+    beam_b: int
+    at_b: float
+
+
+@dataclass(frozen=True)
 class Analysis:
     type: str
     steps: int
@@ -227,6 +237,7 @@ class Scene:
     petsc_options: dict[str, str]
     petsc_options_file: str | None
     output: Output
+    rigid_joints: tuple[RigidJoint, ...] = ()
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -396,7 +407,8 @@ def _array_of_tables(data: dict[str, Any], key: str, file: str) -> list[Any]:
 # ----------------------------------------------------------------------------
 # schema constants
 
-_TOP_KEYS = ("scene", "analysis", "petsc", "gravity", "beam", "support", "load", "point_mass", "output")
+_TOP_KEYS = ("scene", "analysis", "petsc", "gravity", "beam", "support", "load", "point_mass", "rigid_joint",
+             "output")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
 )
@@ -464,6 +476,10 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         _parse_point_mass(_Table(raw, file, f"[[point_mass]] #{i + 1}", "point_mass"), beams)
         for i, raw in enumerate(_array_of_tables(data, "point_mass", file))
     )
+    joints = tuple(
+        _parse_rigid_joint(_Table(raw, file, f"[[rigid_joint]] #{i + 1}", "rigid_joint"), beams)
+        for i, raw in enumerate(_array_of_tables(data, "rigid_joint", file))
+    )
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
     gravity = _parse_gravity(top, file)
     output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams)
@@ -482,6 +498,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         petsc_options=options,
         petsc_options_file=options_file,
         output=output,
+        rigid_joints=joints,
     )
 
 
@@ -918,6 +935,33 @@ def _parse_time_function(t: _Table) -> TimeFunction:
     if not t2 > t1:
         raise t.error("t2", f"must be > t1 = {t1}, got {t2}")
     return TimeFunction(kind, t0, t1, t2)
+
+
+def _parse_rigid_joint(t: _Table, beams: tuple[Beam, ...]) -> RigidJoint:
+    t.check_keys(("beams", "at"))
+    names = t.raw("beams")
+    if not (isinstance(names, list) and len(names) == 2 and all(isinstance(n, str) for n in names)):
+        raise t.error("beams", f"must be two beam names, e.g. [\"leg1\", \"leg2\"], got {_show(names)}")
+    ends = t.raw("at", ["end", "start"])
+    if not (isinstance(ends, list) and len(ends) == 2 and all(e in ("start", "end") for e in ends)):
+        raise t.error("at", f"must be two of 'start'/'end' (one per beam), got {_show(ends)}")
+    index = []
+    for name in names:
+        match = [b.index for b in beams if b.name == name]
+        if not match:
+            known = [b.name for b in beams]
+            raise t.error("beams", f"beam '{name}' does not exist (beams: {', '.join(known)})"
+                                   f"{_did_you_mean(name, known)}")
+        index.append(match[0])
+    if index[0] == index[1]:
+        raise t.error("beams", f"a rigid joint needs two different beams, got '{names[0]}' twice")
+    s = [0.0 if e == "start" else beams[i].geometry.length for i, e in zip(index, ends)]
+    pa, pb = (np.asarray(beams[i].geometry.point_at(si)) for i, si in zip(index, s))
+    scale = max(beams[index[0]].geometry.length, beams[index[1]].geometry.length)
+    if float(np.linalg.norm(pa - pb)) > 1e-9 * scale:
+        raise t.error("beams", f"'{names[0]}' {ends[0]} at {_vec(pa)} and '{names[1]}' {ends[1]} at {_vec(pb)} "
+                               f"do not meet (distance {float(np.linalg.norm(pa - pb)):.3g})")
+    return RigidJoint(index[0], s[0], index[1], s[1])
 
 
 def _parse_point_mass(t: _Table, beams: tuple[Beam, ...]) -> PointMass:

@@ -6,12 +6,14 @@ namespace effects {
 void register_beam_effects(EffectRegistry& r);
 void register_load_effects(EffectRegistry& r);
 void register_support_effects(EffectRegistry& r);
+void register_joint_effects(EffectRegistry& r);
 }  // namespace effects
 
 void register_builtin_effects(EffectRegistry& registry) {
   effects::register_beam_effects(registry);
   effects::register_load_effects(registry);
   effects::register_support_effects(registry);
+  effects::register_joint_effects(registry);
 }
 
 }  // namespace slidebeam

@@ -24,11 +24,8 @@ struct RoundoffTest {
 };
 
 /// Newton line search off, tolerances, divergence test off, roundoff test, direct LU (SuperLU
-/// serial, MUMPS parallel). With fast_serial_lu, serial runs use PETSc's own LU after a
-/// reordering that moves zero pivots off the diagonal (several times faster than SuperLU on
-/// small banded systems; it does not pivot numerically, so callers must be able to retry a
-/// failed solve). Call before SNESSetFromOptions.
-PetscErrorCode configure_newton(SNES snes, RoundoffTest* test, bool fast_serial_lu = false);
+/// serial, MUMPS parallel). Call before SNESSetFromOptions.
+PetscErrorCode configure_newton(SNES snes, RoundoffTest* test);
 
 /// Reason, iterations and final residual of the last SNESSolve.
 SolveResult solve_result(SNES snes);

@@ -47,8 +47,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(SNESCreate(model.comm(), &snes_));
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &TimeIntegrator::form_function, this));
   SB_CHECK(SNESSetJacobian(snes_, J_, J_, &TimeIntegrator::form_jacobian, this));
-  // Serial steps use PETSc's LU (a failed step is retried with full Newton, then smaller dt).
-  SB_CHECK(configure_newton(snes_, &test_, true));
+  SB_CHECK(configure_newton(snes_, &test_));
   SB_CHECK(SNESSetConvergenceTest(snes_, &TimeIntegrator::converged, this, nullptr));
   SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_jacobian_reuse", &reuse_, nullptr));
   SB_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-sb_jacobian_reuse_rate", &reuse_rate_, nullptr));

@@ -28,6 +28,18 @@ BeamSpec straight_beam(const std::string& name, int spans, double L, const Eigen
   return s;
 }
 
+// A beam along +y from X0, its triad (d1, d2, d3) = (e_y, -e_x, e_z).
+BeamSpec turned_beam(const std::string& name, int spans, double L, const Eigen::Vector3d& X0) {
+  BeamSpec s = straight_beam(name, spans, L, X0, kernels::StrainMeasure::SimoReissner, kernels::Quadrature::Full);
+  s.q_ref.clear();
+  for (int a = 0; a < spans + 2; ++a) {
+    const double xi = bspline::greville(spans, a);
+    const double v[12] = {X0(0), X0(1) + xi * L, X0(2), 0, 1, 0, -1, 0, 0, 0, 0, 1};
+    s.q_ref.insert(s.q_ref.end(), v, v + 12);
+  }
+  return s;
+}
+
 // Deterministic value per global index, the same on every rank.
 double pseudo_random(PetscInt i, double scale) { return scale * std::sin(12.9898 * (i + 1) + 78.233); }
 
@@ -46,11 +58,12 @@ TEST(Model, AssembledJacobianMatchesFiniteDifferences) {
   Model m(PETSC_COMM_WORLD);
   m.add_beam(straight_beam("A", 5, 3.0, {0, 0, 0}, kernels::StrainMeasure::Seed, kernels::Quadrature::Reduced));
   m.add_beam(straight_beam("B", 4, 2.0, {0, 1, 0}, kernels::StrainMeasure::SimoReissner, kernels::Quadrature::Full));
+  m.add_beam(turned_beam("C", 3, 1.5, {2, 1, 0}));  // welded to B's end at a right angle
   auto add = [&](const std::string& type, std::map<std::string, double> num,
                  std::map<std::string, std::vector<double>> vec = {}, std::map<std::string, std::string> str = {}) {
     m.add_effect(type, EffectParams{num, vec, str});
   };
-  for (double b : {0.0, 1.0}) {
+  for (double b : {0.0, 1.0, 2.0}) {
     add("beam_elastic", {{"beam", b}});
     add("director_constraints", {{"beam", b}});
   }
@@ -63,6 +76,7 @@ TEST(Model, AssembledJacobianMatchesFiniteDifferences) {
   add("gravity", {}, {{"g", {0.0, -9.81, 0.0}}});
   add("spherical", {{"beam", 1}, {"s", 0.0}}, {{"position", {0.0, 1.0, 0.0}}});
   add("spherical", {{"beam", 1}, {"s", 1.3}}, {{"position", {1.3, 1.0, 0.0}}});
+  add("rigid_joint", {{"beam_a", 1}, {"s_a", 2.0}, {"beam_b", 2}, {"s_b", 0.0}});
   m.finalize();
 
   Vec x = m.x(), v, F1, F2, Jv;

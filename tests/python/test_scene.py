@@ -555,3 +555,31 @@ def test_error_attributes():
     assert str(err) == "a.toml: [[beam]] #1 ('s'), key 'spans': must be > 0"
     assert (err.file, err.table, err.key, err.detail) == ("a.toml", "[[beam]] #1 ('s')", "spans", "must be > 0")
     assert str(scene.SceneError("oops")) == "oops"
+
+
+def _two_legs(joint):
+    return {
+        "beam": [{"name": "a", "start": [0, 0, 0], "end": [0, 1, 0], "spans": 2,
+                  "section": {"EA": 1, "kGA": 1, "GJ": 1, "EI2": 1, "EI3": 1}},
+                 {"name": "b", "start": [0, 1, 0], "end": [-1, 1, 0], "spans": 2,
+                  "section": {"EA": 1, "kGA": 1, "GJ": 1, "EI2": 1, "EI3": 1}}],
+        "rigid_joint": [joint],
+    }
+
+
+def test_rigid_joint_parses_and_checks_its_ends():
+    sc = scene.scene_from_dict(_two_legs({"beams": ["a", "b"], "at": ["end", "start"]}))
+    assert sc.rigid_joints == (scene.RigidJoint(0, 1.0, 1, 0.0),)
+    assert scene.scene_from_dict(_two_legs({"beams": ["a", "b"]})).rigid_joints == sc.rigid_joints  # default at
+    for joint, words in (
+        ({"beams": ["a", "b"], "at": ["start", "start"]}, ("do not meet", "distance")),
+        ({"beams": ["a", "a"]}, ("two different beams",)),
+        ({"beams": ["a", "c"]}, ("'c' does not exist",)),
+        ({"beams": ["a"]}, ("two beam names",)),
+        ({"beams": ["a", "b"], "at": ["end", 0.5]}, ("'start'/'end'",)),
+        ({"beams": ["a", "b"], "where": 1}, ("where",)),
+    ):
+        with pytest.raises(scene.SceneError) as info:
+            scene.scene_from_dict(_two_legs(joint))
+        text = str(info.value)
+        assert "[[rigid_joint]] #1" in text and all(w in text for w in words), text
