@@ -86,6 +86,8 @@ class TimeIntegrator {
   static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                   SNESConvergedReason* reason, void* ctx);
   StepEval step_eval() const;
+  /// Leave the non-pivoting LU for SuperLU (after a failure with it).
+  void use_pivoting_lu();
   void consistent_acceleration();
 
   Model& model_;
@@ -111,6 +113,7 @@ class TimeIntegrator {
   PetscInt jac_iter_ = -1;
   double jac_c0_ = 0.0;
   bool last_failed_ = false;
+  bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
   PetscLogEvent ev_step_ = 0;
 };
 
