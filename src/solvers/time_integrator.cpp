@@ -238,7 +238,8 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
 
 /// The roundoff-aware test of static solves, plus modified-Newton control: an iteration made
 /// with an old Jacobian that reduced |F| by less than the reuse rate asks SNES for a fresh
-/// Jacobian at the next iteration; stagnation counts as convergence only with a fresh one.
+/// Jacobian at the next iteration; stagnation counts as convergence below 1e-6 of the initial
+/// residual with a fresh Jacobian, below 1e-8 with an old one.
 PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                          SNESConvergedReason* reason, void* ctx) {
   PetscFunctionBeginUser;
@@ -259,7 +260,8 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
     } else if (!fresh && rate > self->reuse_rate_) {
-      PetscCall(PetscInfo(snes, "Old Jacobian reduced |F| by only %g: full Newton for this step\n", rate));
+      PetscCall(PetscInfo(snes, "Old Jacobian reduced |F| by only %g: rebuilding it%s\n", rate,
+                          self->full_newton_after_rebuild_ ? " (full Newton for this step)" : ""));
       PetscCall(SNESSetLagJacobian(snes, self->full_newton_after_rebuild_ ? 1 : -2));
     } else if (fresh && self->reuse_ && rate > 1.0) {
       // Far from the solution, reusing even a fresh Jacobian can diverge: full Newton for the
@@ -280,12 +282,16 @@ SolveResult TimeIntegrator::step(double h) {
   // last step failed; then build a fresh one first (lag -2).
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, (jac_solve_ < 0 || c0_ != jac_c0_ || last_failed_) ? -2 : -1));
   SolveResult r;
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    if (attempt > 0) {  // what failed, and what to try instead
+  bool tried_full_newton = !reuse_;
+  for (int attempt = 0;; ++attempt) {
+    // After a failure, from the same predictor: first a pivoting LU (if the fast one was in
+    // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
+    if (attempt > 0) {
       if (fast_lu_) {
         use_pivoting_lu();
-      } else if (reuse_ && attempt == 1) {
-        SB_CHECK(SNESSetLagJacobian(snes_, 1));  // old Jacobians led astray: full Newton
+      } else if (!tried_full_newton) {
+        SB_CHECK(SNESSetLagJacobian(snes_, 1));
+        tried_full_newton = true;
       } else {
         break;
       }
