@@ -23,6 +23,9 @@
 /// The converged solution is the same; only the path to it changes. Measured: modified Newton
 /// pays on small steps of stiff beams (pendulum, dt = 1e-3: 2.3x faster) and loses on large
 /// steps with large rotations (D3 at dt = 0.25: 4x slower), hence the default.
+///
+/// Serial steps factor with PETSc's LU in the natural order (no pivoting, multipliers after
+/// their coordinates) and switch to SuperLU for good after a failed step; see the constructor.
 
 #include "model/model.hpp"
 #include "solvers/newton.hpp"
