@@ -3,6 +3,7 @@
 
 #include "model/time_function.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace slidebeam {
@@ -29,6 +30,13 @@ int beam_param(const Model& model, const EffectParams& p) {
   if (b < 0 || b >= static_cast<int>(model.beams().size()) || b != v)
     throw std::invalid_argument("no beam with index " + std::to_string(v));
   return b;
+}
+
+int end_cp(const Beam& b, double s) {
+  const double tol = 1e-12 * b.length();
+  if (std::abs(s) <= tol) return 0;
+  if (std::abs(s - b.length()) <= tol) return b.n_cp() - 1;
+  return -1;
 }
 
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs) {

@@ -19,6 +19,10 @@ int beam_param(const Model& model, const EffectParams& p);
 /// span has exactly one owner and neighbouring spans mostly stay on one rank.
 inline bool owns_span(const Model& m, const Beam& b, int e) { return m.dof_map().owns_cp(b.first_cp() + e + 1); }
 
+/// Index (within the beam) of the end control point at arc length s (0 or L), or -1 if s is
+/// inside the beam. Open knot vectors make end control points interpolate.
+int end_cp(const Beam& b, double s);
+
 /// Add the 18 unknowns of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 

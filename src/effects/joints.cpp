@@ -13,10 +13,9 @@ namespace slidebeam::effects {
 namespace {
 /// Control point index at a beam end, or an error naming the joint and the beam.
 int joint_end_cp(const Beam& b, double s) {
-  const double tol = 1e-12 * b.length();
-  if (std::abs(s) <= tol) return 0;
-  if (std::abs(s - b.length()) <= tol) return b.n_cp() - 1;
-  throw std::invalid_argument("rigid_joint: beam '" + b.name() + "' can only be joined at an end (start or end)");
+  const int c = end_cp(b, s);
+  if (c < 0) throw std::invalid_argument("rigid_joint: beam '" + b.name() + "' can only be joined at an end (start or end)");
+  return c;
 }
 // The three orientation constraints e_a . dB_b = 0 with e_a = sum_i C_ia dA_i, for these (a, b)
 // pairs: their gradients are the three axes of the relative rotation, hence independent.

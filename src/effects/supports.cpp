@@ -11,14 +11,6 @@
 namespace slidebeam::effects {
 
 namespace {
-/// Index of the end control point at s (0 or L), or -1 if s is inside the beam.
-int end_cp(const Beam& b, double s) {
-  const double tol = 1e-12 * b.length();
-  if (std::abs(s) <= tol) return 0;
-  if (std::abs(s - b.length()) <= tol) return b.n_cp() - 1;
-  return -1;
-}
-
 /// Prescribe coordinates (component range [k0, k1)) of one control point, and optionally its multipliers.
 void prescribe_cp(const Model& m, const Beam& b, int c, int k0, int k1, const double* values, bool multipliers,
                   std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) {
