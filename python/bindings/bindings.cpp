@@ -47,6 +47,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "slidebeam C++ core (director beams, effects, PETSc assembly)";
 
   py::register_exception<PetscFailure>(m, "PetscFailure", PyExc_RuntimeError);
+  py::register_exception<SolverFailure>(m, "SolverFailure", PyExc_RuntimeError);
 
   m.def(
       "bspline_basis",

@@ -67,6 +67,14 @@ def _describe(scene: Scene) -> str:
     return "\n".join(lines)
 
 
+def _is_solver_failure(err: Exception) -> bool:
+    try:
+        from . import _core
+    except ImportError:
+        return False
+    return isinstance(err, _core.SolverFailure)
+
+
 def _quiet_broken_pipe() -> None:
     """`slidebeam run ... | head` should end quietly, as command-line tools do, not through
     PETSc's signal handler (which reports a crash and calls MPI_Abort)."""
@@ -217,6 +225,9 @@ def main(argv: list[str] | None = None) -> int:
         _say(rank, "slidebeam: interrupted", sys.stderr)
         return 130
     except Exception as err:  # noqa: BLE001 - last line of defence: a message, not a trace
+        if _is_solver_failure(err):  # the input cannot be solved (e.g. a singular system)
+            _say(rank, f"slidebeam: error: {err}", sys.stderr)
+            return EXIT_SOLVE_FAILED
         _say(rank, f"slidebeam: internal error: {type(err).__name__}: {err}", sys.stderr)
         if os.environ.get("SLIDEBEAM_DEBUG"):
             traceback.print_exc()

@@ -163,8 +163,8 @@ void TimeIntegrator::consistent_acceleration() {
   SB_CHECK(KSPGetConvergedReason(ksp, &reason));
   SB_CHECK(KSPDestroy(&ksp));
   if (reason < 0)
-    throw std::runtime_error(std::string("initial acceleration: the constrained mass system could not be solved (") +
-                             KSPConvergedReasons[reason] + ")");
+    throw SolverFailure(std::string("initial acceleration: the constrained mass system could not be solved (") +
+                        KSPConvergedReasons[reason] + "); is every part of the structure given mass?");
   jac_solve_ = -1;  // J_ holds the initial system now: the first step must rebuild it
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(VecPointwiseMult(a_, y, mask));

@@ -16,6 +16,12 @@ class PetscFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A solve could not be done (e.g. a singular system): a property of the input, not a bug.
+class SolverFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 inline void check_petsc(PetscErrorCode ierr, const char* call, const char* file, int line) {
   if (ierr == 0) return;
   const char* text = nullptr;

@@ -188,3 +188,26 @@ def test_dynamic_summary_counts_every_step_not_only_recorded_ones(run_cli, root,
     rows = list(csv.DictReader((tmp_path / "p" / "history.csv").open()))
     assert summary["steps"] == 50 and len(rows) == 6  # output.every = 10
     assert summary["newton_iterations"] >= 50 > sum(int(r["newton_iterations"]) for r in rows)
+
+
+def test_unsolvable_initial_acceleration_is_a_solver_error(run_cli, tmp_path):
+    """Newmark needs a_0 from [M G^T; G 0]: without rotary inertia the directors have no mass
+    and the system is singular. That is a property of the scene: exit 1 with a hint, no trace."""
+    scene = tmp_path / "massless.toml"
+    scene.write_text("""
+[analysis]
+type = "dynamic"
+integrator = "newmark"
+dt = 0.01
+t_end = 0.02
+[[beam]]
+name = "a"
+start = [0.0, 0.0, 0.0]
+end = [1.0, 0.0, 0.0]
+spans = 2
+section = { EA = 1.0e3, kGA = 1.0e3, GJ = 1.0, EI2 = 1.0, EI3 = 1.0, rhoA = 1.0 }
+""")
+    out = run_cli("run", str(scene), "--out", "m")
+    assert out.returncode == 1
+    assert "initial acceleration" in out.stderr and "mass" in out.stderr and "Traceback" not in out.stderr
+    assert not (tmp_path / "m" / "summary.json").exists()
