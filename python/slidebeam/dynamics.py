@@ -59,8 +59,9 @@ class DynamicRecord:
 
 
 def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
-    """Rigid initial motion of each beam: phi_dot = v + w x (phi - phi(0)), d_i_dot = w x d_i,
-    with the beam's ``velocity`` v and ``angular_velocity`` w about its first point (s = 0)."""
+    """Rigid initial motion of each beam: phi_dot = v + w x (phi - c), d_i_dot = w x d_i, with
+    the beam's ``velocity`` v and ``angular_velocity`` w about its ``rotation_center`` c (default:
+    the beam's first point). Beams joined together and spinning as one body need the same c."""
     lo, hi = v.getOwnershipRange()
     arr = v.getArray()
     arr[:] = 0.0
@@ -69,7 +70,8 @@ def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
         if not (vel.any() or omega.any()):
             continue
         q = sim.control_points(beam.index)
-        origin = sim.evaluate(beam.index, 0.0)[0, :3]
+        origin = (np.asarray(beam.rotation_center) if beam.rotation_center is not None
+                  else sim.evaluate(beam.index, 0.0)[0, :3])
         first = sim.first_control_point(beam.index)
         for c in range(q.shape[0]):
             base = BLOCK * (first + c)

@@ -132,6 +132,7 @@ class Beam:
     section: Section
     velocity: Vec3
     angular_velocity: Vec3
+    rotation_center: Vec3 | None  # point the angular velocity turns about; None: the beam's start
 
 
 @dataclass(frozen=True)
@@ -415,7 +416,7 @@ _ANALYSIS_KEYS = (
 _INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 _BEAM_KEYS = (
     "name", "start", "end", "polyline", "arc", "d2", "spans", "quadrature", "strain",
-    "formulation", "velocity", "angular_velocity", "section",
+    "formulation", "velocity", "angular_velocity", "rotation_center", "section",
 )
 _ARC_KEYS = ("center", "radius", "normal", "start", "angle")
 _SHAPE_KEYS = ("shape", "b", "h", "r", "E", "nu", "rho", "k")
@@ -703,6 +704,7 @@ def _parse_beam(t: _Table, index: int) -> Beam:
         section=section,
         velocity=t.vec3("velocity", list(_ZERO)),
         angular_velocity=t.vec3("angular_velocity", list(_ZERO)),
+        rotation_center=t.vec3("rotation_center") if t.has("rotation_center") else None,
     )
 
 
