@@ -136,7 +136,8 @@ class Simulation:
 
     @property
     def jacobian(self) -> PETSc.Mat:
-        return self._model.jacobian
+        """The Jacobian the SNES of :attr:`snes` assembles (the step Jacobian when dynamic)."""
+        return self.integrator.jacobian if self.integrator is not None else self._model.jacobian
 
     @property
     def residual_vector(self) -> PETSc.Vec:
@@ -158,8 +159,9 @@ class Simulation:
         return self.residual_vector
 
     def assemble_jacobian(self, t: float | None = None, x: PETSc.Vec | None = None) -> PETSc.Mat:
-        self._model.assemble_jacobian(self.t if t is None else t, x or self.x, self.jacobian)
-        return self.jacobian
+        """Assemble the static J(x; t) into the model's own matrix and return it."""
+        self._model.assemble_jacobian(self.t if t is None else t, x or self.x, self._model.jacobian)
+        return self._model.jacobian
 
     def energies(self) -> dict[str, float]:
         """Strain energy (beams) and potential energy of conservative external loads."""
