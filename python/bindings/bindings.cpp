@@ -152,12 +152,12 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("jacobian_evaluations", &TimeIntegrator::jacobian_evaluations)
       .def_property_readonly("jacobian", [](const TimeIntegrator& s) { return s.jacobian(); }, "the step Jacobian (petsc4py)")
       .def("kinetic_energy", &TimeIntegrator::kinetic_energy)
-      .def("momenta",
+      .def("motion",
            [](const TimeIntegrator& s) {
-             const Momenta p = s.momenta();
-             return py::make_tuple(p.linear, p.angular);
+             const auto m = s.motion();
+             return py::make_tuple(m.kinetic, m.momenta.linear, m.momenta.angular);
            },
-           "(linear, angular about the origin) of the current state")
+           "(kinetic energy, linear momentum, angular momentum about the origin) of the current state")
       .def("constraint_residual", &TimeIntegrator::constraint_residual)
       .def("prepare_step", &TimeIntegrator::prepare_step, py::arg("h"))
       .def("step_residual", [](TimeIntegrator& s, Vec x, Vec F) { SB_CHECK(s.step_residual(x, F)); })

@@ -276,14 +276,14 @@ class Simulation:
         """Energies, momenta, constraint residual and tracked points of the current state."""
         assert self.integrator is not None
         e = self.energies()
-        lin, ang = self.integrator.momenta()
+        kinetic, lin, ang = self.integrator.motion()
         return DynamicRecord(
             step=step, t=self.t, dt=dt,
             converged=True if result is None else bool(result.converged),
             reason="initial" if result is None else result.reason_name,
             newton_iterations=0 if result is None else result.iterations,
             residual_norm=0.0 if result is None else result.residual_norm,
-            kinetic_energy=self.integrator.kinetic_energy(), strain_energy=e["strain"],
+            kinetic_energy=kinetic, strain_energy=e["strain"],
             potential_energy=e["potential"], linear_momentum=tuple(lin), angular_momentum=tuple(ang),
             constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
             tracked=self.tracked_points(),

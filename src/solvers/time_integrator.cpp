@@ -349,16 +349,11 @@ void TimeIntegrator::use_pivoting_lu() {
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 
-double TimeIntegrator::kinetic_energy() const {
+TimeIntegrator::Motion TimeIntegrator::motion() const {
   SB_CHECK(MatMult(M_, v_, work_));
   PetscScalar e = 0;
   SB_CHECK(VecDot(v_, work_, &e));
-  return 0.5 * e;
-}
-
-Momenta TimeIntegrator::momenta() const {
-  SB_CHECK(MatMult(M_, v_, work_));
-  return model_.momenta(x_, work_);
+  return Motion{0.5 * e, model_.momenta(x_, work_)};
 }
 
 double TimeIntegrator::constraint_residual() const {

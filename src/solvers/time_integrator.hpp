@@ -70,10 +70,14 @@ class TimeIntegrator {
   int jacobian_evaluations() const { return jac_evals_; }
   const IntegratorParams& params() const { return params_; }
 
+  /// Kinetic energy 1/2 v^T M v and momenta of a state, from one product p = M v.
+  struct Motion {
+    double kinetic = 0.0;
+    Momenta momenta;
+  };
+  Motion motion() const;
   /// 1/2 v^T M v of the current state.
-  double kinetic_energy() const;
-  /// Momenta of the current state.
-  Momenta momenta() const;
+  double kinetic_energy() const { return motion().kinetic; }
   /// max |constraint residual| at the current state (orthonormality, supports, joints).
   double constraint_residual() const;
 
