@@ -106,6 +106,8 @@ PYBIND11_MODULE(_core, m) {
       .def("effect_energies", [](const Model& s, double t, Vec x) { return s.effect_energies(t, x); })
       .def("set_reference_state", [](const Model& s, Vec x) { s.set_reference_state(x); })
       .def("project_directors", [](const Model& s, Vec x) { s.project_directors(x); })
+      .def("extra_values", [](const Model& s, int effect, Vec x) { return s.extra_values(effect, x); },
+           py::arg("effect"), py::arg("x"), "values of an effect's extra unknowns (s, multipliers) on every rank (collective)")
       .def("beam_coordinates",
            [](const Model& s, int beam, Vec x) {
              const auto q = s.beam_coordinates(beam, x);
@@ -147,6 +149,7 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("x", &TimeIntegrator::x, "state x_n (petsc4py Vec, shared with the core)")
       .def_property_readonly("v", &TimeIntegrator::v)
       .def_property_readonly("a", &TimeIntegrator::a)
+      .def_property_readonly("sliding_rate", &TimeIntegrator::sliding_rate, "(s_n - s_n-1) / h at sliding coordinates")
       .def_property_readonly("mass", &TimeIntegrator::mass)
       .def_property_readonly("snes", &TimeIntegrator::snes)
       .def_property_readonly("jacobian_evaluations", &TimeIntegrator::jacobian_evaluations)

@@ -169,7 +169,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
     outcome = sim.run_dynamic(progress)
     wall = time.perf_counter() - t0
     recs = outcome.records
-    last = recs[-1] if outcome.complete else recs[-2]
+    last = recs[-1] if recs[-1].converged else recs[-2]
     summary = {
         "scene": scene.name, "scene_file": os.path.abspath(scene.file), "analysis": "dynamic",
         "integrator": a.integrator, "complete": outcome.complete, "converged": outcome.complete,
@@ -182,8 +182,14 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                          "potential": last.potential_energy, "total": last.total_energy},
         "max_constraint_residual": max(r.constraint_residual for r in recs),
     }
+    if scene.sliding_joints:
+        from .results import joint_names
+        summary["sliding_joints"] = {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction)}
+                                     for name, j in zip(joint_names(sim), last.joints)}
     write_results(sim, out, recs, summary, rank)
-    if outcome.complete:
+    if not outcome.failed:
+        if not outcome.complete:
+            _say(rank, outcome.message)
         _say(rank, f"done in {wall:.3f} s: {summary['steps']} steps, {summary['newton_iterations']} Newton iterations; "
                    f"results in {out}/")
         return EXIT_OK

@@ -19,6 +19,17 @@ if TYPE_CHECKING:
 BLOCK = 18  # unknowns per control point: phi, d1, d2, d3, then 6 multipliers
 
 
+@dataclass(frozen=True)
+class JointState:
+    """A sliding joint after a step: sliding coordinate s on the carrier, its mean rate over the
+    step, and the reaction force the carrier exerts on the slider (the multipliers; under the
+    midpoint-type schemes the step's mean force)."""
+
+    s: float
+    ds_dt: float
+    reaction: tuple[float, float, float]
+
+
 @dataclass
 class DynamicRecord:
     """One time step as it goes to history.csv."""
@@ -38,6 +49,7 @@ class DynamicRecord:
     constraint_residual: float
     rejected_steps: int = 0
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
+    joints: list[JointState] = field(default_factory=list)
 
     @property
     def total_energy(self) -> float:
@@ -84,11 +96,26 @@ def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
 @dataclass
 class RunOutcome:
     records: list[DynamicRecord]  # every output.every-th step, the last one and a failed attempt
-    complete: bool
+    complete: bool                # reached t_end
     message: str
     steps: int                    # accepted steps
     rejected_steps: int           # failed attempts (retried with a smaller step)
     newton_iterations: int        # over all attempts
+    failed: bool = False          # stopped by an error (not: reached t_end, or a scene-requested stop)
+
+
+def _carrier_end(sim: "Simulation", joints: list[JointState], step: int) -> tuple[str, str] | None:
+    """(behaviour, message) if a slider has left its carrier, else None."""
+    for j, state in zip(sim.scene.sliding_joints, joints):
+        length = sim.scene.beams[j.carrier].geometry.length
+        if -1e-12 * length <= state.s <= length * (1 + 1e-12):
+            continue
+        slider, carrier = sim.scene.beams[j.slider].name, sim.scene.beams[j.carrier].name
+        end = "start" if state.s < 0 else "end"
+        return j.at_carrier_end, (f"the slider of beam '{slider}' reached the {end} of carrier '{carrier}' "
+                                  f"(s = {state.s:.6g}, carrier length {length:g}) at step {step}, "
+                                  f"t = {sim.t:.6g}; run stopped (at_carrier_end = '{j.at_carrier_end}')")
+    return None
 
 
 def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:
@@ -109,7 +136,7 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
     dt, step, rejected, rejected_since_record, newton = a.dt, 0, 0, 0, 0
     t_end = a.t_end
     message = "completed"
-    complete = True
+    complete, failed = True, False
     while integ.time < t_end * (1 - 1e-12):
         h = min(dt, t_end - integ.time)
         if t_end - (integ.time + h) < 1e-9 * a.dt:  # land exactly on t_end
@@ -119,12 +146,16 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
         if result.converged:  # the core already counts NaN/Inf in F or x as a failure
             step += 1
             last = integ.time >= t_end * (1 - 1e-12)
-            if step % every == 0 or last:
+            ended = _carrier_end(sim, sim.joint_states(), step) if sim.scene.sliding_joints else None
+            if step % every == 0 or last or ended:
                 rec = sim.record_dynamic(step, result, h, rejected_since_record)
                 rejected_since_record = 0
                 records.append(rec)
                 if on_step:
                     on_step(rec)
+            if ended:
+                behaviour, message = ended
+                return RunOutcome(records, False, message, step, rejected, newton, failed=behaviour == "fail")
             dt = min(2 * dt, a.dt)
             continue
         rejected += 1
@@ -137,10 +168,11 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
             if on_step:
                 on_step(fail)
             complete = False
+            failed = True
             message = (f"Newton failed at step {step + 1} (t = {integ.time:.6g} -> {integ.time + h:.6g}, "
                        f"dt = {h:.3g}, minimum dt_min = {a.dt_min:.3g}): {result.reason_name}, "
                        f"residual norm {result.residual_norm:.3e}; results hold the last good state "
                        f"(t = {integ.time:.6g}) and are marked incomplete")
             break
         dt = h / 2
-    return RunOutcome(records, complete, message, step, rejected, newton)
+    return RunOutcome(records, complete, message, step, rejected, newton, failed)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from . import _core
 from .geometry import reference_coordinates
-from .scene import Scene, TimeFunction
+from .scene import Scene, SceneError, TimeFunction
 
 
 @dataclass(frozen=True)
@@ -70,6 +70,16 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
     for j in scene.rigid_joints:
         add("rigid_joint", f"rigid_joint[{_where(scene, j.beam_a, j.at_a)}-{_where(scene, j.beam_b, j.at_b)}]",
             {"beam_a": j.beam_a, "s_a": j.at_a, "beam_b": j.beam_b, "s_b": j.at_b})
+    for i, sj in enumerate(scene.sliding_joints):
+        num = {"slider": sj.slider, "slider_s": sj.at, "carrier": sj.carrier}
+        if sj.tolerance is not None:
+            num["tolerance"] = sj.tolerance
+        try:
+            add("sliding_joint", f"sliding_joint[{_where(scene, sj.slider, sj.at)} on {scene.beams[sj.carrier].name}]",
+                num, None, {"discrete_gradient": sj.discrete_gradient})
+        except ValueError as exc:  # the core's closest-point projection found the slider off its carrier
+            raise SceneError(str(exc).removeprefix("sliding_joint: "), scene.file,
+                             f"[[sliding_joint]] #{i + 1}") from exc
     for pm in scene.point_masses:
         add("point_mass", f"point_mass[{_where(scene, pm.beam, pm.at)}, {pm.mass:g} kg]",
             {"beam": pm.beam, "s": pm.at, "mass": pm.mass})

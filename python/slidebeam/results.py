@@ -40,10 +40,13 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
         name = f"{sim.scene.beams[tp.beam].name}@{tp.at:g}"
         track_cols += [f"{name}.x", f"{name}.y", f"{name}.z"]
     if sim.integrator is not None:
-        w.writerow([*DynamicRecord.header(), *track_cols])
+        joint_cols = [f"{name}.{q}" for name in joint_names(sim)
+                      for q in ("s", "ds_dt", "reaction.x", "reaction.y", "reaction.z")]
+        w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols])
         for d in records:
             assert isinstance(d, DynamicRecord)
-            w.writerow([*d.row(), *[repr(v) for p in d.tracked for v in p]])
+            w.writerow([*d.row(), *[repr(v) for p in d.tracked for v in p],
+                        *[repr(v) for j in d.joints for v in (j.s, j.ds_dt, *j.reaction)]])
         return buf.getvalue()
     w.writerow(["step", "t", "converged", "reason", "newton_iterations", "residual_norm",
                 "strain_energy", "potential_energy", *track_cols])
@@ -51,6 +54,12 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
         w.writerow([r.step, repr(r.t), int(r.converged), r.reason, r.newton_iterations, repr(r.residual_norm),
                     repr(r.strain_energy), repr(r.potential_energy), *[repr(v) for p in r.tracked for v in p]])
     return buf.getvalue()
+
+
+def joint_names(sim: Simulation) -> list[str]:
+    """Column prefix of each sliding joint: <slider>_on_<carrier>, numbered when repeated."""
+    names = [f"{sim.scene.beams[j.slider].name}_on_{sim.scene.beams[j.carrier].name}" for j in sim.scene.sliding_joints]
+    return [n if names.count(n) == 1 else f"{n}_{i + 1}" for i, n in enumerate(names)]
 
 
 def configuration_csv(sim: Simulation) -> str:

@@ -198,6 +198,19 @@ class RigidJoint:
 
 
 @dataclass(frozen=True)
+class SlidingJoint:
+    """A point of the slider beam (arc length `at`) kept on the carrier's centre line, free to
+    slide along it and to rotate (formulation.md section 5)."""
+
+    slider: int
+    at: float
+    carrier: int
+    discrete_gradient: str   # 'exact' (conserving across knots) or 'midpoint' (the seed's form)
+    at_carrier_end: str      # 'stop' (the run ends, exit 0) or 'fail' (the run fails, exit 1)
+    tolerance: float | None  # largest slider-carrier distance at the start (None: 1e-6 L_carrier)
+
+
+@dataclass(frozen=True)
 class Analysis:
     type: str
     steps: int
@@ -239,6 +252,7 @@ class Scene:
     petsc_options_file: str | None
     output: Output
     rigid_joints: tuple[RigidJoint, ...] = ()
+    sliding_joints: tuple[SlidingJoint, ...] = ()
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -409,7 +423,7 @@ def _array_of_tables(data: dict[str, Any], key: str, file: str) -> list[Any]:
 # schema constants
 
 _TOP_KEYS = ("scene", "analysis", "petsc", "gravity", "beam", "support", "load", "point_mass", "rigid_joint",
-             "output")
+             "sliding_joint", "output")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
 )
@@ -481,6 +495,10 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         _parse_rigid_joint(_Table(raw, file, f"[[rigid_joint]] #{i + 1}", "rigid_joint"), beams)
         for i, raw in enumerate(_array_of_tables(data, "rigid_joint", file))
     )
+    sliders = tuple(
+        _parse_sliding_joint(_Table(raw, file, f"[[sliding_joint]] #{i + 1}", "sliding_joint"), beams)
+        for i, raw in enumerate(_array_of_tables(data, "sliding_joint", file))
+    )
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
     gravity = _parse_gravity(top, file)
     output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams)
@@ -500,6 +518,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         petsc_options_file=options_file,
         output=output,
         rigid_joints=joints,
+        sliding_joints=sliders,
     )
 
 
@@ -964,6 +983,27 @@ def _parse_rigid_joint(t: _Table, beams: tuple[Beam, ...]) -> RigidJoint:
         raise t.error("beams", f"'{names[0]}' {ends[0]} at {_vec(pa)} and '{names[1]}' {ends[1]} at {_vec(pb)} "
                                f"do not meet (distance {float(np.linalg.norm(pa - pb)):.3g})")
     return RigidJoint(index[0], s[0], index[1], s[1])
+
+
+def _named_beam(t: _Table, key: str, beams: tuple[Beam, ...]) -> int:
+    name = t.string(key)
+    for beam in beams:
+        if beam.name == name:
+            return beam.index
+    known = [b.name for b in beams]
+    raise t.error(key, f"beam '{name}' does not exist (beams: {', '.join(known)}){_did_you_mean(name, known)}")
+
+
+def _parse_sliding_joint(t: _Table, beams: tuple[Beam, ...]) -> SlidingJoint:
+    t.check_keys(("slider", "at", "carrier", "discrete_gradient", "at_carrier_end", "tolerance"))
+    slider = _named_beam(t, "slider", beams)
+    carrier = _named_beam(t, "carrier", beams)
+    if slider == carrier:
+        raise t.error("carrier", f"a beam cannot slide on itself ('{beams[slider].name}')")
+    at = _parse_at(t, beams[slider].geometry.length) if t.has("at") else 0.0
+    tolerance = t.number("tolerance", check=lambda v: v > 0, requirement="> 0") if t.has("tolerance") else None
+    return SlidingJoint(slider, at, carrier, t.choice("discrete_gradient", ("exact", "midpoint"), "exact"),
+                        t.choice("at_carrier_end", ("stop", "fail"), "stop"), tolerance)
 
 
 def _parse_point_mass(t: _Table, beams: tuple[Beam, ...]) -> PointMass:

@@ -15,7 +15,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from . import _core
-from .dynamics import DynamicRecord, RunOutcome, initial_velocity, run_dynamic
+from .dynamics import DynamicRecord, JointState, RunOutcome, initial_velocity, run_dynamic
 from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
 
@@ -271,6 +271,21 @@ class Simulation:
     def tracked_points(self) -> list[tuple[float, float, float]]:
         return [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]
 
+    def sliding_joint_effects(self) -> list[int]:
+        """Model effect index of every [[sliding_joint]], in scene order."""
+        return [i for i, e in enumerate(self.active_effects) if e.type == "sliding_joint"]
+
+    def joint_states(self) -> list[JointState]:
+        """s, ds/dt and reaction of every sliding joint in the current state (collective)."""
+        x = self.x
+        rate = self.integrator.sliding_rate if self.integrator is not None else None
+        states = []
+        for k in self.sliding_joint_effects():
+            values = self._model.extra_values(k, x)
+            sdot = self._model.extra_values(k, rate)[0] if rate is not None else 0.0
+            states.append(JointState(float(values[0]), float(sdot), (float(values[1]), float(values[2]), float(values[3]))))
+        return states
+
     def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,
                        rejected: int) -> DynamicRecord:
         """Energies, momenta, constraint residual and tracked points of the current state."""
@@ -286,7 +301,7 @@ class Simulation:
             kinetic_energy=kinetic, strain_energy=e["strain"],
             potential_energy=e["potential"], linear_momentum=tuple(lin), angular_momentum=tuple(ang),
             constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
-            tracked=self.tracked_points(),
+            tracked=self.tracked_points(), joints=self.joint_states(),
         )
 
     def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:

@@ -7,6 +7,7 @@ void register_beam_effects(EffectRegistry& r);
 void register_load_effects(EffectRegistry& r);
 void register_support_effects(EffectRegistry& r);
 void register_joint_effects(EffectRegistry& r);
+void register_sliding_effects(EffectRegistry& r);
 }  // namespace effects
 
 void register_builtin_effects(EffectRegistry& registry) {
@@ -14,6 +15,7 @@ void register_builtin_effects(EffectRegistry& registry) {
   effects::register_load_effects(registry);
   effects::register_support_effects(registry);
   effects::register_joint_effects(registry);
+  effects::register_sliding_effects(registry);
 }
 
 }  // namespace slidebeam

@@ -134,6 +134,12 @@ class Effect {
   /// This rank's share of the effect's potential energy (0 for non-potential effects).
   virtual double energy(const EvalContext&) const { return 0.0; }
 
+  /// True for extra unknown k that is part of the state (a sliding coordinate: it has no mass
+  /// and no velocity of its own, but it is not a multiplier).
+  virtual bool extra_is_state(PetscInt) const { return false; }
+  /// Values of extra unknowns in the initial state (e.g. a sliding coordinate from a projection).
+  virtual void initial_values(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
+
   /// Unknowns this effect prescribes (Dirichlet), with their values. Called on every rank;
   /// return only rows owned by this rank.
   virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}

@@ -44,6 +44,7 @@ Model::~Model() {
   VecDestroy(&x_old_local_);
   VecDestroy(&xf_local_);
   VecDestroy(&q_mask_);
+  VecDestroy(&s_mask_);
   VecDestroy(&x_);
   VecDestroy(&r_);
   MatDestroy(&J_);
@@ -142,10 +143,44 @@ void Model::finalize() {
     }
     SB_CHECK(VecRestoreArray(q_mask_, &a));
   }
+  SB_CHECK(VecDuplicate(x_, &s_mask_));
+  SB_CHECK(VecZeroEntries(s_mask_));
+  for (const auto& e : effects_) {
+    for (PetscInt k = 0; k < e->n_extra(); ++k) {
+      if (!e->extra_is_state(k)) continue;
+      has_sliding_state_ = true;
+      const PetscInt row = e->extra_offset() + k;
+      if (row >= map_.owned_lo() && row < map_.owned_hi()) SB_CHECK(VecSetValue(s_mask_, row, 1.0, INSERT_VALUES));
+    }
+    std::vector<PetscInt> rows;
+    std::vector<PetscScalar> vals;
+    e->initial_values(*this, rows, vals);
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (rows[i] >= map_.owned_lo() && rows[i] < map_.owned_hi()) {
+        init_rows_.push_back(rows[i]);
+        init_values_.push_back(vals[i]);
+      }
+  }
+  SB_CHECK(VecAssemblyBegin(s_mask_));
+  SB_CHECK(VecAssemblyEnd(s_mask_));
   for (const auto& e : effects_)
     if (e->type() == "beam_inertia" || e->type() == "point_mass") has_inertia_ = true;
   finalized_ = true;
   set_reference_state(x_);
+}
+
+std::vector<double> Model::extra_values(int effect, Vec x) const {
+  const Effect& e = *effects_.at(static_cast<size_t>(effect));
+  std::vector<double> v(static_cast<size_t>(e.n_extra()), 0.0);
+  const PetscScalar* a = nullptr;
+  SB_CHECK(VecGetArrayRead(x, &a));
+  for (PetscInt k = 0; k < e.n_extra(); ++k) {
+    const PetscInt row = e.extra_offset() + k;
+    if (row >= map_.owned_lo() && row < map_.owned_hi()) v[static_cast<size_t>(k)] = a[row - map_.owned_lo()];
+  }
+  SB_CHECK(VecRestoreArrayRead(x, &a));
+  if (!v.empty()) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  return v;
 }
 
 Mat Model::create_mass_matrix() const {
@@ -220,6 +255,7 @@ void Model::set_reference_state(Vec x) const {
       for (int k = 0; k < 12; ++k) a[map_.q(cp, k) - map_.owned_lo()] = b.q_ref()[12 * c + k];
     }
   }
+  for (size_t i = 0; i < init_rows_.size(); ++i) a[init_rows_[i] - map_.owned_lo()] = init_values_[i];
   SB_CHECK(VecRestoreArray(x, &a));
   apply_prescribed(x);
 }

@@ -94,6 +94,12 @@ class Model {
   Mat create_mass_matrix() const;
   /// 1 at coordinate unknowns (phi, d_i), 0 at multipliers and extras.
   Vec coordinate_mask() const { return q_mask_; }
+  /// 1 at extras that are state without mass (sliding coordinates), 0 elsewhere.
+  Vec sliding_mask() const { return s_mask_; }
+  /// True when some effect has state extras (sliding coordinates).
+  bool has_sliding_state() const { return has_sliding_state_; }
+  /// Values of effect k's extra unknowns at x, on every rank (collective).
+  std::vector<double> extra_values(int effect, Vec x) const;
   /// Linear and angular momentum of the state x with momentum vector p = M v (collective).
   Momenta momenta(Vec x, Vec p) const;
   /// Potential energy of each effect at x (collective); same order as effects().
@@ -125,7 +131,10 @@ class Model {
   VecScatter scatter_ = nullptr;
   Vec x_local_ = nullptr, r_local_ = nullptr;
   Vec x_old_local_ = nullptr, xf_local_ = nullptr;
-  Vec q_mask_ = nullptr;
+  Vec q_mask_ = nullptr, s_mask_ = nullptr;
+  bool has_sliding_state_ = false;
+  std::vector<PetscInt> init_rows_;  // initial values of extras (owned rows)
+  std::vector<PetscScalar> init_values_;
   bool has_inertia_ = false;
 
   Vec x_ = nullptr, r_ = nullptr;

@@ -39,6 +39,9 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(VecDuplicate(x_, &w_));
   SB_CHECK(VecDuplicate(x_, &f_hist_));
   SB_CHECK(VecDuplicate(x_, &work_));
+  SB_CHECK(VecDuplicate(x_, &sdot_));
+  SB_CHECK(VecDuplicate(x_, &state_mask_));
+  SB_CHECK(VecWAXPY(state_mask_, 1.0, model.coordinate_mask(), model.sliding_mask()));
   SB_CHECK(VecCopy(model.x(), x_));
   SB_CHECK(VecZeroEntries(v_));
   SB_CHECK(VecZeroEntries(a_));
@@ -79,7 +82,7 @@ TimeIntegrator::~TimeIntegrator() {
   SNESDestroy(&snes_);
   MatDestroy(&M_);
   MatDestroy(&J_);
-  for (Vec* v : {&x_, &v_, &a_, &x1_, &v_prev_, &xt_, &w_, &f_hist_, &work_}) VecDestroy(v);
+  for (Vec* v : {&x_, &v_, &a_, &x1_, &v_prev_, &xt_, &w_, &f_hist_, &work_, &sdot_, &state_mask_}) VecDestroy(v);
 }
 
 StepEval TimeIntegrator::step_eval() const {
@@ -96,6 +99,7 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   model_.apply_prescribed(x_);
   SB_CHECK(VecPointwiseMult(v_, v, model_.coordinate_mask()));
   SB_CHECK(VecZeroEntries(a_));
+  SB_CHECK(VecZeroEntries(sdot_));
   h_prev_ = 0.0;
   if (!is_midpoint_type(params_.kind)) consistent_acceleration();
 }
@@ -115,7 +119,7 @@ void TimeIntegrator::consistent_acceleration() {
   SB_CHECK(model_.set_prescribed_jacobian_rows(A));
 
   Vec xz = xt_, f0 = w_, fp = f_hist_, rhs = work_;  // scratch (the step recomputes them)
-  SB_CHECK(VecPointwiseMult(xz, x_, mask));          // multipliers 0
+  SB_CHECK(VecPointwiseMult(xz, x_, state_mask_));   // multipliers 0, sliding coordinates kept
   const StepEval ev{StepRule::Endpoint, t_, 1.0};
   SB_CHECK(model_.assemble_effects_residual(ev, xz, f0));
   SB_CHECK(VecPointwiseMult(rhs, f0, mask));
@@ -168,9 +172,11 @@ void TimeIntegrator::consistent_acceleration() {
   jac_solve_ = -1;  // J_ holds the initial system now: the first step must rebuild it
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(VecPointwiseMult(a_, y, mask));
-  // x_ = mask * x_ + (1 - mask) * y: the consistent initial multipliers
-  SB_CHECK(VecAXPY(y, -1.0, a_));      // y: multipliers only
-  SB_CHECK(VecPointwiseMult(x_, x_, mask));
+  // x_ = state_mask * x_ + (1 - state_mask) * y: the consistent initial multipliers (y holds the
+  // sliding coordinates' second derivatives at their rows: dropped)
+  SB_CHECK(VecPointwiseMult(w_, y, state_mask_));
+  SB_CHECK(VecAXPY(y, -1.0, w_));      // y: multipliers only
+  SB_CHECK(VecPointwiseMult(x_, x_, state_mask_));
   SB_CHECK(VecAXPY(x_, 1.0, y));
   model_.apply_prescribed(x_);
 }
@@ -301,6 +307,7 @@ SolveResult TimeIntegrator::step(double h) {
     SB_CHECK(VecWAXPY(x1_, h, v_, x_));
     if (!is_midpoint_type(params_.kind)) SB_CHECK(VecAXPY(x1_, 0.5 * h * h, a_));
     else if (h_prev_ > 0) SB_CHECK(VecAXPBYPCZ(x1_, 0.5 * h * h / h_prev_, -0.5 * h * h / h_prev_, 1.0, v_, v_prev_));
+    if (model_.has_sliding_state()) SB_CHECK(VecAXPY(x1_, h, sdot_));  // s: linear extrapolation
     model_.apply_prescribed(x1_);
     SB_CHECK(SNESSolve(snes_, nullptr, x1_));
     const int its_before = r.iterations;
@@ -327,6 +334,11 @@ SolveResult TimeIntegrator::step(double h) {
       SB_CHECK(VecScale(w_, c0_));
       SB_CHECK(VecAXPBYPCZ(v_, h * (1.0 - params_.gamma), h * params_.gamma, 1.0, a_, w_));
       SB_CHECK(VecCopy(w_, a_));
+    }
+    if (model_.has_sliding_state()) {
+      SB_CHECK(VecWAXPY(sdot_, -1.0, x_, x1_));
+      SB_CHECK(VecPointwiseMult(sdot_, sdot_, model_.sliding_mask()));
+      SB_CHECK(VecScale(sdot_, 1.0 / h));
     }
     SB_CHECK(VecCopy(x1_, x_));
     t_ += h;
@@ -362,11 +374,11 @@ double TimeIntegrator::constraint_residual() const {
   PetscInt n = 0;
   SB_CHECK(VecGetLocalSize(work_, &n));
   SB_CHECK(VecGetArrayRead(work_, &f));
-  SB_CHECK(VecGetArrayRead(model_.coordinate_mask(), &mk));
+  SB_CHECK(VecGetArrayRead(state_mask_, &mk));
   double m = 0.0;
-  for (PetscInt i = 0; i < n; ++i)
+  for (PetscInt i = 0; i < n; ++i)  // multiplier rows: the constraints
     if (mk[i] == 0.0) m = std::max(m, std::abs(f[i]));
-  SB_CHECK(VecRestoreArrayRead(model_.coordinate_mask(), &mk));
+  SB_CHECK(VecRestoreArrayRead(state_mask_, &mk));
   SB_CHECK(VecRestoreArrayRead(work_, &f));
   MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, model_.comm());
   return m;

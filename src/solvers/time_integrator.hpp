@@ -63,6 +63,8 @@ class TimeIntegrator {
   Vec x() const { return x_; }
   Vec v() const { return v_; }
   Vec a() const { return a_; }
+  /// Rate of the sliding coordinates over the last step, (s_n - s_n-1) / h (0 elsewhere).
+  Vec sliding_rate() const { return sdot_; }
   Mat mass() const { return M_; }
   Mat jacobian() const { return J_; }
   SNES snes() const { return snes_; }
@@ -107,6 +109,8 @@ class TimeIntegrator {
   Vec x_ = nullptr, v_ = nullptr, a_ = nullptr;   // state at t_n
   Vec x1_ = nullptr;                              // Newton iterate / solution
   Vec v_prev_ = nullptr;                          // v_{n-1} (predictor of midpoint-type schemes)
+  Vec sdot_ = nullptr;                            // (s_n - s_{n-1}) / h on sliding coordinates
+  Vec state_mask_ = nullptr;                      // coordinates and sliding coordinates
   double h_prev_ = 0.0;                           // 0: no previous step
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;

@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: MIT
+/// @file Sliding joint (formulation.md sections 5-6): a point of the slider beam stays on the
+/// carrier's centre line, Phi = sum_A N_A(s) phi_A - p = 0, with the sliding coordinate s (no mass)
+/// and three multipliers mu as extra unknowns, and the frictionless condition G_s . mu = 0 as the
+/// equation of s. Relative rotations are free.
+///
+/// Within a time step the constraint force is G^T mu with, by rule:
+///  - Endpoint (statics, Newmark, HHT): G at the end of the step;
+///  - Theta (midpoint; the seed's form under energy-momentum): G at x_f, s_f;
+///  - EnergyMomentum (exact, default): G_q = (N(s_n) + N(s_n+1))/2 on the carrier and
+///    G_s = sum_A [N_A(s_n+1) - N_A(s_n)]/(s_n+1 - s_n) phi_A,n+1/2, so that
+///    G_q dq + G_s ds = Phi_n+1 - Phi_n exactly, across any number of knots: the joint does no work.
+/// The knot span of s is found again at every evaluation.
+
+#include "effects/common.hpp"
+#include "kernels/sliding.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace slidebeam::effects {
+
+class SlidingJoint final : public Effect {
+ public:
+  SlidingJoint(const Model& m, const EffectParams& p)
+      : slider_(static_cast<int>(p.number("slider"))), carrier_(static_cast<int>(p.number("carrier"))) {
+    const int nb = static_cast<int>(m.beams().size());
+    for (int beam : {slider_, carrier_})
+      if (beam < 0 || beam >= nb) throw std::invalid_argument("sliding_joint: no beam with index " + std::to_string(beam));
+    if (slider_ == carrier_) throw std::invalid_argument("sliding_joint: a beam cannot slide on itself");
+    const Beam &S = m.beam(slider_), &C = m.beam(carrier_);
+    const double sigma = p.number("slider_s");
+    if (sigma < -1e-12 * S.length() || sigma > S.length() * (1 + 1e-12))
+      throw std::invalid_argument("sliding_joint: slider point s = " + std::to_string(sigma) + " outside beam '" + S.name() + "'");
+    slider_basis_ = S.basis_at(std::clamp(sigma, 0.0, S.length()));
+    const std::string form = p.string("discrete_gradient", "exact");
+    if (form == "exact") exact_ = true;
+    else if (form == "midpoint") exact_ = false;
+    else throw std::invalid_argument("sliding_joint: discrete_gradient must be 'exact' or 'midpoint', not '" + form + "'");
+
+    // initial s: closest point of the slider point on the carrier (reference configuration)
+    double point[3] = {0, 0, 0};
+    for (int b = 0; b < 3; ++b)
+      for (int k = 0; k < 3; ++k) point[k] += slider_basis_.N[b] * S.q_ref()[12 * (slider_basis_.span + b) + k];
+    const auto proj = sliding::project(C.n_spans(), C.length(), C.q_ref().data(), 12, point);
+    s0_ = proj[0];
+    const double tol = p.number("tolerance", 1e-6 * C.length());
+    label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + C.name() + "]";
+    if (proj[1] > tol) {
+      std::ostringstream msg;
+      msg << "sliding_joint: the slider point of beam '" << S.name() << "' (" << point[0] << ", " << point[1] << ", "
+          << point[2] << ") is " << proj[1] << " from carrier '" << C.name() << "' (closest at s = " << s0_
+          << "); tolerance " << tol;
+      throw std::invalid_argument(msg.str());
+    }
+  }
+  std::string type() const override { return "sliding_joint"; }
+  std::string label() const override { return label_; }
+  PetscInt n_extra() const override { return 4; }  // s, mu (3)
+  bool extra_is_state(PetscInt k) const override { return k == 0; }
+  void initial_values(const Model&, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    rows.push_back(extra_offset());
+    vals.push_back(s0_);
+  }
+
+  void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(slider_cp(m, 0)); }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    if (!owned_) return;
+    add_cp_blocks(m.dof_map(), slider_cp(m, 0), 3, dofs);
+    add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp(), m.beam(carrier_).n_cp(), dofs);
+    for (int k = 0; k < 4; ++k) dofs.push_back(extra_offset() + k);
+  }
+  /// Every carrier control point may enter (s moves): rows and columns over all of them.
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const int nc = m.beam(carrier_).n_cp();
+    const auto d = dofs(m, 0, nc);
+    const std::vector<double> zero(d.size() * d.size(), 0.0);
+    PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const Terms t = terms(ctx);
+    const Eigen::Vector3d mu = multipliers(ctx.x);
+    const Beam& C = ctx.model.beam(carrier_);
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int A = t.lo; A <= t.hi; ++A) {
+      const PetscInt cp = C.first_cp() + A;
+      Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, cp)) += t.Wq.at(A) * mu;
+      g += t.N1.at(A) * position(ctx.x, ctx.map, cp);
+    }
+    for (int b = 0; b < 3; ++b) {
+      const PetscInt cp = slider_cp(ctx.model, b);
+      Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, cp)) -= slider_basis_.N[b] * mu;
+      g -= slider_basis_.N[b] * position(ctx.x, ctx.map, cp);
+    }
+    r.at(extra_offset()) += t.Gs.dot(mu);
+    for (int k = 0; k < 3; ++k) r.at(extra_offset() + 1 + k) += g(k);
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const Terms t = terms(ctx);
+    const Eigen::Vector3d mu = multipliers(ctx.x);
+    const Beam& C = ctx.model.beam(carrier_);
+    const int nr = t.hi - t.lo + 1, n = 9 + 3 * nr + 4;
+    const int is = 9 + 3 * nr, im = is + 1;
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A =
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(n, n);
+    double ds_row_s = 0.0;
+    Eigen::Vector3d dg_ds = Eigen::Vector3d::Zero();
+    for (int a = t.lo; a <= t.hi; ++a) {
+      const int ia = 9 + 3 * (a - t.lo);
+      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C.first_cp() + a);
+      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C.first_cp() + a) + (1.0 - t.blend_old) * x1;
+      for (int k = 0; k < 3; ++k) {
+        A(ia + k, im + k) = t.Wq.at(a);            // carrier force  / d mu
+        A(ia + k, is) = t.dWq.at(a) * mu(k);       // carrier force  / d s
+        A(is, ia + k) = t.cphi.at(a) * mu(k);      // s equation     / d phi_A
+        A(im + k, ia + k) = t.N1.at(a);            // constraint     / d phi_A
+      }
+      ds_row_s += t.dDs.at(a) * xh.dot(mu);
+      dg_ds += t.dN1.at(a) * x1;
+    }
+    for (int b = 0; b < 3; ++b)
+      for (int k = 0; k < 3; ++k) {
+        A(3 * b + k, im + k) = -slider_basis_.N[b];
+        A(im + k, 3 * b + k) = -slider_basis_.N[b];
+      }
+    for (int k = 0; k < 3; ++k) {
+      A(is, im + k) = t.Gs(k);
+      A(im + k, is) = dg_ds(k);
+    }
+    A(is, is) = ds_row_s;
+    const auto d = dofs(ctx.model, t.lo, t.hi + 1);
+    PetscCall(J.add(n, d.data(), n, d.data(), A.data()));
+    PetscFunctionReturn(0);
+  }
+
+ private:
+  /// Coefficients of one evaluation, over carrier control points lo..hi.
+  struct Terms {
+    int lo = 0, hi = 0;
+    sliding::Weights Wq, dWq;   // carrier force G_q^T mu = Wq mu, and d Wq / d s
+    sliding::Weights Ds, dDs;   // G_s = sum Ds_A xhat_A, d Ds / d s (times d xhat / d x where it applies)
+    sliding::Weights cphi;      // d G_s / d phi_A (n+1) coefficient
+    sliding::Weights N1, dN1;   // constraint at the end of the step: N(s1), N'(s1)
+    Eigen::Vector3d Gs = Eigen::Vector3d::Zero();
+    double blend_old = 0.0;     // xhat = blend_old x_old + (1 - blend_old) x
+  };
+
+  Terms terms(const EvalContext& ctx) const {
+    const Beam& C = ctx.model.beam(carrier_);
+    const int ns = C.n_spans();
+    const double L = C.length();
+    const double s1 = ctx.x.at(extra_offset()), s0 = ctx.x_old.at(extra_offset());
+    Terms t;
+    const auto range = sliding::touched_cps(ns, L, s0, s1);
+    t.lo = range[0];
+    t.hi = range[1];
+    const int nr = t.hi - t.lo + 1;
+    for (auto* w : {&t.Wq, &t.dWq, &t.Ds, &t.dDs, &t.cphi, &t.N1, &t.dN1}) w->reset(t.lo, nr);
+    const int e1 = sliding::span_of(ns, L, s1);
+    sliding::add_basis(ns, L, e1, s1, 0, 1.0, t.N1);
+    sliding::add_basis(ns, L, e1, s1, 1, 1.0, t.dN1);
+    if (ctx.rule == StepRule::EnergyMomentum && exact_) {
+      const int e0 = sliding::span_of(ns, L, s0);
+      sliding::add_basis(ns, L, e0, s0, 0, 0.5, t.Wq);
+      sliding::add_basis(ns, L, e1, s1, 0, 0.5, t.Wq);
+      sliding::add_basis(ns, L, e1, s1, 1, 0.5, t.dWq);
+      sliding::difference_quotient(ns, L, s0, s1, t.Ds, t.dDs);
+      for (size_t i = 0; i < t.Ds.w.size(); ++i) t.cphi.w[i] = 0.5 * t.Ds.w[i];
+      t.blend_old = 0.5;
+    } else {
+      // forces at x_f (Endpoint: x_f = x, theta = 1)
+      const double th = ctx.theta, sf = ctx.xf.at(extra_offset());
+      const int ef = sliding::span_of(ns, L, sf);
+      sliding::add_basis(ns, L, ef, sf, 0, 1.0, t.Wq);
+      sliding::add_basis(ns, L, ef, sf, 1, th, t.dWq);
+      sliding::add_basis(ns, L, ef, sf, 1, 1.0, t.Ds);
+      sliding::add_basis(ns, L, ef, sf, 1, th, t.cphi);
+      sliding::add_basis(ns, L, ef, sf, 2, th, t.dDs);
+      t.blend_old = 1.0 - th;
+    }
+    for (int a = t.lo; a <= t.hi; ++a) {
+      const PetscInt cp = C.first_cp() + a;
+      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, cp) + (1.0 - t.blend_old) * position(ctx.x, ctx.map, cp);
+      t.Gs += t.Ds.at(a) * xh;
+    }
+    return t;
+  }
+
+  static Eigen::Vector3d position(const LocalValues& x, const DofMap& map, PetscInt cp) {
+    return Eigen::Map<const Eigen::Vector3d>(x.cp(map, cp));
+  }
+  Eigen::Vector3d multipliers(const LocalValues& x) const {
+    return {x.at(extra_offset() + 1), x.at(extra_offset() + 2), x.at(extra_offset() + 3)};
+  }
+  PetscInt slider_cp(const Model& m, int b) const { return m.beam(slider_).first_cp() + slider_basis_.span + b; }
+  /// Slider span positions (9), carrier positions of control points [c0, c1) (3 each), s, mu.
+  std::vector<PetscInt> dofs(const Model& m, int c0, int c1) const {
+    const DofMap& map = m.dof_map();
+    std::vector<PetscInt> d;
+    d.reserve(static_cast<size_t>(9 + 3 * (c1 - c0) + 4));
+    for (int b = 0; b < 3; ++b)
+      for (int k = 0; k < 3; ++k) d.push_back(map.q(slider_cp(m, b), k));
+    for (int a = c0; a < c1; ++a)
+      for (int k = 0; k < 3; ++k) d.push_back(map.q(m.beam(carrier_).first_cp() + a, k));
+    for (int k = 0; k < 4; ++k) d.push_back(extra_offset() + k);
+    return d;
+  }
+
+  int slider_, carrier_;
+  PointBasis slider_basis_;
+  bool exact_ = true;
+  double s0_ = 0.0;
+  std::string label_;
+  bool owned_ = false;
+};
+
+void register_sliding_effects(EffectRegistry& r) {
+  r.add("sliding_joint", [](const Model& m, const EffectParams& p) { return std::make_unique<SlidingJoint>(m, p); });
+}
+
+}  // namespace slidebeam::effects
