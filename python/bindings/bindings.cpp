@@ -106,6 +106,8 @@ PYBIND11_MODULE(_core, m) {
       .def("effect_energies", [](const Model& s, double t, Vec x) { return s.effect_energies(t, x); })
       .def("set_reference_state", [](const Model& s, Vec x) { s.set_reference_state(x); })
       .def("project_directors", [](const Model& s, Vec x) { s.project_directors(x); })
+      .def("extra_offset", [](const Model& s, int effect) { return s.effects().at(static_cast<size_t>(effect))->extra_offset(); },
+           py::arg("effect"), "global index of an effect's first extra unknown")
       .def("extra_values", [](const Model& s, int effect, Vec x) { return s.extra_values(effect, x); },
            py::arg("effect"), py::arg("x"), "values of an effect's extra unknowns (s, multipliers) on every rank (collective)")
       .def("beam_coordinates",

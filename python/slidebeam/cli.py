@@ -60,10 +60,16 @@ def _say(rank: int, text: str, stream=sys.stdout) -> None:
 def _describe(scene: Scene) -> str:
     lines = [f"scene '{scene.name}' ({scene.file}): {scene.analysis.type} analysis"]
     for b in scene.beams:
-        lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} spans, "
+        lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} span{'' if b.spans == 1 else 's'}, "
                      f"{b.quadrature} quadrature, {b.strain} strains")
-    lines.append(f"  {len(scene.supports)} supports, {len(scene.loads)} loads, {len(scene.point_masses)} point masses, "
-                 f"gravity {'on' if scene.gravity else 'off'}")
+    def count(n: int, what: str, plural: str = "") -> str:
+        return f"{n} {what if n == 1 else plural or what + 's'}"
+
+    lines.append(f"  {count(len(scene.supports), 'support')}, {count(len(scene.loads), 'load')}, "
+                 f"{count(len(scene.point_masses), 'point mass', 'point masses')}" +
+                 (f", {count(len(scene.rigid_joints), 'rigid joint')}" if scene.rigid_joints else "") +
+                 (f", {count(len(scene.sliding_joints), 'sliding joint')}" if scene.sliding_joints else "") +
+                 f", gravity {'on' if scene.gravity else 'off'}")
     return "\n".join(lines)
 
 

@@ -275,6 +275,11 @@ class Simulation:
         """Model effect index of every [[sliding_joint]], in scene order."""
         return [i for i, e in enumerate(self.active_effects) if e.type == "sliding_joint"]
 
+    def sliding_coordinate_index(self, joint: int = 0) -> int:
+        """Global index of the sliding coordinate s of [[sliding_joint]] number `joint` (its three
+        multipliers follow it)."""
+        return self._model.extra_offset(self.sliding_joint_effects()[joint])
+
     def joint_states(self) -> list[JointState]:
         """s, ds/dt and reaction of every sliding joint in the current state (collective)."""
         x = self.x

@@ -111,14 +111,18 @@ class SlidingJoint final : public Effect {
     const Terms t = terms(ctx);
     const Eigen::Vector3d mu = multipliers(ctx.x);
     const Beam& C = ctx.model.beam(carrier_);
-    const int nr = t.hi - t.lo + 1, n = 9 + 3 * nr + 4;
+    // The block spans every carrier control point (zeros away from s), the pattern() block: a
+    // fixed sparsity pattern whatever the span of s, so that no factorisation (MUMPS in
+    // parallel) ever sees the pattern change under it. O(n_cp^2) per joint: fine for carriers
+    // of tens of spans; long cables need a moving window with re-analysis (issue 6).
+    const int nr = C.n_cp(), n = 9 + 3 * nr + 4;
     const int is = 9 + 3 * nr, im = is + 1;
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A =
         Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(n, n);
     double ds_row_s = 0.0;
     Eigen::Vector3d dg_ds = Eigen::Vector3d::Zero();
     for (int a = t.lo; a <= t.hi; ++a) {
-      const int ia = 9 + 3 * (a - t.lo);
+      const int ia = 9 + 3 * a;
       const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C.first_cp() + a);
       const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C.first_cp() + a) + (1.0 - t.blend_old) * x1;
       for (int k = 0; k < 3; ++k) {
@@ -140,7 +144,7 @@ class SlidingJoint final : public Effect {
       A(im + k, is) = dg_ds(k);
     }
     A(is, is) = ds_row_s;
-    const auto d = dofs(ctx.model, t.lo, t.hi + 1);
+    const auto d = dofs(ctx.model, 0, nr);
     PetscCall(J.add(n, d.data(), n, d.data(), A.data()));
     PetscFunctionReturn(0);
   }

@@ -211,3 +211,42 @@ section = { EA = 1.0e3, kGA = 1.0e3, GJ = 1.0, EI2 = 1.0, EI3 = 1.0, rhoA = 1.0 
     assert out.returncode == 1
     assert "initial acceleration" in out.stderr and "mass" in out.stderr and "Traceback" not in out.stderr
     assert not (tmp_path / "m" / "summary.json").exists()
+
+
+SEED_MESHES = ("1+1", "1+2", "1+4", "1+8")
+
+
+@pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint", "newmark", "hht"))
+def test_seed_benchmark_scenes_run_with_every_integrator(run_cli, root, tmp_path, integrator):
+    """Every S2 mesh and quadrature starts and steps with every integrator (short runs)."""
+    for mesh in SEED_MESHES:
+        for quad in ("", "_reduced"):
+            name = f"free_fall_{mesh}{quad}"
+            out = run_cli("run", str(root / "runs" / "seed" / f"{name}.toml"), "--out", name, "-q",
+                          "--set", f'analysis.integrator="{integrator}"', "--set", "analysis.t_end=0.02")
+            assert out.returncode == 0, (name, out.stderr)
+            summary = json.loads((tmp_path / name / "summary.json").read_text())
+            assert summary["complete"] and summary["sliding_joints"]["CM_on_AB"]["final_s"] > 0.4
+
+
+def test_slider_reaching_the_carrier_end_stops_the_run(run_cli, root, tmp_path):
+    """S2-incl: C slides down the inclined carrier and reaches B at t = 0.81 s. By default the run
+    stops there (exit 0, message); at_carrier_end = "fail" makes it an error (exit 1)."""
+    scene = str(root / "runs" / "seed" / "free_fall_inclined_1+4.toml")
+    out = run_cli("run", scene, "--out", "stop", "-q", "--set", "analysis.dt=0.002")
+    assert out.returncode == 0, out.stderr
+    assert "reached the end of carrier 'AB'" in out.stdout
+    summary = json.loads((tmp_path / "stop" / "summary.json").read_text())
+    assert summary["complete"] is False and 0.7 < summary["t_reached"] < 0.9
+    assert summary["sliding_joints"]["CM_on_AB"]["final_s"] >= 2.0
+    rows = list(csv.DictReader((tmp_path / "stop" / "history.csv").open()))
+    for col in ("CM_on_AB.s", "CM_on_AB.ds_dt", "CM_on_AB.reaction.x", "CM_on_AB.reaction.y", "CM_on_AB.reaction.z"):
+        assert col in rows[0]
+    assert float(rows[0]["CM_on_AB.s"]) == pytest.approx(0.4, abs=1e-12)
+    assert float(rows[-1]["CM_on_AB.ds_dt"]) > 1.0  # sliding fast at the end
+    s = [float(r["CM_on_AB.s"]) for r in rows]
+    assert all(b >= a for a, b in zip(s, s[1:]))  # C only slides down
+    fail = run_cli("run", scene, "--out", "fail", "-q", "--set", "analysis.dt=0.002",
+                   "--set", 'sliding_joint.0.at_carrier_end="fail"')
+    assert fail.returncode == 1 and "reached the end of carrier 'AB'" in fail.stderr
+    assert "Traceback" not in fail.stderr

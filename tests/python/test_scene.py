@@ -583,3 +583,34 @@ def test_rigid_joint_parses_and_checks_its_ends():
             scene.scene_from_dict(_two_legs(joint))
         text = str(info.value)
         assert "[[rigid_joint]] #1" in text and all(w in text for w in words), text
+
+
+def _slider(joint: dict) -> dict:
+    section = {"EA": 1, "kGA": 1, "GJ": 1, "EI2": 1, "EI3": 1}
+    return {
+        "beam": [{"name": "carrier", "start": [0, 0, 0], "end": [2, 0, 0], "spans": 4, "section": section},
+                 {"name": "hanger", "start": [0.5, 0, 0], "end": [0.5, 0, -1], "spans": 1, "section": section}],
+        "sliding_joint": [joint],
+    }
+
+
+def test_sliding_joint_parses_and_checks_its_input():
+    sc = scene.scene_from_dict(_slider({"slider": "hanger", "carrier": "carrier"}))
+    assert sc.sliding_joints == (scene.SlidingJoint(1, 0.0, 0, "exact", "stop", None),)
+    sc = scene.scene_from_dict(_slider({"slider": "hanger", "at": "end", "carrier": "carrier",
+                                        "discrete_gradient": "midpoint", "at_carrier_end": "fail", "tolerance": 1e-3}))
+    assert sc.sliding_joints == (scene.SlidingJoint(1, 1.0, 0, "midpoint", "fail", 1e-3),)
+    for joint, words in (
+        ({"slider": "hanger", "carrier": "hanger"}, ("cannot slide on itself",)),
+        ({"slider": "hanger", "carrier": "carier"}, ("'carier' does not exist", "did you mean 'carrier'")),
+        ({"carrier": "carrier"}, ("slider",)),
+        ({"slider": "hanger", "carrier": "carrier", "discrete_gradient": "seed"}, ("discrete_gradient", "exact")),
+        ({"slider": "hanger", "carrier": "carrier", "at_carrier_end": "clamp"}, ("at_carrier_end", "stop")),
+        ({"slider": "hanger", "carrier": "carrier", "tolerance": -1.0}, ("tolerance", "> 0")),
+        ({"slider": "hanger", "carrier": "carrier", "at": 3.0}, ("at", "[0, L]")),
+        ({"slider": "hanger", "carrier": "carrier", "friction": 0.1}, ("unknown key 'friction'",)),
+    ):
+        with pytest.raises(scene.SceneError) as info:
+            scene.scene_from_dict(_slider(joint))
+        text = str(info.value)
+        assert "[[sliding_joint]] #1" in text and all(w in text for w in words), text

@@ -1,0 +1,126 @@
+# SPDX-License-Identifier: MIT
+"""Sliding joint (issue 4): exact step Jacobians with s on either side of knots, energy through
+element transitions (exact discrete derivative against the seed's midpoint form), constraint
+residuals, the carrier end, input errors, and distributed == serial."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import slidebeam
+from fd_check import step_jacobian_error
+
+ROOT = Path(__file__).resolve().parents[2]
+SEED = ROOT / "runs" / "seed"
+INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
+NEWTON_ATOL = 1e-10  # the SNES absolute tolerance (solvers/newton.cpp)
+
+
+def seed_scene(name: str = "free_fall_inclined_1+4", **sets: object) -> slidebeam.Scene:
+    return slidebeam.load_scene(SEED / f"{name}.toml", [f"{k}={v}" for k, v in sets.items()])
+
+
+@pytest.mark.parametrize("integrator,form", [(i, "exact") for i in INTEGRATORS] + [("energy-momentum", "midpoint")])
+@pytest.mark.parametrize("ds", [0.03, 0.17, 0.71])  # same span; across the knot at 0.5; across 0.5 and 1.0
+def test_step_jacobian_is_exact_across_knots(integrator, form, ds):
+    """s_n = 0.4 and s_n+1 = s_n + ds: the span of s is found at every evaluation and the
+    Jacobian stays the derivative of the step residual (finite differences)."""
+    sim = slidebeam.Simulation(seed_scene(**{"analysis.integrator": integrator, "analysis.dt": 0.01,
+                                             "sliding_joint.0.discrete_gradient": form}))
+    integ = sim.integrator
+    for _ in range(3):  # leave the reference state: multipliers, strains, velocities
+        assert integ.step(0.01).converged
+    h = 0.01
+    integ.prepare_step(h)
+    x1 = integ.x.copy()
+    x1.axpy(h, integ.v)
+    rng = np.random.default_rng(11 + MPI.COMM_WORLD.Get_rank())
+    lo, hi = x1.getOwnershipRange()
+    x1.setValues(range(lo, hi), x1.getArray() + 1e-3 * rng.standard_normal(hi - lo))
+    i_s = sim.sliding_coordinate_index()
+    s0 = sim.joint_states()[0].s
+    if lo <= i_s < hi:
+        x1.setValue(i_s, s0 + ds)
+    x1.assemble()
+    worst, scale = step_jacobian_error(sim, x1)
+    assert scale > 1.0
+    assert worst <= 1e-6 * scale, f"{integrator}/{form}, ds = {ds}: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
+
+
+def energy_run(form: str):
+    sim = slidebeam.Simulation(seed_scene(**{"sliding_joint.0.discrete_gradient": form}))
+    run = sim.run_dynamic()
+    H = np.array([r.total_energy for r in run.records])
+    K = max(r.kinetic_energy for r in run.records)
+    s = np.array([r.joints[0].s for r in run.records])
+    return run, H, K, s
+
+
+@pytest.fixture(scope="module")
+def transition_runs():
+    return {form: energy_run(form) for form in ("exact", "midpoint")}
+
+
+def test_energy_momentum_conserves_energy_through_element_transitions(transition_runs):
+    """S2-incl, 1+4 mesh, dt = 1e-3: C crosses the knots at 0.5, 1.0 and 1.5 and reaches the
+    carrier end. With the exact discrete derivative the total energy stays within 10x the Newton
+    tolerance of its start, relative to the largest kinetic energy."""
+    run, H, K, s = transition_runs["exact"]
+    assert not run.complete and not run.failed and "reached the end of carrier 'AB'" in run.message
+    assert all(s.min() < knot < s.max() for knot in (0.5, 1.0, 1.5))
+    drift = np.abs(H - H[0]).max() / K
+    assert drift <= 10 * NEWTON_ATOL, f"energy drift {drift:.3e} of the largest kinetic energy {K:.3g}"
+    assert max(r.constraint_residual for r in run.records) <= NEWTON_ATOL
+
+
+def test_seed_midpoint_form_does_not_conserve_energy(transition_runs):
+    """The same run with the seed's midpoint-evaluated derivative: same motion, but the joint
+    does work, far outside the conserving scheme's band."""
+    exact_run, H_exact, K, s_exact = transition_runs["exact"]
+    run, H, K_mid, s = transition_runs["midpoint"]
+    n = min(len(s), len(s_exact))
+    assert np.abs(s[:n] - s_exact[:n]).max() < 1e-5  # the same motion, to the scheme's error
+    drift = np.abs(H - H[0]).max() / K_mid
+    exact_drift = np.abs(H_exact - H_exact[0]).max() / K
+    assert drift > 10 * (10 * NEWTON_ATOL) and drift > 1e4 * exact_drift, (drift, exact_drift)
+    assert max(r.constraint_residual for r in run.records) <= NEWTON_ATOL
+
+
+def test_distributed_equals_serial():
+    """Meaningful under mpirun -n 2: the carrier's control points and the joint's unknowns live on
+    different ranks."""
+    scene = seed_scene("free_fall_1+4", **{"analysis.t_end": 0.2})
+    world = slidebeam.Simulation(scene, MPI.COMM_WORLD).run_dynamic().records
+    alone = slidebeam.Simulation(scene, MPI.COMM_SELF).run_dynamic().records
+    assert len(world) == len(alone)
+    for a, b in zip(world, alone):
+        assert abs(a.total_energy - b.total_energy) <= 1e-10 * max(1.0, abs(b.total_energy))
+        assert np.abs(np.array(a.tracked) - np.array(b.tracked)).max() < 1e-10
+        assert abs(a.joints[0].s - b.joints[0].s) < 1e-10
+        assert np.abs(np.array(a.joints[0].reaction) - np.array(b.joints[0].reaction)).max() < 1e-8
+
+
+def test_initial_s_is_the_closest_point_and_at_rest():
+    sim = slidebeam.Simulation(seed_scene("free_fall_1+4"))
+    j = sim.joint_states()[0]
+    assert j.s == pytest.approx(0.4, abs=1e-12)
+    assert j.ds_dt == 0.0
+
+
+@pytest.mark.parametrize("integrator", INTEGRATORS)
+def test_every_integrator_runs_the_joint(integrator):
+    """Short run: constraints at solver tolerance, C moves along AB towards mid-span."""
+    sim = slidebeam.Simulation(seed_scene("free_fall_1+4", **{"analysis.integrator": integrator,
+                                                            "analysis.t_end": 0.1}))
+    run = sim.run_dynamic()
+    assert run.complete
+    assert max(r.constraint_residual for r in run.records) <= NEWTON_ATOL
+    assert run.records[-1].joints[0].s > 0.4
+
+
+def test_slider_off_its_carrier_is_a_scene_error():
+    with pytest.raises(slidebeam.SceneError, match=r"sliding_joint\]\] #1.*from carrier 'AB'"):
+        slidebeam.Simulation(seed_scene("free_fall_1+4", **{"beam.CM.start": "[0.4, 0.01, 0.0]"}))
