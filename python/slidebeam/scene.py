@@ -609,6 +609,12 @@ def _parse_analysis(t: _Table) -> Analysis:
     beta = t.number("newmark_beta", (1.0 - alpha) ** 2 / 4.0 if hht else 0.25, check=lambda b: b > 0,
                     requirement="> 0")
     gamma = t.number("newmark_gamma", 0.5 - alpha if hht else 0.5, check=lambda g: g >= 0.5, requirement=">= 1/2")
+    if hht and alpha != 0.0 and gamma < 0.5 - alpha - 1e-12:
+        # e.g. the trapezoidal beta = 1/4, gamma = 1/2 kept from a Newmark scene: first order, and
+        # with constraints the energy grows until Newton fails
+        raise t.error("newmark_gamma", f"HHT with alpha = {alpha:g} needs gamma >= 1/2 - alpha = {0.5 - alpha:g} "
+                                       f"(got {gamma:g}); leave newmark_beta and newmark_gamma unset for the "
+                                       f"standard companions")
     return Analysis(
         type=kind,
         steps=t.integer("steps", 10),

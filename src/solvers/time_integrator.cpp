@@ -193,11 +193,13 @@ void TimeIntegrator::prepare_step(double h) {
     c0_ = 1.0 / (params_.beta * h * h);
     SB_CHECK(VecAXPY(xt_, h * h * (0.5 - params_.beta), a_));
     if (params_.kind == IntegratorKind::HHT && params_.alpha != 0.0) {
-      // -alpha F(x_n; t_n) on coordinate rows (constraint rows hold at t_{n+1} only)
+      // -alpha F(x_n; t_n) on force rows: coordinates and sliding coordinates (whose row,
+      // G_s . mu = 0, is the force balance of a massless coordinate and must be averaged like
+      // the others, or the joint does work); constraint rows hold at t_{n+1} only
       scale_ = 1.0 + params_.alpha;
       has_history_force_ = true;
       SB_CHECK(model_.assemble_effects_residual(StepEval{StepRule::Endpoint, t_, 1.0}, x_, f_hist_));
-      SB_CHECK(VecPointwiseMult(f_hist_, f_hist_, model_.coordinate_mask()));
+      SB_CHECK(VecPointwiseMult(f_hist_, f_hist_, state_mask_));
       SB_CHECK(VecScale(f_hist_, -params_.alpha));
     }
   }
@@ -261,7 +263,7 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
     const double rate = fnorm / rt.fnorm_prev;
     // At roundoff the residual stagnates whatever the Jacobian: with a fresh one below 1e-6 of
     // the initial residual, with an old one (slower contraction) below 1e-8.
-    if (it > 1 && rate >= 0.5 && fnorm <= (fresh ? 1e-6 : 1e-8) * rt.fnorm0) {
+    if (it > 1 && rate >= 0.5 && fnorm <= (fresh ? 1e-6 : 1e-8) * rt.fnorm0 && snorm <= 1e-7 * xnorm) {
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;

@@ -350,6 +350,10 @@ def test_hht_defaults_are_the_standard_companions():
     data["analysis"]["integrator"] = "newmark"
     a = scene.scene_from_dict(data).analysis
     assert (a.newmark_beta, a.newmark_gamma) == (0.25, 0.5)
+    # Newmark's trapezoidal parameters kept under HHT: first order and unstable with constraints
+    data["analysis"].update(integrator="hht", newmark_beta=0.25, newmark_gamma=0.5)
+    with pytest.raises(scene.SceneError, match=r"newmark_gamma.*needs gamma >= 1/2 - alpha = 0.7"):
+        scene.scene_from_dict(data)
 
 
 @pytest.mark.parametrize("override, bad", [
