@@ -2,7 +2,25 @@
 """Finite-difference check of a dynamic step's Jacobian (shared by the dynamics and sliding tests)."""
 from __future__ import annotations
 
+import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
+
+
+def trial_end_state(sim, steps: int, h: float, seed: int) -> PETSc.Vec:
+    """Take `steps` steps of size h (off the reference state: multipliers, strains and velocities
+    nonzero), prepare the next one and return a trial end state x_n + h v_n plus 1e-3 noise
+    (not assembled: the caller may set values before assembling)."""
+    integ = sim.integrator
+    for _ in range(steps):
+        assert integ.step(h).converged
+    integ.prepare_step(h)
+    x1 = integ.x.copy()
+    x1.axpy(h, integ.v)
+    rng = np.random.default_rng(seed + MPI.COMM_WORLD.Get_rank())
+    lo, hi = x1.getOwnershipRange()
+    x1.setValues(range(lo, hi), x1.getArray() + 1e-3 * rng.standard_normal(hi - lo))
+    return x1
 
 
 def step_jacobian_error(sim, x1: PETSc.Vec, eps: float = 1e-6) -> tuple[float, float]:
