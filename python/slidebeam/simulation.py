@@ -277,8 +277,8 @@ class Simulation:
 
     def sliding_coordinate_index(self, joint: int = 0) -> int:
         """Global index of the sliding coordinate s of [[sliding_joint]] number `joint` (its three
-        multipliers follow it)."""
-        return self._model.extra_offset(self.sliding_joint_effects()[joint])
+        multipliers come just before it)."""
+        return self._model.extra_offset(self.sliding_joint_effects()[joint]) + 3
 
     def joint_states(self) -> list[JointState]:
         """s, ds/dt and reaction of every sliding joint in the current state (collective)."""
@@ -286,9 +286,9 @@ class Simulation:
         rate = self.integrator.sliding_rate if self.integrator is not None else None
         states = []
         for k in self.sliding_joint_effects():
-            values = self._model.extra_values(k, x)
-            sdot = self._model.extra_values(k, rate)[0] if rate is not None else 0.0
-            states.append(JointState(float(values[0]), float(sdot), (float(values[1]), float(values[2]), float(values[3]))))
+            mu_and_s = self._model.extra_values(k, x)  # mu (3), then s
+            sdot = self._model.extra_values(k, rate)[3] if rate is not None else 0.0
+            states.append(JointState(float(mu_and_s[3]), float(sdot), tuple(float(m) for m in mu_and_s[:3])))
         return states
 
     def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,

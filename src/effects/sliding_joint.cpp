@@ -58,10 +58,12 @@ class SlidingJoint final : public Effect {
   }
   std::string type() const override { return "sliding_joint"; }
   std::string label() const override { return label_; }
-  PetscInt n_extra() const override { return 4; }  // s, mu (3)
-  bool extra_is_state(PetscInt k) const override { return k == 0; }
+  // mu (3), then s: the natural-order LU of serial steps then meets s after the multipliers,
+  // whose elimination gives its pivot (s first: a zero pivot while mu = 0)
+  PetscInt n_extra() const override { return 4; }
+  bool extra_is_state(PetscInt k) const override { return k == 3; }
   void initial_values(const Model&, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
-    rows.push_back(extra_offset());
+    rows.push_back(s_index());
     vals.push_back(s0_);
   }
 
@@ -100,8 +102,8 @@ class SlidingJoint final : public Effect {
       Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, cp)) -= slider_basis_.N[b] * mu;
       g -= slider_basis_.N[b] * position(ctx.x, ctx.map, cp);
     }
-    r.at(extra_offset()) += t.Gs.dot(mu);
-    for (int k = 0; k < 3; ++k) r.at(extra_offset() + 1 + k) += g(k);
+    r.at(s_index()) += t.Gs.dot(mu);
+    for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += g(k);
     PetscFunctionReturn(0);
   }
 
@@ -165,7 +167,7 @@ class SlidingJoint final : public Effect {
     const Beam& C = ctx.model.beam(carrier_);
     const int ns = C.n_spans();
     const double L = C.length();
-    const double s1 = ctx.x.at(extra_offset()), s0 = ctx.x_old.at(extra_offset());
+    const double s1 = ctx.x.at(s_index()), s0 = ctx.x_old.at(s_index());
     Terms t;
     const auto range = sliding::touched_cps(ns, L, s0, s1);
     t.lo = range[0];
@@ -185,7 +187,7 @@ class SlidingJoint final : public Effect {
       t.blend_old = 0.5;
     } else {
       // forces at x_f (Endpoint: x_f = x, theta = 1)
-      const double th = ctx.theta, sf = ctx.xf.at(extra_offset());
+      const double th = ctx.theta, sf = ctx.xf.at(s_index());
       const int ef = sliding::span_of(ns, L, sf);
       sliding::add_basis(ns, L, ef, sf, 0, 1.0, t.Wq);
       sliding::add_basis(ns, L, ef, sf, 1, th, t.dWq);
@@ -206,8 +208,9 @@ class SlidingJoint final : public Effect {
     return Eigen::Map<const Eigen::Vector3d>(x.cp(map, cp));
   }
   Eigen::Vector3d multipliers(const LocalValues& x) const {
-    return {x.at(extra_offset() + 1), x.at(extra_offset() + 2), x.at(extra_offset() + 3)};
+    return {x.at(extra_offset()), x.at(extra_offset() + 1), x.at(extra_offset() + 2)};
   }
+  PetscInt s_index() const { return extra_offset() + 3; }
   PetscInt slider_cp(const Model& m, int b) const { return m.beam(slider_).first_cp() + slider_basis_.span + b; }
   /// Slider span positions (9), carrier positions of control points [c0, c1) (3 each), s, mu.
   std::vector<PetscInt> dofs(const Model& m, int c0, int c1) const {
@@ -218,7 +221,8 @@ class SlidingJoint final : public Effect {
       for (int k = 0; k < 3; ++k) d.push_back(map.q(slider_cp(m, b), k));
     for (int a = c0; a < c1; ++a)
       for (int k = 0; k < 3; ++k) d.push_back(map.q(m.beam(carrier_).first_cp() + a, k));
-    for (int k = 0; k < 4; ++k) d.push_back(extra_offset() + k);
+    d.push_back(s_index());  // the local block's order: s, then mu
+    for (int k = 0; k < 3; ++k) d.push_back(extra_offset() + k);
     return d;
   }
 
