@@ -8,10 +8,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from mpi4py import MPI
 
 import slidebeam
-from fd_check import step_jacobian_error, trial_end_state
+from checks import distributed_and_serial_records, step_jacobian_error, trial_end_state
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "runs" / "seed"
@@ -84,13 +83,7 @@ def test_seed_midpoint_form_does_not_conserve_energy(transition_runs):
 def test_distributed_equals_serial():
     """Meaningful under mpirun -n 2: the carrier's control points and the joint's unknowns live on
     different ranks."""
-    scene = seed_scene("free_fall_1+4", **{"analysis.t_end": 0.2})
-    world = slidebeam.Simulation(scene, MPI.COMM_WORLD).run_dynamic().records
-    alone = slidebeam.Simulation(scene, MPI.COMM_SELF).run_dynamic().records
-    assert len(world) == len(alone)
-    for a, b in zip(world, alone):
-        assert abs(a.total_energy - b.total_energy) <= 1e-10 * max(1.0, abs(b.total_energy))
-        assert np.abs(np.array(a.tracked) - np.array(b.tracked)).max() < 1e-10
+    for a, b in distributed_and_serial_records(seed_scene("free_fall_1+4", **{"analysis.t_end": 0.2})):
         assert abs(a.joints[0].s - b.joints[0].s) < 1e-10
         assert np.abs(np.array(a.joints[0].reaction) - np.array(b.joints[0].reaction)).max() < 1e-8
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""Finite-difference check of a dynamic step's Jacobian (shared by the dynamics and sliding tests)."""
+"""Checks shared by the dynamics and sliding-joint tests: finite differences of a step's
+Jacobian, and a run on all ranks against the same run on one."""
 from __future__ import annotations
 
 import numpy as np
@@ -52,3 +53,18 @@ def step_jacobian_error(sim, x1: PETSc.Vec, eps: float = 1e-6) -> tuple[float, f
     for v in (Fp, Fm, Jcol, e):
         v.destroy()
     return worst, scale
+
+
+def distributed_and_serial_records(scene) -> list[tuple]:
+    """Run a dynamic scene on every rank of COMM_WORLD and alone on each rank; check that energy
+    and tracked points agree to 1e-10 and return the record pairs (world, alone) for more checks.
+    Meaningful under mpirun -n 2."""
+    import slidebeam
+
+    world = slidebeam.Simulation(scene, MPI.COMM_WORLD).run_dynamic().records
+    alone = slidebeam.Simulation(scene, MPI.COMM_SELF).run_dynamic().records
+    assert len(world) == len(alone)
+    for a, b in zip(world, alone):
+        assert abs(a.total_energy - b.total_energy) <= 1e-10 * max(1.0, abs(b.total_energy))
+        assert np.abs(np.array(a.tracked) - np.array(b.tracked)).max() < 1e-10
+    return list(zip(world, alone))
