@@ -146,9 +146,10 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
         if result.converged:  # the core already counts NaN/Inf in F or x as a failure
             step += 1
             last = integ.time >= t_end * (1 - 1e-12)
-            ended = _carrier_end(sim, sim.joint_states(), step) if sim.scene.sliding_joints else None
+            joints = sim.joint_states() if sim.scene.sliding_joints else []
+            ended = _carrier_end(sim, joints, step) if joints else None
             if step % every == 0 or last or ended:
-                rec = sim.record_dynamic(step, result, h, rejected_since_record)
+                rec = sim.record_dynamic(step, result, h, rejected_since_record, joints)
                 rejected_since_record = 0
                 records.append(rec)
                 if on_step:

@@ -292,8 +292,9 @@ class Simulation:
         return states
 
     def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,
-                       rejected: int) -> DynamicRecord:
-        """Energies, momenta, constraint residual and tracked points of the current state."""
+                       rejected: int, joints: list[JointState] | None = None) -> DynamicRecord:
+        """Energies, momenta, constraint residual, tracked points and sliding joints (`joints`
+        if the caller has them already) of the current state."""
         assert self.integrator is not None
         e = self.energies()
         kinetic, lin, ang = self.integrator.motion()
@@ -306,7 +307,7 @@ class Simulation:
             kinetic_energy=kinetic, strain_energy=e["strain"],
             potential_energy=e["potential"], linear_momentum=tuple(lin), angular_momentum=tuple(ang),
             constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
-            tracked=self.tracked_points(), joints=self.joint_states(),
+            tracked=self.tracked_points(), joints=self.joint_states() if joints is None else joints,
         )
 
     def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:
