@@ -14,6 +14,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+#include <pybind11/stl.h>
+
 namespace py = pybind11;
 using namespace slidebeam;
 
@@ -106,6 +109,24 @@ PYBIND11_MODULE(_core, m) {
       .def("effect_energies", [](const Model& s, double t, Vec x) { return s.effect_energies(t, x); })
       .def("set_reference_state", [](const Model& s, Vec x) { s.set_reference_state(x); })
       .def("project_directors", [](const Model& s, Vec x) { s.project_directors(x); })
+      .def("sample_beam",
+           [](const Model& s, int beam, Vec x, std::optional<Vec> v, int samples_per_span) {
+             // collective: the control points are gathered on every rank
+             const auto q = s.beam_coordinates(beam, x);
+             const auto qd = v ? s.beam_coordinates(beam, *v) : std::vector<double>{};
+             const BeamSamples b = s.beam(beam).sample(q, qd, samples_per_span);
+             const auto n = static_cast<py::ssize_t>(b.s.size());
+             py::dict d;
+             d["s"] = as_array(b.s, n, 1).attr("reshape")(n);
+             for (auto [name, vec] : {std::pair{"position", &b.position}, {"velocity", &b.velocity}, {"d1", &b.d1},
+                                      {"d2", &b.d2}, {"d3", &b.d3}, {"force", &b.force}, {"moment", &b.moment}})
+               d[name] = as_array(*vec, n, 3);
+             d["strain"] = as_array(b.strain, n, 6);
+             return d;
+           },
+           py::arg("beam"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
+           "fields sampled along a beam (dict of arrays: s, position, velocity, d1, d2, d3, strain, force, "
+           "moment); collective")
       .def("extra_offset", [](const Model& s, int effect) { return s.effects().at(static_cast<size_t>(effect))->extra_offset(); },
            py::arg("effect"), "global index of an effect's first extra unknown")
       .def("extra_values", [](const Model& s, int effect, Vec x) { return s.extra_values(effect, x); },

@@ -14,6 +14,7 @@ import traceback
 from pathlib import Path
 
 from .scene import Scene, SceneError, load_scene
+from .xdmf import OutputFailure, XdmfOutput
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -90,6 +91,22 @@ def _quiet_broken_pipe() -> None:
         signal.signal(signal.SIGPIPE, signal.SIG_DFL)
 
 
+def _exit_after_output_failure(code: int) -> None:
+    """HDF5 (through h5py) crashes at interpreter exit once a write to a file has failed (full
+    disk): finalize PETSc and MPI ourselves and leave without the interpreter's teardown."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    try:
+        from petsc4py import PETSc
+
+        PETSc._finalize()
+        from mpi4py import MPI
+
+        MPI.Finalize()
+    finally:
+        os._exit(code)
+
+
 def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     scene = load_scene(args.scene, args.set)
     out = Path(args.out) if args.out else Path("out") / scene.name
@@ -119,15 +136,32 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     sim = Simulation(scene)
     _say(rank, _describe(scene))
     _say(rank, "active effects: " + ", ".join(e.label for e in sim.active_effects))
-    if scene.analysis.type == "dynamic":
-        return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0)
+    try:
+        output = XdmfOutput(sim, out, rank)
+        if scene.analysis.type == "dynamic":
+            return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0, output)
+        return _run_static(sim, scene, out, args, rank, comm.Get_size(), t0, output)
+    except OutputFailure as err:
+        _say(rank, f"slidebeam: error: {err}; the run stopped at t = {sim.t:.6g} and its results are incomplete",
+             sys.stderr)
+        _exit_after_output_failure(EXIT_INPUT)
+        return EXIT_INPUT  # not reached
+
+
+def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
+                output: XdmfOutput) -> int:
+    from .results import write_results
 
     def progress(rec) -> None:
         if not args.quiet:
             _say(rank, f"  step {rec.step:4d}/{scene.analysis.steps}  t = {rec.t:.6g}  newton {rec.newton_iterations:2d}"
                        f"  |F| = {rec.residual_norm:.3e}  {'' if rec.converged else 'FAILED: ' + rec.reason}")
+        if rec.converged:
+            output.write(rec.t)
 
+    output.write(sim.t)  # the reference state (step 0)
     records = sim.solve_static(progress)
+    output.close()
     wall = time.perf_counter() - t0
     last = records[-1]
     complete = last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
@@ -142,7 +176,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
         "steps": last.step, "steps_requested": scene.analysis.steps,
         "newton_iterations": sum(r.newton_iterations for r in records),
         "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
-        "unknowns": sim.x.getSize(), "ranks": comm.Get_size(), "wall_time_s": wall,
+        "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
         "final_energy": {"strain": last.strain_energy, "potential": last.potential_energy},
     }
     write_results(sim, out, records, summary, rank)
@@ -154,7 +188,8 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     return EXIT_SOLVE_FAILED
 
 
-def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float) -> int:
+def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
+                 output: XdmfOutput) -> int:
     from .results import write_results
 
     a = scene.analysis
@@ -163,6 +198,8 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
     next_report = [0]
 
     def progress(rec) -> None:
+        if rec.converged:
+            output.write(rec.t)
         if args.quiet:
             return
         if rec.converged and rec.step < next_report[0] and rec.t < a.t_end * (1 - 1e-12):
@@ -173,6 +210,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
 
     outcome = sim.run_dynamic(progress)
+    output.close()
     wall = time.perf_counter() - t0
     recs = outcome.records
     last = recs[-1] if recs[-1].converged else recs[-2]

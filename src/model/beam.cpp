@@ -59,6 +59,50 @@ PointBasis Beam::basis_on_span(int span, double s) const {
   return p;
 }
 
+BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const {
+  if (samples_per_span < 1) throw std::invalid_argument("samples_per_span must be >= 1");
+  if (q.size() != spec_.q_ref.size() || (!q_dot.empty() && q_dot.size() != q.size()))
+    throw std::invalid_argument("beam '" + name() + "': sample needs 12 coordinates per control point");
+  const int n = n_spans() * samples_per_span + 1;
+  BeamSamples out;
+  out.s.resize(static_cast<size_t>(n));
+  for (auto* v : {&out.position, &out.velocity, &out.d1, &out.d2, &out.d3, &out.force, &out.moment})
+    v->assign(static_cast<size_t>(3 * n), 0.0);
+  out.strain.assign(static_cast<size_t>(6 * n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    const double s = length() * i / (n - 1);
+    const PointBasis b = basis_at(s);
+    const kernels::GaussPoint gp{b.N, b.dN, 0.0};
+    const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * b.span);
+    const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * b.span);
+    const kernels::Vec6 eps = kernels::strains(strain_table(), kernels::field_map(gp) * qe) -
+                              kernels::strains(strain_table(), kernels::field_map(gp) * q0);
+    const kernels::Vec6 sigma = stiffness_.cwiseProduct(eps);
+    out.s[static_cast<size_t>(i)] = s;
+    Eigen::Vector3d f[4] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                            Eigen::Vector3d::Zero()};  // phi, d1, d2, d3
+    Eigen::Vector3d vel = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+      for (int blk = 0; blk < 4; ++blk) f[blk] += b.N[a] * qe.segment<3>(12 * a + 3 * blk);
+      if (!q_dot.empty()) vel += b.N[a] * Eigen::Map<const Eigen::Vector3d>(q_dot.data() + 12 * (b.span + a));
+    }
+    const Eigen::Vector3d n_sp = sigma(0) * f[1] + sigma(1) * f[2] + sigma(2) * f[3];
+    const Eigen::Vector3d m_sp = sigma(3) * f[1] + sigma(4) * f[2] + sigma(5) * f[3];
+    auto put = [i](std::vector<double>& v, const Eigen::Vector3d& x) {
+      for (int k = 0; k < 3; ++k) v[static_cast<size_t>(3 * i + k)] = x(k);
+    };
+    put(out.position, f[0]);
+    put(out.d1, f[1]);
+    put(out.d2, f[2]);
+    put(out.d3, f[3]);
+    put(out.velocity, vel);
+    put(out.force, n_sp);
+    put(out.moment, m_sp);
+    for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
+  }
+  return out;
+}
+
 PointBasis Beam::basis_at(double s) const {
   return basis_on_span(bspline::find_span(n_spans(), s / length()), s);
 }

@@ -36,6 +36,13 @@ struct PointBasis {
   std::array<double, 3> dN{};
 };
 
+/// Fields of a beam sampled along its centre line (output). Arrays are row-major, one row per
+/// sample: s (1), position, velocity, d1, d2, d3, spatial force and moment resultants (3 each),
+/// strains minus reference strains (6, the order of the stiffness).
+struct BeamSamples {
+  std::vector<double> s, position, velocity, d1, d2, d3, strain, force, moment;
+};
+
 class Beam {
  public:
   Beam(const BeamSpec& spec, int id, int first_cp);
@@ -62,6 +69,12 @@ class Beam {
 
   PointBasis basis_at(double s) const;
   PointBasis basis_on_span(int span, double s) const;
+
+  /// Fields at samples_per_span points per knot span (and the end), from the control point
+  /// coordinates q and their rates q_dot (n_cp x 12 each; q_dot may be empty: zero velocity).
+  /// Resultants: sigma = C (eps - eps_ref), n = sigma_0 d1 + sigma_1 d2 + sigma_2 d3,
+  /// m = sigma_3 d1 + sigma_4 d2 + sigma_5 d3 (d1 along the axis).
+  BeamSamples sample(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const;
 
  private:
   BeamSpec spec_;

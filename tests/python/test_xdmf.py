@@ -1,0 +1,162 @@
+# SPDX-License-Identifier: MIT
+"""XDMF/HDF5 output as users open it (issue 5): read back with meshio against history.csv, the
+.h5 beside its .xdmf whatever the working directory, 1 rank = 2 ranks, ParaView's own reader,
+and a clean stop when the disk fills."""
+from __future__ import annotations
+
+import csv
+import json
+import resource
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.skip_in_parallel  # each test starts its own processes
+
+SEED = ("runs", "seed", "free_fall_inclined_1+4.toml")
+SHORT = ["--set", "analysis.t_end=0.05", "--set", "output.every=5", "--set", "output.samples_per_span=3"]
+BEAM_FIELDS = {"displacement": 3, "velocity": 3, "d1": 3, "d2": 3, "d3": 3, "strain": 6, "force": 3, "moment": 3,
+               "section_d2": 3, "section_d3": 3, "s": 1, "beam_id": 1}
+
+
+def read_series(path: Path) -> tuple[np.ndarray, list[tuple[float, dict[str, np.ndarray]]]]:
+    import meshio
+
+    with meshio.xdmf.TimeSeriesReader(str(path)) as reader:
+        points, cells = reader.read_points_cells()
+        steps = [reader.read_data(k)[:2] for k in range(reader.num_steps)]
+    return points, steps
+
+
+def history(run: Path) -> list[dict[str, str]]:
+    return list(csv.DictReader((run / "history.csv").open()))
+
+
+def test_beams_and_sliders_read_back_against_the_history(run_cli, root, tmp_path):
+    """Every recorded step is in the series with every array in its shape, and the values agree
+    with history.csv: the end of CM (its last sample) is the tracked point CM@1, the slider's
+    s and reaction are the joint's columns. Run from another working directory: the .h5 files
+    must land beside their .xdmf."""
+    elsewhere = tmp_path / "cwd"
+    elsewhere.mkdir()
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", str(tmp_path / "res"), "-q", *SHORT, cwd=elsewhere)
+    assert out.returncode == 0, out.stderr
+    assert not list(elsewhere.iterdir())  # nothing written to the working directory
+    run = tmp_path / "res"
+    rows = history(run)
+    points, steps = read_series(run / "beams.xdmf")
+    assert len(steps) == len(rows) == 11  # t = 0, 0.005, ..., 0.05
+    n = (4 * 3 + 1) + (1 * 3 + 1)  # AB: 4 spans, CM: 1 span; 3 samples per span and the end
+    assert points.shape == (n, 3)
+    for (t, data), row in zip(steps, rows):
+        assert t == pytest.approx(float(row["t"]), abs=1e-15)
+        assert set(data) == set(BEAM_FIELDS)
+        for name, width in BEAM_FIELDS.items():
+            assert data[name].shape == ((n,) if width == 1 else (n, width)), name
+            assert np.isfinite(data[name]).all()
+        tip = points[-1] + data["displacement"][-1]
+        assert tip == pytest.approx([float(row[f"CM@1.{c}"]) for c in "xyz"], abs=1e-12)
+        start = points[13] + data["displacement"][13]  # CM's first sample: the slider C
+        assert start == pytest.approx([float(row[f"CM@0.{c}"]) for c in "xyz"], abs=1e-12)
+        assert list(data["beam_id"]) == [0] * 13 + [1] * 4
+        assert np.linalg.norm(data["d1"], axis=1) == pytest.approx(1.0, abs=1e-3)
+        half = np.linalg.norm(data["section_d2"], axis=1)
+        assert half == pytest.approx(0.0025, rel=1e-3)  # 5 mm square section: half width
+    t0, first = steps[0]
+    assert np.abs(first["displacement"]).max() == 0.0 and np.abs(first["strain"]).max() < 1e-12
+    slider_points, slider_steps = read_series(run / "sliders.xdmf")
+    assert slider_points.shape == (1, 3)
+    for (t, data), row in zip(slider_steps, rows):
+        assert data["s"][0] == pytest.approx(float(row["CM_on_AB.s"]), abs=1e-14)
+        assert data["reaction"][0] == pytest.approx([float(row[f"CM_on_AB.reaction.{c}"]) for c in "xyz"], abs=1e-12)
+        assert slider_points[0] + data["displacement"][0] == pytest.approx(
+            [float(row[f"CM@0.{c}"]) for c in "xyz"], abs=1e-12)
+
+
+def test_static_runs_write_the_series_too(run_cli, root, tmp_path):
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "r", "-q", "--set", "analysis.steps=3",
+                  "--set", "beam.0.spans=6")
+    assert out.returncode == 0, out.stderr
+    points, steps = read_series(tmp_path / "r" / "beams.xdmf")
+    assert [t for t, _ in steps] == pytest.approx([0.0, 1 / 3, 2 / 3, 1.0])
+    assert not (tmp_path / "r" / "sliders.xdmf").exists()  # no sliding joints, no slider series
+    assert np.abs(steps[0][1]["velocity"]).max() == 0.0
+
+
+def test_two_ranks_write_the_same_series_as_one(run_cli, root, tmp_path):
+    """Fields are gathered to rank 0, which writes: the files hold the same numbers."""
+    for np_, name in ((1, "one"), (2, "two")):
+        out = run_cli("run", str(root.joinpath(*SEED)), "--out", name, "-q", *SHORT, np=np_)
+        assert out.returncode == 0, out.stderr
+    for series in ("beams.xdmf", "sliders.xdmf"):
+        p1, s1 = read_series(tmp_path / "one" / series)
+        p2, s2 = read_series(tmp_path / "two" / series)
+        assert np.array_equal(p1, p2) and len(s1) == len(s2)
+        for (t1, d1), (t2, d2) in zip(s1, s2):
+            assert t1 == t2 and set(d1) == set(d2)
+            for key in d1:
+                scale = max(1.0, np.abs(d1[key]).max())
+                assert np.abs(d1[key] - d2[key]).max() <= 1e-9 * scale, (series, key)
+
+
+def _paraview_available() -> bool:
+    probe = subprocess.run(["/usr/bin/python3", "-c", "import paraview.simple"], capture_output=True)
+    return probe.returncode == 0
+
+
+@pytest.mark.skipif(not _paraview_available(), reason="python3-paraview is not installed")
+def test_paraview_opens_the_run(run_cli, root, tmp_path):
+    """ParaView's own XDMF reader sees every time step, the polyline and the arrays, and the
+    README's filter chain (Warp By Vector, Extract Surface, Ribbon) runs."""
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
+    assert out.returncode == 0, out.stderr
+    script = f"""
+import json
+from paraview import simple
+beams = simple.Xdmf3ReaderS(FileName=[{str(tmp_path / 'res' / 'beams.xdmf')!r}])
+beams.UpdatePipelineInformation()
+times = list(beams.TimestepValues)
+warp = simple.WarpByVector(Input=beams, Vectors=['POINTS', 'displacement'])
+surface = simple.ExtractSurface(Input=warp)  # Ribbon and Tube need polydata
+ribbon = simple.Ribbon(Input=surface, Vectors=['POINTS', 'section_d3'], Width=0.0025)
+ribbon.UpdatePipeline(times[-1])
+beams.UpdatePipeline(times[-1])
+info = beams.GetDataInformation()
+sliders = simple.Xdmf3ReaderS(FileName=[{str(tmp_path / 'res' / 'sliders.xdmf')!r}])
+sliders.UpdatePipeline(times[-1])
+print(json.dumps({{"times": times, "points": info.GetNumberOfPoints(), "cells": info.GetNumberOfCells(),
+                  "arrays": sorted(beams.PointData.keys()), "ribbon_points": ribbon.GetDataInformation().GetNumberOfPoints(),
+                  "slider_arrays": sorted(sliders.PointData.keys())}}))
+"""
+    res = subprocess.run(["/usr/bin/python3", "-c", script], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    info = json.loads(res.stdout.strip().splitlines()[-1])
+    assert info["times"] == pytest.approx([0.005 * k for k in range(11)])
+    assert info["points"] == 17 and info["cells"] == 15
+    assert set(BEAM_FIELDS) <= set(info["arrays"])
+    assert info["ribbon_points"] > 17
+    assert {"s", "reaction", "displacement"} <= set(info["slider_arrays"])
+
+
+def _small_file_limit() -> None:
+    """In the child: no file may grow beyond 8 MiB (MPI's own shared-memory files need a few),
+    and exceeding it is an error (EFBIG), as on a full disk."""
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (8 << 20, 8 << 20))
+
+
+def test_a_full_disk_stops_the_run_cleanly(root, tmp_path):
+    """beams.h5 outgrows the limit near t = 0.1: exit 2 with one message, no trace, no crash, no
+    summary claiming a complete run."""
+    cmd = [str(root / "scripts" / "slidebeam"), "run", str(root / "runs" / "seed" / "free_fall_1+8.toml"),
+           "--out", "full", "-q", "--set", "analysis.t_end=0.5", "--set", "output.every=1",
+           "--set", "output.samples_per_span=64"]
+    res = subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path, preexec_fn=_small_file_limit, timeout=300)
+    assert res.returncode == 2, (res.returncode, res.stderr)
+    assert "XDMF output" in res.stderr and "File too large" in res.stderr and "run stopped at t =" in res.stderr
+    assert "Traceback" not in res.stderr and "PETSC ERROR" not in res.stderr
+    assert not (tmp_path / "full" / "summary.json").exists()  # nothing claims a complete run
