@@ -173,6 +173,11 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("v", &TimeIntegrator::v)
       .def_property_readonly("a", &TimeIntegrator::a)
       .def_property_readonly("sliding_rate", &TimeIntegrator::sliding_rate, "(s_n - s_n-1) / h at sliding coordinates")
+      .def_property_readonly("v_prev", &TimeIntegrator::v_prev, "v_{n-1} (predictor memory)")
+      .def_property_readonly("h_prev", &TimeIntegrator::h_prev, "the last step size (predictor memory)")
+      .def_property_readonly("pivoting_lu", &TimeIntegrator::pivoting_lu, "time steps use the pivoting LU")
+      .def("restore", &TimeIntegrator::restore, py::arg("t"), py::arg("h_prev"), py::arg("pivoting_lu"),
+           "resume from a checkpoint (the state vectors already loaded)")
       .def_property_readonly("mass", &TimeIntegrator::mass)
       .def_property_readonly("snes", &TimeIntegrator::snes)
       .def_property_readonly("jacobian_evaluations", &TimeIntegrator::jacobian_evaluations)

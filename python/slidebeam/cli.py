@@ -14,6 +14,7 @@ import traceback
 from pathlib import Path
 
 from .scene import Scene, SceneError, load_scene
+from .checkpoint import CheckpointError
 from .xdmf import OutputFailure, XdmfOutput
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -27,13 +28,20 @@ def _parser() -> argparse.ArgumentParser:
     )
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     run = sub.add_parser("run", help="run a scene and write results",
-                         description="Run a scene; write summary.json, history.csv and final_configuration.csv.",
-                         epilog="Example: slidebeam run runs/rollup.toml --out out/rollup -- -snes_monitor")
+                         description="Run a scene; write summary.json, history.csv, final_configuration.csv, "
+                                     "beams.xdmf/.h5 (ParaView) and, for dynamic runs, checkpoint.h5.",
+                         epilog="Examples: slidebeam run runs/rollup.toml --out out/rollup -- -snes_monitor\n"
+                                "          slidebeam run runs/seed/free_fall_1+4.toml --restart "
+                                "out/free_fall_1+4/checkpoint.h5 --set analysis.t_end=2",
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
     run.add_argument("scene", help="scene file (TOML)")
     run.add_argument("--out", help="output folder (default: out/<scene name>)")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                      help="override a scene value, e.g. --set beam.0.spans=32 (repeatable)")
     run.add_argument("-q", "--quiet", action="store_true", help="no progress output")
+    run.add_argument("--restart", metavar="CHECKPOINT",
+                     help="continue a dynamic run from its checkpoint.h5 (results go to the checkpoint's folder "
+                          "unless --out is given; the XDMF series there is continued)")
     chk = sub.add_parser("check", help="validate a scene without running it",
                          description="Validate a scene file and print what it contains.")
     chk.add_argument("scene", help="scene file (TOML)")
@@ -102,14 +110,18 @@ def _exit_after_output_failure(code: int) -> None:
         PETSc._finalize()
         from mpi4py import MPI
 
-        MPI.Finalize()
+        if not MPI.Is_finalized():
+            MPI.Finalize()
     finally:
         os._exit(code)
 
 
 def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     scene = load_scene(args.scene, args.set)
-    out = Path(args.out) if args.out else Path("out") / scene.name
+    restart = Path(args.restart) if args.restart else None
+    if restart is not None and scene.analysis.type != "dynamic":
+        raise SceneError("--restart continues dynamic runs only", scene.file, "[analysis]", "type")
+    out = Path(args.out) if args.out else (restart.parent if restart else Path("out") / scene.name)
 
     import petsc4py
 
@@ -136,10 +148,16 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     sim = Simulation(scene)
     _say(rank, _describe(scene))
     _say(rank, "active effects: " + ", ".join(e.label for e in sim.active_effects))
+    state = None
+    if restart is not None:
+        from .checkpoint import read_checkpoint
+
+        state = read_checkpoint(sim, restart)
+        _say(rank, f"restarting from {restart} at t = {sim.t:.6g} (step {state.step})")
     try:
-        output = XdmfOutput(sim, out, rank)
+        output = XdmfOutput(sim, out, rank, resume_after=sim.t if restart else None)
         if scene.analysis.type == "dynamic":
-            return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0, output)
+            return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0, output, state)
         return _run_static(sim, scene, out, args, rank, comm.Get_size(), t0, output)
     except OutputFailure as err:
         _say(rank, f"slidebeam: error: {err}; the run stopped at t = {sim.t:.6g} and its results are incomplete",
@@ -189,8 +207,15 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
 
 
 def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
-                 output: XdmfOutput) -> int:
+                 output: XdmfOutput, state=None) -> int:
+    from .checkpoint import write_checkpoint
     from .results import write_results
+
+    checkpoint = out / "checkpoint.h5"
+
+    def save(st) -> None:
+        output.flush()  # the series on disk matches the checkpoint: a restart continues it
+        write_checkpoint(sim, st, checkpoint)
 
     a = scene.analysis
     n_steps = max(1, round(a.t_end / a.dt))
@@ -209,8 +234,9 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"E = {rec.total_energy:.10e}  |constraints| = {rec.constraint_residual:.1e}"
                    f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
 
-    outcome = sim.run_dynamic(progress)
+    outcome = sim.run_dynamic(progress, state, save)
     output.close()
+    write_checkpoint(sim, outcome.state, checkpoint)  # the last good state, whatever ended the run
     wall = time.perf_counter() - t0
     recs = outcome.records
     last = recs[-1] if recs[-1].converged else recs[-2]
@@ -225,6 +251,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         "final_energy": {"kinetic": last.kinetic_energy, "strain": last.strain_energy,
                          "potential": last.potential_energy, "total": last.total_energy},
         "max_constraint_residual": max(r.constraint_residual for r in recs),
+        "checkpoint": str(checkpoint),
     }
     if scene.sliding_joints:
         from .results import joint_names
@@ -265,7 +292,7 @@ def main(argv: list[str] | None = None) -> int:
     except SceneError as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
-    except FileNotFoundError as err:
+    except (FileNotFoundError, CheckpointError) as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
     except (ValueError, TypeError) as err:  # the core's invalid_argument arrives as ValueError

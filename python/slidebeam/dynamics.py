@@ -94,6 +94,18 @@ def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
 
 
 @dataclass
+class RunState:
+    """Where a run stands besides the integrator's vectors: what a checkpoint keeps."""
+
+    records: list[DynamicRecord]  # the recorded good steps so far
+    dt: float                     # the current step size (below analysis.dt after cuts)
+    step: int = 0                 # accepted steps
+    rejected: int = 0
+    rejected_since_record: int = 0
+    newton: int = 0
+
+
+@dataclass
 class RunOutcome:
     records: list[DynamicRecord]  # every output.every-th step, the last one and a failed attempt
     complete: bool                # reached t_end
@@ -102,6 +114,7 @@ class RunOutcome:
     rejected_steps: int           # failed attempts (retried with a smaller step)
     newton_iterations: int        # over all attempts
     failed: bool = False          # stopped by an error (not: reached t_end, or a scene-requested stop)
+    state: RunState | None = None  # where the run stands (for a checkpoint)
 
 
 def _carrier_end(sim: "Simulation", joints: list[JointState], step: int) -> tuple[str, str] | None:
@@ -118,62 +131,71 @@ def _carrier_end(sim: "Simulation", joints: list[JointState], step: int) -> tupl
     return None
 
 
-def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:
-    """Step from t = 0 to t_end with the scene's integrator.
+def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None,
+                state: RunState | None = None,
+                on_checkpoint: Callable[[RunState], None] | None = None) -> RunOutcome:
+    """Step from the current time to t_end with the scene's integrator.
 
     A step whose Newton solve fails (or produces NaN/Inf) is retried from the last good state
     with half the step, down to ``dt_min``; after a success the step grows back (doubling) to
     ``dt``. If even ``dt_min`` fails, the run stops with the last good state kept. Records are
-    taken every ``output.every`` steps and at the end.
+    taken every ``output.every`` steps and at the end. ``state`` resumes a run (restart; the
+    integrator already holds its vectors); ``on_checkpoint`` is called every
+    ``output.checkpoint_every`` accepted steps.
     """
     a = sim.scene.analysis
     integ = sim.integrator
     assert a.dt is not None and a.dt_min is not None
     every = max(1, sim.scene.output.every)
-    records = [sim.record_dynamic(0, None, 0.0, 0)]
-    if on_step:
-        on_step(records[0])
-    dt, step, rejected, rejected_since_record, newton = a.dt, 0, 0, 0, 0
+    ckpt_every = sim.scene.output.checkpoint_every
+    if state is None:
+        state = RunState([sim.record_dynamic(0, None, 0.0, 0)], a.dt)
+        if on_step:
+            on_step(state.records[0])
+    st = state
+    st.dt = min(st.dt, a.dt)  # a restart may ask for smaller steps
     t_end = a.t_end
-    message = "completed"
-    complete, failed = True, False
-    while integ.time < t_end * (1 - 1e-12):
-        h = min(dt, t_end - integ.time)
-        if t_end - (integ.time + h) < 1e-9 * a.dt:  # land exactly on t_end
-            h = t_end - integ.time
+
+    def outcome(complete: bool, message: str, failed: bool = False, extra: list[DynamicRecord] | None = None):
+        return RunOutcome(st.records + (extra or []), complete, message, st.step, st.rejected, st.newton, failed, st)
+
+    while t_end - integ.time > 1e-9 * a.dt:
+        # The step is dt unless less remains; a remainder within roundoff of dt is taken as dt,
+        # so that a run stopped at t_end and restarted takes exactly the steps of one that went on.
+        remaining = t_end - integ.time
+        h = st.dt if remaining >= st.dt * (1 - 1e-9) else remaining
         result = integ.step(h)
-        newton += result.iterations
+        st.newton += result.iterations
         if result.converged:  # the core already counts NaN/Inf in F or x as a failure
-            step += 1
-            last = integ.time >= t_end * (1 - 1e-12)
+            st.step += 1
+            last = t_end - integ.time <= 1e-9 * a.dt
             joints = sim.joint_states() if sim.scene.sliding_joints else []
-            ended = _carrier_end(sim, joints, step) if joints else None
-            if step % every == 0 or last or ended:
-                rec = sim.record_dynamic(step, result, h, rejected_since_record, joints)
-                rejected_since_record = 0
-                records.append(rec)
+            ended = _carrier_end(sim, joints, st.step) if joints else None
+            if st.step % every == 0 or last or ended:
+                rec = sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints)
+                st.rejected_since_record = 0
+                st.records.append(rec)
                 if on_step:
                     on_step(rec)
+            st.dt = min(2 * st.dt, a.dt)
             if ended:
                 behaviour, message = ended
-                return RunOutcome(records, False, message, step, rejected, newton, failed=behaviour == "fail")
-            dt = min(2 * dt, a.dt)
+                return outcome(False, message, failed=behaviour == "fail")
+            if on_checkpoint and ckpt_every and st.step % ckpt_every == 0 and not last:
+                on_checkpoint(st)
             continue
-        rejected += 1
-        rejected_since_record += 1
+        st.rejected += 1
+        st.rejected_since_record += 1
         if h / 2 < a.dt_min * (1 - 1e-12):
             # the failed attempt, with the values of the last good state that is kept
-            fail = sim.record_dynamic(step + 1, result, h, rejected_since_record)
+            fail = sim.record_dynamic(st.step + 1, result, h, st.rejected_since_record)
             fail.converged = False
-            records.append(fail)
             if on_step:
                 on_step(fail)
-            complete = False
-            failed = True
-            message = (f"Newton failed at step {step + 1} (t = {integ.time:.6g} -> {integ.time + h:.6g}, "
+            message = (f"Newton failed at step {st.step + 1} (t = {integ.time:.6g} -> {integ.time + h:.6g}, "
                        f"dt = {h:.3g}, minimum dt_min = {a.dt_min:.3g}): {result.reason_name}, "
                        f"residual norm {result.residual_norm:.3e}; results hold the last good state "
                        f"(t = {integ.time:.6g}) and are marked incomplete")
-            break
-        dt = h / 2
-    return RunOutcome(records, complete, message, step, rejected, newton, failed)
+            return outcome(False, message, failed=True, extra=[fail])
+        st.dt = h / 2
+    return outcome(True, "completed")

@@ -234,6 +234,7 @@ class Output:
     every: int
     track: tuple[TrackPoint, ...]
     samples_per_span: int
+    checkpoint_every: int = 0  # steps between checkpoints (0: only when the run ends)
 
 
 @dataclass(frozen=True)
@@ -667,7 +668,7 @@ def _parse_gravity(top: _Table, file: str) -> Vec3 | None:
 
 
 def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
-    t.check_keys(("every", "track", "samples_per_span"))
+    t.check_keys(("every", "track", "samples_per_span", "checkpoint_every"))
     if t.has("track"):
         raw = t.raw("track")
         if not isinstance(raw, list):
@@ -680,7 +681,15 @@ def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
         every=t.integer("every", 1),
         track=track,
         samples_per_span=t.integer("samples_per_span", 8),
+        checkpoint_every=_non_negative_integer(t, "checkpoint_every"),
     )
+
+
+def _non_negative_integer(t: _Table, key: str) -> int:
+    value = t.integer(key, 0, positive=False)
+    if value < 0:
+        raise t.error(key, f"must be 0 (off) or a positive integer, got {value}")
+    return value
 
 
 def _parse_track_point(t: _Table, beams: tuple[Beam, ...]) -> TrackPoint:

@@ -15,7 +15,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from . import _core
-from .dynamics import DynamicRecord, JointState, RunOutcome, initial_velocity, run_dynamic
+from .dynamics import DynamicRecord, JointState, RunOutcome, RunState, initial_velocity, run_dynamic
 from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
 
@@ -170,14 +170,16 @@ class Simulation:
         potential = sum(v for info, v in zip(self.effects, e) if info.type in ("gravity", "force"))
         return {"strain": strain, "potential": potential}
 
-    def control_points(self, beam: int | str) -> np.ndarray:
-        """(n_cp, 12) coordinates phi, d1, d2, d3 of a beam's control points (collective)."""
-        return self._model.beam_coordinates(self._beam(beam), self.x)
+    def control_points(self, beam: int | str, x: PETSc.Vec | None = None) -> np.ndarray:
+        """(n_cp, 12) coordinates phi, d1, d2, d3 of a beam's control points in the current
+        state, or in x (collective)."""
+        return self._model.beam_coordinates(self._beam(beam), self.x if x is None else x)
 
-    def evaluate(self, beam: int | str, s: np.ndarray | float) -> np.ndarray:
-        """Interpolated (phi, d1, d2, d3) at arc lengths s: array (len(s), 12) (collective)."""
+    def evaluate(self, beam: int | str, s: np.ndarray | float, x: PETSc.Vec | None = None) -> np.ndarray:
+        """Interpolated (phi, d1, d2, d3) at arc lengths s: array (len(s), 12), in the current
+        state or in x (collective)."""
         b = self._beam(beam)
-        q = self.control_points(b)
+        q = self.control_points(b, x)
         spec = self.scene.beams[b]
         s_arr = np.atleast_1d(np.asarray(s, dtype=float))
         out = np.zeros((len(s_arr), 12))
@@ -310,11 +312,13 @@ class Simulation:
             tracked=self.tracked_points(), joints=self.joint_states() if joints is None else joints,
         )
 
-    def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None) -> RunOutcome:
-        """Integrate a dynamic scene to t_end (see :func:`slidebeam.dynamics.run_dynamic`)."""
+    def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None, state: RunState | None = None,
+                    on_checkpoint: Callable[[RunState], None] | None = None) -> RunOutcome:
+        """Integrate a dynamic scene to t_end (see :func:`slidebeam.dynamics.run_dynamic`);
+        ``state`` (from :func:`slidebeam.checkpoint.read_checkpoint`) resumes a run."""
         if self.integrator is None:
             raise ValueError("run_dynamic needs [analysis] type = \"dynamic\"")
-        return run_dynamic(self, on_step)
+        return run_dynamic(self, on_step, state, on_checkpoint)
 
     def _beam(self, beam: int | str) -> int:
         return self.scene.beam_index(beam) if isinstance(beam, str) else int(beam)

@@ -139,9 +139,8 @@ class XdmfOutput:
         self.k = sim.scene.output.samples_per_span
         self.closed = False
         self.writes = 0
-        ref = self._sample_reference()
+        ref, self._slider_ref = self._reference_positions()
         self._ref_points = ref
-        self._slider_ref = np.array([sim.evaluate(j.slider, j.at)[0, :3] for j in sim.scene.sliding_joints])
         self._series: list = []
         if rank != 0:
             return
@@ -164,12 +163,16 @@ class XdmfOutput:
     def _sample(self, beam: int, x, v) -> dict[str, np.ndarray]:
         return self.sim._model.sample_beam(beam, x, v, self.k)
 
-    def _sample_reference(self) -> np.ndarray:
-        ref = self.sim._model.x.duplicate()
-        self.sim._model.set_reference_state(ref)
-        points = np.concatenate([self._sample(b.index, ref, None)["position"] for b in self.sim.scene.beams])
+    def _reference_positions(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sample points of the beams and slider points in the reference configuration (the
+        mesh; displacements are measured from it, also after a restart)."""
+        sim = self.sim
+        ref = sim._model.x.duplicate()
+        sim._model.set_reference_state(ref)
+        points = np.concatenate([self._sample(b.index, ref, None)["position"] for b in sim.scene.beams])
+        sliders = np.array([sim.evaluate(j.slider, j.at, ref)[0, :3] for j in sim.scene.sliding_joints])
         ref.destroy()
-        return points
+        return points, sliders.reshape(-1, 3)
 
     def _lines(self) -> np.ndarray:
         cells, first = [], 0

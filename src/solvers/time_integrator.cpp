@@ -349,6 +349,14 @@ SolveResult TimeIntegrator::step(double h) {
   return r;
 }
 
+void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu) {
+  t_ = t;
+  h_prev_ = h_prev;
+  last_failed_ = false;
+  jac_solve_ = -1;  // build a fresh Jacobian at the next step
+  if (pivoting_lu && fast_lu_) use_pivoting_lu();
+}
+
 void TimeIntegrator::use_pivoting_lu() {
   KSP ksp = nullptr;
   PC pc = nullptr;

@@ -65,6 +65,14 @@ class TimeIntegrator {
   Vec a() const { return a_; }
   /// Rate of the sliding coordinates over the last step, (s_n - s_n-1) / h (0 elsewhere).
   Vec sliding_rate() const { return sdot_; }
+  /// Memory of the midpoint-type predictor: v_{n-1} and the last step size.
+  Vec v_prev() const { return v_prev_; }
+  double h_prev() const { return h_prev_; }
+  /// True once time steps use the pivoting LU (after a failed step, or when the user chose a solver).
+  bool pivoting_lu() const { return !fast_lu_; }
+  /// Resume from a checkpoint: x, v, a, v_prev and sliding_rate have been loaded into this
+  /// integrator's vectors; set the time, the predictor memory and the linear solver state.
+  void restore(double t, double h_prev, bool pivoting_lu);
   Mat mass() const { return M_; }
   Mat jacobian() const { return J_; }
   SNES snes() const { return snes_; }

@@ -1,0 +1,126 @@
+# SPDX-License-Identifier: MIT
+"""Checkpoint and restart of a dynamic run.
+
+A checkpoint (``checkpoint.h5`` in the output folder) holds the integrator's vectors, written
+with PETSc's HDF5 viewer (x: coordinates, sliding coordinates and multipliers; v; a; v_prev and
+sliding_rate, the predictor's memory) and, in the group ``slidebeam``, the time, the last step
+size, the linear-solver state, the step controller (current dt, counters) and the records so
+far. Restarting from it continues the run as if it had not stopped: the same predictor, the
+same step sizes, so the same Newton iterates and the same history (to roundoff). Reusing the
+Jacobian across steps (``sb_jacobian_reuse``) is the exception: the restarted run starts from a
+fresh Jacobian, so it agrees to the Newton tolerance only.
+
+The file is written whole (a temporary file, then a rename), so a checkpoint on disk is always
+complete. Vectors are loaded by global index, so a run may restart on another number of ranks.
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # imported lazily: petsc4py must not be initialised before the CLI passes its options
+    from .dynamics import DynamicRecord, RunState
+    from .simulation import Simulation
+
+FORMAT = 1
+VECTORS = ("x", "v", "a", "v_prev", "sliding_rate")
+
+
+class CheckpointError(Exception):
+    """A checkpoint that cannot be used with this scene (or read at all)."""
+
+
+def _vectors(sim: "Simulation") -> dict:
+    integ = sim.integrator
+    return {name: getattr(integ, name) for name in VECTORS}
+
+
+def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
+    """Write the run's state to path (collective; rank 0 writes the attributes)."""
+    from mpi4py import MPI
+    from petsc4py import PETSc
+
+    comm = MPI.COMM_WORLD
+    integ = sim.integrator
+    tmp = path.with_name(f".{path.name}.tmp")
+    viewer = PETSc.Viewer().createHDF5(str(tmp), mode=PETSc.Viewer.Mode.WRITE, comm=PETSc.COMM_WORLD)
+    for name, vec in _vectors(sim).items():
+        vec.setName(name)
+        vec.view(viewer)
+    viewer.destroy()
+    comm.Barrier()
+    if comm.Get_rank() == 0:
+        import h5py
+
+        with h5py.File(tmp, "a") as f:
+            g = f.create_group("slidebeam")
+            meta = {
+                "format": FORMAT, "scene": sim.scene.name, "unknowns": sim.x.getSize(),
+                "t": integ.time, "h_prev": integ.h_prev, "pivoting_lu": bool(integ.pivoting_lu),
+                "integrator": sim.scene.analysis.integrator,
+                "dt": state.dt, "step": state.step, "rejected": state.rejected,
+                "rejected_since_record": state.rejected_since_record, "newton": state.newton,
+            }
+            for key, value in meta.items():
+                g.attrs[key] = value
+            g.attrs["records"] = json.dumps([dataclasses.asdict(r) for r in state.records])
+        os.replace(tmp, path)
+    comm.Barrier()
+
+
+def _record(d: dict) -> "DynamicRecord":
+    from .dynamics import DynamicRecord, JointState
+
+    d = dict(d)
+    d["linear_momentum"] = tuple(d["linear_momentum"])
+    d["angular_momentum"] = tuple(d["angular_momentum"])
+    d["tracked"] = [tuple(p) for p in d["tracked"]]
+    d["joints"] = [JointState(j["s"], j["ds_dt"], tuple(j["reaction"])) for j in d["joints"]]
+    return DynamicRecord(**d)
+
+
+def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
+    """Load a checkpoint into the simulation's integrator and return the run state to resume
+    (collective). Raises CheckpointError if the file does not fit the scene."""
+    from mpi4py import MPI
+    from petsc4py import PETSc
+
+    if not Path(path).is_file():
+        raise CheckpointError(f"checkpoint {path} does not exist")
+    meta: dict = {}
+    error = None
+    if MPI.COMM_WORLD.Get_rank() == 0:
+        try:
+            import h5py
+
+            with h5py.File(path, "r") as f:
+                if "slidebeam" not in f or any(v not in f for v in VECTORS):
+                    raise CheckpointError(f"{path} is not a slidebeam checkpoint")
+                meta = {k: (v.item() if hasattr(v, "item") else v) for k, v in f["slidebeam"].attrs.items()}
+        except CheckpointError as err:
+            error = str(err)
+        except OSError as err:
+            error = f"cannot read checkpoint {path}: {err}"
+    error, meta = MPI.COMM_WORLD.bcast((error, meta), root=0)
+    if error:
+        raise CheckpointError(error)
+    if meta["unknowns"] != sim.x.getSize():
+        raise CheckpointError(f"checkpoint {path} holds {meta['unknowns']} unknowns (scene '{meta['scene']}'), "
+                              f"this scene has {sim.x.getSize()}: restart with the scene that wrote it")
+    if meta["integrator"] != sim.scene.analysis.integrator:
+        raise CheckpointError(f"checkpoint {path} was written by the {meta['integrator']} integrator, the scene "
+                              f"asks for {sim.scene.analysis.integrator}")
+    viewer = PETSc.Viewer().createHDF5(str(path), mode=PETSc.Viewer.Mode.READ, comm=PETSc.COMM_WORLD)
+    for name, vec in _vectors(sim).items():
+        vec.setName(name)
+        vec.load(viewer)
+    viewer.destroy()
+    sim.integrator.restore(float(meta["t"]), float(meta["h_prev"]), bool(meta["pivoting_lu"]))
+    from .dynamics import RunState
+
+    records = [_record(r) for r in json.loads(meta["records"])]
+    return RunState(records, float(meta["dt"]), int(meta["step"]), int(meta["rejected"]),
+                    int(meta["rejected_since_record"]), int(meta["newton"]))

@@ -1,0 +1,97 @@
+# SPDX-License-Identifier: MIT
+"""Checkpoint and restart (issue 5): a run stopped and restarted from its checkpoint writes the
+history and the XDMF series of the run that went on, and a checkpoint that does not fit the
+scene is a clear error."""
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from test_xdmf import read_series
+
+pytestmark = pytest.mark.skip_in_parallel  # each test starts its own processes
+
+
+def rows(path):
+    return list(csv.DictReader(path.open()))
+
+
+@pytest.mark.parametrize("integrator", ["energy-momentum", "newmark"])
+def test_restarted_run_equals_the_uninterrupted_one(run_cli, root, tmp_path, integrator):
+    """S2-incl (sliding joint, knot crossing near t = 0.2) to t = 0.3 in one go, and to 0.15 then
+    restarted to 0.3: history and series agree to 1e-12 (the Newmark run also restores a)."""
+    scene = str(root / "runs" / "seed" / "free_fall_inclined_1+4.toml")
+    common = ["-q", "--set", f'analysis.integrator="{integrator}"', "--set", "output.every=10"]
+    whole = run_cli("run", scene, "--out", "whole", *common, "--set", "analysis.t_end=0.3")
+    assert whole.returncode == 0, whole.stderr
+    first = run_cli("run", scene, "--out", "parts", *common, "--set", "analysis.t_end=0.15")
+    assert first.returncode == 0, first.stderr
+    assert (tmp_path / "parts" / "checkpoint.h5").is_file()
+    second = run_cli("run", scene, "--restart", "parts/checkpoint.h5", *common, "--set", "analysis.t_end=0.3")
+    assert second.returncode == 0, second.stderr
+    assert "restarting from parts/checkpoint.h5 at t = 0.15 (step 150)" in second.stdout
+    a, b = rows(tmp_path / "whole" / "history.csv"), rows(tmp_path / "parts" / "history.csv")
+    assert len(a) == len(b) == 31
+    for ra, rb in zip(a, b):
+        assert ra.keys() == rb.keys()
+        for key in ra:
+            if key == "reason":
+                assert ra[key] == rb[key]
+                continue
+            x, y = float(ra[key]), float(rb[key])
+            assert abs(x - y) <= 1e-12 * max(1.0, abs(x)), (ra["t"], key, x, y)
+    sa = json.loads((tmp_path / "whole" / "summary.json").read_text())
+    sb = json.loads((tmp_path / "parts" / "summary.json").read_text())
+    assert sa["steps"] == sb["steps"] == 300 and sa["newton_iterations"] == sb["newton_iterations"]
+    for series in ("beams.xdmf", "sliders.xdmf"):
+        pa, steps_a = read_series(tmp_path / "whole" / series)
+        pb, steps_b = read_series(tmp_path / "parts" / series)
+        assert np.array_equal(pa, pb) and len(steps_a) == len(steps_b) == 31
+        for (ta, da), (tb, db) in zip(steps_a, steps_b):
+            assert ta == pytest.approx(tb, abs=1e-15)
+            for key in da:
+                assert np.abs(da[key] - db[key]).max() <= 1e-12 * max(1.0, np.abs(da[key]).max()), (series, key)
+
+
+def test_periodic_checkpoints_and_the_last_good_state(run_cli, root, tmp_path):
+    """checkpoint_every writes along the run; after a Newton failure the checkpoint holds the
+    last good state, from which a restart with smaller steps goes on."""
+    scene = str(root / "runs" / "flying_spaghetti_2d.toml")
+    out = run_cli("run", scene, "--out", "nm", "-q", "--set", 'analysis.integrator="newmark"',
+                  "--set", "analysis.dt_min=0.05", "--set", "output.checkpoint_every=5")
+    assert out.returncode == 1 and "Newton failed" in out.stderr
+    summary = json.loads((tmp_path / "nm" / "summary.json").read_text())
+    import h5py
+
+    with h5py.File(tmp_path / "nm" / "checkpoint.h5", "r") as f:
+        assert f["slidebeam"].attrs["step"] == summary["steps"]
+        assert f["slidebeam"].attrs["t"] == pytest.approx(summary["t_reached"])
+    again = run_cli("run", scene, "--restart", "nm/checkpoint.h5", "--out", "nm2", "-q",
+                    "--set", 'analysis.integrator="newmark"', "--set", "analysis.t_end=" + str(summary["t_reached"] + 0.05),
+                    "--set", "analysis.dt=0.01")
+    assert again.returncode == 0, again.stderr
+    resumed = json.loads((tmp_path / "nm2" / "summary.json").read_text())
+    assert resumed["complete"] and resumed["steps"] > summary["steps"]
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--restart", "nowhere.h5"], "does not exist"),
+    (["--restart", "ok/checkpoint.h5", "--set", "beam.AB.spans=8"], "unknowns"),
+    (["--restart", "ok/checkpoint.h5", "--set", 'analysis.integrator="hht"'], "energy-momentum integrator"),
+    (["--restart", "ok/history.csv"], "checkpoint"),
+])
+def test_checkpoints_that_do_not_fit_are_clear_errors(run_cli, root, tmp_path, args, words):
+    scene = str(root / "runs" / "seed" / "free_fall_1+1.toml")
+    ok = run_cli("run", scene, "--out", "ok", "-q", "--set", "analysis.t_end=0.01")
+    assert ok.returncode == 0, ok.stderr
+    bad = run_cli("run", scene, "-q", "--out", "bad", *args)
+    assert bad.returncode == 2, bad.stderr
+    assert words in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_static_runs_cannot_restart(run_cli, root):
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--restart", "x.h5")
+    assert out.returncode == 2 and "dynamic runs only" in out.stderr
