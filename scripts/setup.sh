@@ -17,6 +17,16 @@ if ((${#missing[@]})); then
   $sudo_cmd apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+# Optional: ParaView's Python module, so that the tests open our XDMF with ParaView's own reader
+# (they are skipped without it). A failure here is not fatal.
+if ! dpkg-query -W -f='${Status}' python3-paraview 2>/dev/null | grep -q "install ok installed"; then
+  sudo_cmd=""
+  [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
+  echo "setup: installing python3-paraview (optional)"
+  { $sudo_cmd apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq \
+      --no-install-recommends python3-paraview >/dev/null; } ||
+    echo "setup: python3-paraview not installed; the ParaView test will be skipped"
+fi
 # Debian's petsc4py imports only under /usr/bin/python3: pin it.
 cmake -S "$here" -B "$here/build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
 cmake --build "$here/build" -j"$(nproc)" 2>&1 | grep -vE "^(\[|lto-wrapper|gmake)" || true
