@@ -7,6 +7,7 @@ Exit codes: 0 success, 1 the solve failed (Newton), 2 bad input or unusable outp
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -15,7 +16,7 @@ from pathlib import Path
 
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
-from .xdmf import OutputFailure, XdmfOutput
+from .xdmf import OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -99,6 +100,20 @@ def _quiet_broken_pipe() -> None:
         signal.signal(signal.SIGPIPE, signal.SIG_DFL)
 
 
+def _check_disk_space(scene: Scene, out: Path, t0: float) -> None:
+    """Refuse at the start a run whose XDMF output cannot fit on the disk (an estimate: the
+    records the run will write, at most one per step)."""
+    import shutil
+
+    a = scene.analysis
+    steps = a.steps if a.type == "static" else math.ceil((a.t_end - t0) / a.dt - 1e-9)
+    need = (steps // max(1, scene.output.every) + 2) * bytes_per_record(scene)
+    free = shutil.disk_usage(out).free
+    if need > free:
+        raise OutputFailure(f"the XDMF output of this run needs about {need / 1e6:.1f} MB, but only "
+                            f"{free / 1e6:.1f} MB are free in {out} (raise output.every or free space)")
+
+
 def _exit_after_output_failure(code: int) -> None:
     """HDF5 (through h5py) crashes at interpreter exit once a write to a file has failed (full
     disk): finalize PETSc and MPI ourselves and leave without the interpreter's teardown."""
@@ -154,6 +169,11 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
 
         state = read_checkpoint(sim, restart)
         _say(rank, f"restarting from {restart} at t = {sim.t:.6g} (step {state.step})")
+    try:
+        _check_disk_space(scene, out, sim.t)
+    except OutputFailure as err:
+        _say(rank, f"slidebeam: error: {err}", sys.stderr)
+        return EXIT_INPUT
     try:
         output = XdmfOutput(sim, out, rank, resume_after=sim.t if restart else None)
         if scene.analysis.type == "dynamic":

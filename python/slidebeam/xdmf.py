@@ -130,6 +130,13 @@ def _series_class():
     return _Series
 
 
+def bytes_per_record(scene) -> int:
+    """Disk space one recorded step takes (data and XDMF text), for the check at start."""
+    n = sum(b.spans * scene.output.samples_per_span + 1 for b in scene.beams)
+    values = n * (3 * 10 + 6 + 1) + n // 2 + len(scene.sliding_joints) * 8
+    return 8 * values + 4000
+
+
 class XdmfOutput:
     """The beams (and sliders) time series of one run. All ranks call ``write`` and ``close``."""
 

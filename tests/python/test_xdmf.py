@@ -160,3 +160,10 @@ def test_a_full_disk_stops_the_run_cleanly(root, tmp_path):
     assert "XDMF output" in res.stderr and "File too large" in res.stderr and "run stopped at t =" in res.stderr
     assert "Traceback" not in res.stderr and "PETSC ERROR" not in res.stderr
     assert not (tmp_path / "full" / "summary.json").exists()  # nothing claims a complete run
+
+
+def test_output_that_cannot_fit_is_refused_at_the_start(run_cli, root, tmp_path):
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", "big", "-q", "--set", "analysis.t_end=1e9")
+    assert out.returncode == 2
+    assert "needs about" in out.stderr and "MB are free" in out.stderr and "output.every" in out.stderr
+    assert not (tmp_path / "big" / "beams.h5").exists()
