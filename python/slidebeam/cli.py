@@ -16,6 +16,7 @@ from pathlib import Path
 
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
+from .costs import output_phase
 from .xdmf import OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -100,6 +101,17 @@ def _quiet_broken_pipe() -> None:
         signal.signal(signal.SIGPIPE, signal.SIG_DFL)
 
 
+def _finish_costs(sim, summary: dict, t0: float, rank: int, quiet: bool) -> None:
+    """The run's cost by effect and phase: into summary.json and, unless quiet, a table."""
+    from .costs import cost_breakdown, cost_table
+
+    wall = time.perf_counter() - t0
+    rows = cost_breakdown(sim, wall)
+    summary["cost"] = rows
+    if not quiet:
+        _say(rank, "cost by phase (largest over ranks):\n" + cost_table(rows, wall))
+
+
 def _check_disk_space(scene: Scene, out: Path, t0: float) -> None:
     """Refuse at the start a run whose XDMF output cannot fit on the disk (an estimate: the
     records the run will write, at most one per step)."""
@@ -142,6 +154,9 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
 
     petsc4py.init([sys.argv[0], *petsc_args])
     _quiet_broken_pipe()
+    from .costs import start_logging
+
+    start_logging()
     from mpi4py import MPI
 
     from .results import prepare_output_dir, write_results
@@ -199,7 +214,8 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
 
     output.write(sim.t)  # the reference state (step 0)
     records = sim.solve_static(progress)
-    output.close()
+    with output_phase():
+        output.close()
     wall = time.perf_counter() - t0
     last = records[-1]
     complete = last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
@@ -217,7 +233,9 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
         "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
         "final_energy": {"strain": last.strain_energy, "potential": last.potential_energy},
     }
-    write_results(sim, out, records, summary, rank)
+    _finish_costs(sim, summary, t0, rank, args.quiet)
+    with output_phase():
+        write_results(sim, out, records, summary, rank)
     if complete:
         _say(rank, f"done in {wall:.3f} s: {sum(r.newton_iterations for r in records)} Newton iterations; "
                    f"results in {out}/")
@@ -234,8 +252,9 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
     checkpoint = out / "checkpoint.h5"
 
     def save(st) -> None:
-        output.flush()  # the series on disk matches the checkpoint: a restart continues it
-        write_checkpoint(sim, st, checkpoint)
+        with output_phase():
+            output.flush()  # the series on disk matches the checkpoint: a restart continues it
+            write_checkpoint(sim, st, checkpoint)
 
     a = scene.analysis
     n_steps = max(1, round(a.t_end / a.dt))
@@ -255,8 +274,9 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
 
     outcome = sim.run_dynamic(progress, state, save)
-    output.close()
-    write_checkpoint(sim, outcome.state, checkpoint)  # the last good state, whatever ended the run
+    with output_phase():
+        output.close()
+        write_checkpoint(sim, outcome.state, checkpoint)  # the last good state, whatever ended the run
     wall = time.perf_counter() - t0
     recs = outcome.records
     last = recs[-1] if recs[-1].converged else recs[-2]
@@ -277,7 +297,9 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         from .results import joint_names
         summary["sliding_joints"] = {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction)}
                                      for name, j in zip(joint_names(sim), last.joints)}
-    write_results(sim, out, recs, summary, rank)
+    _finish_costs(sim, summary, t0, rank, args.quiet)
+    with output_phase():
+        write_results(sim, out, recs, summary, rank)
     if not outcome.failed:
         if not outcome.complete:
             _say(rank, outcome.message)

@@ -223,6 +223,12 @@ class XdmfOutput:
     # -- writing ---------------------------------------------------------------------------
     def write(self, t: float) -> None:
         """Append the current state at time t (collective)."""
+        from .costs import output_phase
+
+        with output_phase():
+            self._write(t)
+
+    def _write(self, t: float) -> None:
         beams = self.fields()
         sliders = self.slider_fields() if self.sim.scene.sliding_joints else None
         error = None

@@ -250,3 +250,24 @@ def test_slider_reaching_the_carrier_end_stops_the_run(run_cli, root, tmp_path):
                    "--set", 'sliding_joint.0.at_carrier_end="fail"')
     assert fail.returncode == 1 and "reached the end of carrier 'AB'" in fail.stderr
     assert "Traceback" not in fail.stderr
+
+
+def test_cost_breakdown_names_only_the_scene_effects(run_cli, root, tmp_path):
+    """The cost table (stdout) and summary.json list one row per effect type the scene created,
+    then ghost exchange, linear solve, output and the rest; the shares add up to the wall time."""
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "r", *SMALL)
+    assert out.returncode == 0, out.stderr
+    assert "cost by phase" in out.stdout and "assembly: beam_elastic" in out.stdout
+    summary = json.loads((tmp_path / "r" / "summary.json").read_text())
+    phases = [row["phase"] for row in summary["cost"]]
+    assert phases == ["assembly: beam_elastic", "assembly: director_constraints", "assembly: clamp",
+                      "assembly: moment", "ghost exchange", "linear solve (incl. factorisation)", "output",
+                      "other (Newton updates, records, Python)"]
+    assert sum(row["share"] for row in summary["cost"]) == pytest.approx(1.0, abs=1e-6)
+    assert summary["cost"][0]["calls"] > 0 and summary["cost"][0]["time_s"] > 0
+    seed = run_cli("run", str(root / "runs" / "seed" / "free_fall_1+1.toml"), "--out", "s", "-q",
+                   "--set", "analysis.t_end=0.01")
+    assert seed.returncode == 0, seed.stderr
+    phases = [row["phase"] for row in json.loads((tmp_path / "s" / "summary.json").read_text())["cost"]]
+    assert "assembly: sliding_joint (incl. contact search)" in phases and "assembly: gravity" in phases
+    assert "assembly: clamp" not in phases and "assembly: rigid_joint" not in phases

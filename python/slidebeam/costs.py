@@ -1,0 +1,76 @@
+# SPDX-License-Identifier: MIT
+"""Where a run's time goes, from PETSc's log events: one row per effect type the scene created
+(its residual and Jacobian assembly; the sliding joint's row includes its contact search, the
+knot-span lookup at every evaluation), the ghost exchange, the linear solves (factorisations
+included), the output, and the rest. Effects the scene does not name have no event and no
+row. Times are the largest over the ranks."""
+from __future__ import annotations
+
+import contextlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .simulation import Simulation
+
+OUTPUT_EVENT = "SBOutput"
+
+
+def start_logging() -> None:
+    """Turn on PETSc's event log (cheap; -log_view does the same) before the run."""
+    from petsc4py import PETSc
+
+    PETSc.Log.begin()
+
+
+@contextlib.contextmanager
+def output_phase():
+    """Log event around a write of results (XDMF, CSV, checkpoints)."""
+    from petsc4py import PETSc
+
+    event = PETSc.Log.Event(OUTPUT_EVENT)
+    event.begin()
+    try:
+        yield
+    finally:
+        event.end()
+
+
+def _perf(name: str) -> tuple[float, int]:
+    from mpi4py import MPI
+    from petsc4py import PETSc
+
+    info = PETSc.Log.Event(name).getPerfInfo()
+    t = MPI.COMM_WORLD.allreduce(float(info["time"]), op=MPI.MAX)
+    n = MPI.COMM_WORLD.allreduce(int(info["count"]), op=MPI.MAX)
+    return t, n
+
+
+def cost_breakdown(sim: "Simulation", wall: float) -> list[dict]:
+    """Rows {phase, event, time_s, calls, share} for the run so far (collective)."""
+    types: list[str] = []
+    for e in sim.active_effects:
+        if e.type not in types:
+            types.append(e.type)
+    rows = []
+    for t in types:
+        label = f"{t} (incl. contact search)" if t == "sliding_joint" else t
+        rows.append((f"assembly: {label}", f"SB:{t}"))
+    rows += [("ghost exchange", "SBGhostUpdate"), ("linear solve (incl. factorisation)", "KSPSolve"),
+             ("output", OUTPUT_EVENT)]
+    out = []
+    for phase, event in rows:
+        t, n = _perf(event)
+        out.append({"phase": phase, "event": event, "time_s": t, "calls": n, "share": t / wall if wall > 0 else 0.0})
+    rest = max(0.0, wall - sum(r["time_s"] for r in out))
+    out.append({"phase": "other (Newton updates, records, Python)", "event": "", "time_s": rest, "calls": 0,
+                "share": rest / wall if wall > 0 else 0.0})
+    return out
+
+
+def cost_table(rows: list[dict], wall: float) -> str:
+    width = max(len(r["phase"]) for r in rows)
+    lines = [f"  {'phase':<{width}}  {'time [s]':>9}  {'share':>6}  {'calls':>8}"]
+    for r in rows:
+        lines.append(f"  {r['phase']:<{width}}  {r['time_s']:9.3f}  {100 * r['share']:5.1f}%  {r['calls']:8d}")
+    lines.append(f"  {'wall time':<{width}}  {wall:9.3f}")
+    return "\n".join(lines)
