@@ -17,7 +17,7 @@ from pathlib import Path
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
-from .xdmf import OutputFailure, XdmfOutput, bytes_per_record
+from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -48,6 +48,25 @@ def _parser() -> argparse.ArgumentParser:
                          description="Validate a scene file and print what it contains.")
     chk.add_argument("scene", help="scene file (TOML)")
     chk.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scene value")
+    st = sub.add_parser("study", help="work-precision study: a grid of variants against a reference",
+                        description="Run every combination of the --vary values (each a run of its own), measure "
+                                    "each run's error against a reference (--reference, or the finest run of the "
+                                    "grid) in the tip trajectory, the sliding coordinate and the energy, and its "
+                                    "cost. Writes study.csv, study.md and study_<quantity>.png (error against wall "
+                                    "time, log-log, with observed orders) to --out.",
+                        epilog="Examples:\n  slidebeam study runs/seed/free_fall_1+4.toml --vary analysis.dt=4e-3,2e-3,1e-3 "
+                               "--vary analysis.integrator=energy-momentum,newmark --reference analysis.dt=2.5e-4 -j 2\n"
+                               "  slidebeam study runs/studies/seed.toml        (a study file: [study] scene, vary, reference)\n"
+                               "Keys varied together: --vary 'beam.AB.quadrature&beam.CM.quadrature=full,reduced'",
+                        formatter_class=argparse.RawDescriptionHelpFormatter)
+    st.add_argument("scene", help="scene file (TOML), or a study file with a [study] table")
+    st.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...", help="a key and its values (repeatable)")
+    st.add_argument("--reference", action="append", default=[], metavar="KEY=VALUE",
+                    help="the reference run: the scene with these values (repeatable; default: the finest run)")
+    st.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override for every run (repeatable)")
+    st.add_argument("-j", "--jobs", type=int, default=None, help="runs at once (default 1, or the study file's jobs)")
+    st.add_argument("--out", help="output folder (default: out/study_<name>)")
+    st.add_argument("-q", "--quiet", action="store_true", help="no progress output")
     plot = sub.add_parser("plot", help="plot energy and momentum of dynamic runs (PNG)",
                           description="Draw total energy, its relative change, linear and angular momentum over "
                                       "time for one or more run folders, one colour per run.",
@@ -190,7 +209,8 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
     try:
-        output = XdmfOutput(sim, out, rank, resume_after=sim.t if restart else None)
+        output = (XdmfOutput(sim, out, rank, resume_after=sim.t if restart else None) if scene.output.xdmf
+                  else NoOutput())
         if scene.analysis.type == "dynamic":
             return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0, output, state)
         return _run_static(sim, scene, out, args, rank, comm.Get_size(), t0, output)
@@ -326,6 +346,12 @@ def main(argv: list[str] | None = None) -> int:
             png = plot_energy_momentum(runs, Path(args.out) if args.out else runs[0] / "energy_momentum.png")
             _say(rank, f"wrote {png}")
             return EXIT_OK
+        if args.command == "study":
+            from .study import main_study
+
+            args.jobs_given = args.jobs is not None
+            args.jobs = args.jobs or 1
+            return main_study(args, petsc_args)
         if args.command == "check":
             scene = load_scene(args.scene, args.set)
             _say(rank, _describe(scene) + "\nscene is valid")

@@ -235,6 +235,7 @@ class Output:
     track: tuple[TrackPoint, ...]
     samples_per_span: int
     checkpoint_every: int = 0  # steps between checkpoints (0: only when the run ends)
+    xdmf: bool = True          # write beams.xdmf/sliders.xdmf
 
 
 @dataclass(frozen=True)
@@ -668,7 +669,10 @@ def _parse_gravity(top: _Table, file: str) -> Vec3 | None:
 
 
 def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
-    t.check_keys(("every", "track", "samples_per_span", "checkpoint_every"))
+    t.check_keys(("every", "track", "samples_per_span", "checkpoint_every", "xdmf"))
+    xdmf = t.raw("xdmf", True)
+    if not isinstance(xdmf, bool):
+        raise t.error("xdmf", f"must be true or false, got {_show(xdmf)}")
     if t.has("track"):
         raw = t.raw("track")
         if not isinstance(raw, list):
@@ -682,6 +686,7 @@ def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
         track=track,
         samples_per_span=t.integer("samples_per_span", 8),
         checkpoint_every=_non_negative_integer(t, "checkpoint_every"),
+        xdmf=xdmf,
     )
 
 

@@ -130,8 +130,23 @@ def _series_class():
     return _Series
 
 
+class NoOutput:
+    """Stands in for XdmfOutput when the scene says [output] xdmf = false."""
+
+    def write(self, t: float) -> None:
+        pass
+
+    def flush(self) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
 def bytes_per_record(scene) -> int:
     """Disk space one recorded step takes (data and XDMF text), for the check at start."""
+    if not scene.output.xdmf:
+        return 0
     n = sum(b.spans * scene.output.samples_per_span + 1 for b in scene.beams)
     values = n * (3 * 10 + 6 + 1) + n // 2 + len(scene.sliding_joints) * 8
     return 8 * values + 4000

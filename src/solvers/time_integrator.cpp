@@ -263,7 +263,10 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
     const double rate = fnorm / rt.fnorm_prev;
     // At roundoff the residual stagnates whatever the Jacobian: with a fresh one below 1e-6 of
     // the initial residual, with an old one (slower contraction) below 1e-8.
-    if (it > 1 && rate >= 0.5 && fnorm <= (fresh ? 1e-6 : 1e-8) * rt.fnorm0 && snorm <= 1e-7 * xnorm) {
+    // Small steps scale the residual by c0 M ~ 1/h^2, which lifts its roundoff floor above any
+    // fixed fraction of the initial residual: a Newton step at 1e-9 of the state is roundoff too.
+    const bool stagnates = it > 1 && rate >= 0.5;
+    if (stagnates && ((fnorm <= (fresh ? 1e-6 : 1e-8) * rt.fnorm0 && snorm <= 1e-7 * xnorm) || snorm <= 1e-9 * xnorm)) {
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
