@@ -329,7 +329,7 @@ def run_study(scene: Path, varies: list[tuple[list[str], list[str]]], out: Path,
     (out / "study.md").write_text(_markdown(rows, varies, quantities, orders, ref, x_key))
     plot_keys = curve_by if curve_by else curve_keys
     pareto = bool(curve_by) and set(curve_by) != set(curve_keys)
-    pngs = _plots(out, rows, plot_keys, quantities, {} if pareto else orders, pareto)
+    pngs = _plots(out, rows, plot_keys, quantities, orders, pareto, x_key)
     progress(f"study of {len(runs)} runs in {time.perf_counter() - started:.1f} s: reference {ref.variant.label}; "
              f"wrote {out / 'study.csv'}, {out / 'study.md'}, " + ", ".join(p.name for p in pngs))
     return {"rows": rows, "orders": orders, "reference": ref.variant.label, "x_key": x_key, "pngs": pngs}
@@ -393,7 +393,7 @@ def _markdown(rows, varies, quantities, orders, ref, x_key) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _plots(out: Path, rows, curve_keys, quantities, orders, pareto: bool = False) -> list[Path]:
+def _plots(out: Path, rows, curve_keys, quantities, orders, pareto: bool = False, x_key: str | None = None) -> list[Path]:
     """One PNG per quantity. A curve joins its runs in order of cost; with pareto (curves that
     mix several varied keys) every run is a dot and the line is the curve's Pareto front: the
     runs no cheaper run beats in error."""
@@ -416,8 +416,15 @@ def _plots(out: Path, rows, curve_keys, quantities, orders, pareto: bool = False
                          if math.isfinite(m[f"error_{q}"]) and m[f"error_{q}"] > 0)
             if not pts:
                 continue
-            order = orders.get(label, {}).get(q, math.nan)
-            text = label + (f" (order {order:.2f})" if math.isfinite(order) else "")
+            if pareto:  # the range of the orders of the finer curves this one gathers
+                parts = label.split(", ")
+                found = [qs[q] for g, qs in orders.items() if all(p in g.split(", ") for p in parts)
+                         and math.isfinite(qs[q])]
+                axis = (x_key or "").split("&")[0].split(".")[-1]
+                text = label + (f" (orders in {axis} {min(found):.2f}-{max(found):.2f})" if found else "")
+            else:
+                order = orders.get(label, {}).get(q, math.nan)
+                text = label + (f" (order {order:.2f})" if math.isfinite(order) else "")
             if pareto:
                 front, best = [], math.inf
                 for p in pts:
