@@ -155,15 +155,18 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("snes", &StaticSolver::snes, "the SNES (petsc4py, shared with the core)");
 
   py::class_<TimeIntegrator>(m, "TimeIntegrator")
-      .def(py::init([](Model& model, const std::string& kind, double beta, double gamma, double alpha) {
+      .def(py::init([](Model& model, const std::string& kind, double beta, double gamma, double alpha,
+                       double dissipation) {
              IntegratorParams p;
              p.kind = integrator_from(kind);
              p.beta = beta;
              p.gamma = gamma;
              p.alpha = alpha;
+             p.dissipation = dissipation;
              return std::make_unique<TimeIntegrator>(model, p);
            }),
            py::arg("model"), py::arg("kind"), py::arg("beta") = 0.25, py::arg("gamma") = 0.5, py::arg("alpha") = 0.0,
+           py::arg("dissipation") = 0.0,
            py::keep_alive<1, 2>())
       .def("initialize", [](TimeIntegrator& s, double t, Vec x, Vec v) { s.initialize(t, x, v); },
            py::arg("t"), py::arg("x"), py::arg("v"))

@@ -221,6 +221,7 @@ class Analysis:
     newmark_gamma: float
     hht_alpha: float
     dt_min: float | None
+    em_dissipation: float = 0.0  # energy-momentum: xi of the energy-decaying variant (0: conserving)
 
 
 @dataclass(frozen=True)
@@ -428,6 +429,7 @@ _TOP_KEYS = ("scene", "analysis", "petsc", "gravity", "beam", "support", "load",
              "sliding_joint", "output")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
+    "em_dissipation",
 )
 _INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 _BEAM_KEYS = (
@@ -627,7 +629,15 @@ def _parse_analysis(t: _Table) -> Analysis:
         newmark_gamma=gamma,  # type: ignore[arg-type]
         hht_alpha=alpha,  # type: ignore[arg-type]
         dt_min=dt_min,
+        em_dissipation=_em_dissipation(t, integrator),
     )
+
+
+def _em_dissipation(t: _Table, integrator: str) -> float:
+    xi = t.number("em_dissipation", 0.0, check=lambda x: 0.0 <= x <= 1.0, requirement="in [0, 1]")
+    if xi > 0 and integrator != "energy-momentum":
+        raise t.error("em_dissipation", f"applies to integrator = \"energy-momentum\" only (got \"{integrator}\")")
+    return xi
 
 
 def _parse_petsc(t: _Table, base_dir: str) -> tuple[dict[str, str], str | None]:

@@ -101,7 +101,8 @@ class Simulation:
         if a.type == "dynamic":
             self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,
                                                    gamma=a.newmark_gamma,
-                                                   alpha=a.hht_alpha if a.integrator == "hht" else 0.0)
+                                                   alpha=a.hht_alpha if a.integrator == "hht" else 0.0,
+                                                   dissipation=a.em_dissipation)
             v = self._model.x.duplicate()
             initial_velocity(self, v)
             self.integrator.initialize(0.0, self._model.x, v)

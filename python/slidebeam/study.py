@@ -91,7 +91,7 @@ class RunData:
         output = phases.get("SBOutput", {}).get("time_s", 0.0)
         return {"wall_time_s": wall - output, "steps": self.summary.get("steps", 0),
                 "newton_iterations": self.summary.get("newton_iterations", 0),
-                "linear_solves": phases.get("KSPSolve", {}).get("calls", 0)}
+                "linear_solves": phases.get("KSPSolve+PCSetUp", {}).get("calls", 0)}
 
     def drift(self) -> float:
         if len(self.H) == 0 or self.T.max(initial=0.0) <= 0:

@@ -91,7 +91,8 @@ class BeamElastic final : public SpanEffect {
     if (ctx.rule == StepRule::EnergyMomentum) {
       const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, e), q1 = gather_span(ctx.x, ctx.map, b, e);
       for (int g = 0; g < b.n_gp(); ++g)
-        kernels::beam_gp_residual_tangent_em(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q0, q1, re, K);
+        kernels::beam_gp_residual_tangent_em(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q0, q1, re, K,
+                                             ctx.dissipation);
       return;
     }
     const VecEl q = gather_span(ctx.xf, ctx.map, b, e);

@@ -74,14 +74,16 @@ class SlidingJoint final : public Effect {
     add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp(), m.beam(carrier_).n_cp(), dofs);
     for (int k = 0; k < 4; ++k) dofs.push_back(extra_offset() + k);
   }
-  /// Every carrier control point may enter (s moves): rows and columns over all of them.
+  /// Every carrier control point may enter (s moves). The joint couples positions only with s
+  /// and mu, never positions with positions, so its pattern is the columns (s, mu) of every row
+  /// and the rows (s, mu) of every column; a full square block would make the carrier's
+  /// position block dense and its LU cubic.
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const int nc = m.beam(carrier_).n_cp();
-    const auto d = dofs(m, 0, nc);
-    const std::vector<double> zero(d.size() * d.size(), 0.0);
-    PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
+    const int nc = m.beam(carrier_).n_cp(), n = 9 + 3 * nc + 4;
+    const std::vector<double> zero(static_cast<size_t>(4 * (n - 4) + 4 * n), 0.0);
+    PetscCall(add_blocks(dofs(m, 0, nc), zero.data(), sink));
     PetscFunctionReturn(0);
   }
 
@@ -146,8 +148,23 @@ class SlidingJoint final : public Effect {
       A(im + k, is) = dg_ds(k);
     }
     A(is, is) = ds_row_s;
-    const auto d = dofs(ctx.model, 0, nr);
-    PetscCall(J.add(n, d.data(), n, d.data(), A.data()));
+    // the (s, mu) columns of the position rows, then the (s, mu) rows: the nonzero structure
+    std::vector<double> blocks(static_cast<size_t>(4 * is + 4 * n));
+    for (int i = 0; i < is; ++i)
+      for (int k = 0; k < 4; ++k) blocks[static_cast<size_t>(4 * i + k)] = A(i, is + k);
+    for (int k = 0; k < 4; ++k)
+      for (int j = 0; j < n; ++j) blocks[static_cast<size_t>(4 * is + n * k + j)] = A(is + k, j);
+    PetscCall(add_blocks(dofs(ctx.model, 0, nr), blocks.data(), J));
+    PetscFunctionReturn(0);
+  }
+
+  /// J(positions, extras) += values[0 : 4 p] (p x 4, row-major), J(extras, all) += the next 4 x n,
+  /// with dofs = positions (p of them), then s, mu.
+  static PetscErrorCode add_blocks(const std::vector<PetscInt>& d, const double* values, const MatSink& J) {
+    PetscFunctionBeginUser;
+    const auto n = static_cast<PetscInt>(d.size()), p = n - 4;
+    PetscCall(J.add(p, d.data(), 4, d.data() + p, values));
+    PetscCall(J.add(4, d.data() + p, n, d.data(), values + 4 * p));
     PetscFunctionReturn(0);
   }
 

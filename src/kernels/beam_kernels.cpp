@@ -144,16 +144,17 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 }
 
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K) {
+                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi) {
   const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
   Mat6Z Bm;
   for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], zm, Bm.row(k));
-  const Vec6 sigma = C.cwiseProduct(0.5 * (strains(T, z0) + strains(T, z1)) - eps0);
+  // averaged strain, shifted by xi/2 (eps1 - eps0) towards the end of the step
+  const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
   add_Pt(gp, gp.w, Bm.transpose() * sigma, r);
   if (K) {
     Mat6Z B1;
     for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z1, B1.row(k));
-    MatZ Kz = 0.5 * (Bm.transpose() * C.asDiagonal() * B1);
+    MatZ Kz = 0.5 * (1.0 + xi) * (Bm.transpose() * C.asDiagonal() * B1);
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], 0.5 * sigma(k), Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
   }

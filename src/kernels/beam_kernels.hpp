@@ -117,9 +117,12 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 /// Energy-momentum internal force of one quadrature point (formulation.md section 6): the
 /// gradient at the midpoint q_m = (q0 + q1)/2 with the AVERAGED strain,
 /// r += w B(q_m)^T C (1/2 (eps(q0) + eps(q1)) - eps0), so that U(q1) - U(q0) = r . (q1 - q0) exactly.
-/// K (if given) += d r / d q1 = w [1/2 sum_k sigma_k d^2 eps_k/dq^2 + 1/2 B(q_m)^T C B(q1)].
+/// K (if given) += d r / d q1 = w [1/2 sum_k sigma_k d^2 eps_k/dq^2 + (1+xi)/2 B(q_m)^T C B(q1)].
+/// xi > 0 (energy-decaying variant): the strain in sigma becomes eps_avg + xi/2 (eps(q1) - eps(q0)),
+/// so the step dissipates xi/2 w (deps)^T C deps >= 0, most in the fast (stiff) modes, and still
+/// conserves momentum (the force is still B(q_m)^T sigma of frame-indifferent strains).
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K);
+                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0);
 
 /// Orthonormality constraints of one control point (seed eq. 2), as quadratic forms in the
 /// control point's 12 coordinates (blocks phi, d1, d2, d3).

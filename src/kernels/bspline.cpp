@@ -14,8 +14,12 @@ double knot(int n_spans, int i) {
 }
 
 int find_span(int n_spans, double xi) {
-  int e = static_cast<int>(std::floor(xi * n_spans));
-  return std::clamp(e, 0, n_spans - 1);
+  // clamp before converting: a huge or non-finite xi (a diverging Newton iterate) must not
+  // overflow the integer; its basis then carries the NaN/Inf into the residual
+  const double f = std::floor(xi * n_spans);
+  if (!(f > 0.0)) return 0;  // also NaN
+  if (f >= n_spans - 1) return n_spans - 1;
+  return static_cast<int>(f);
 }
 
 double greville(int n_spans, int a) { return 0.5 * (knot(n_spans, a + 1) + knot(n_spans, a + 2)); }

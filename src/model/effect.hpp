@@ -65,6 +65,7 @@ struct EvalContext {
   const LocalValues& x_old; ///< start of the step (== x for statics)
   StepRule rule = StepRule::Endpoint;
   double theta = 1.0;       ///< d xf / d x
+  double dissipation = 0.0; ///< EnergyMomentum: xi of the energy-decaying variant (0: conserving)
 };
 
 /// Fast repeated assembly of one matrix in PETSc's coordinate (COO) format: the first assembly

@@ -287,7 +287,7 @@ PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const
   {
     LocalValues xv(ghost_dofs_, xa);
     LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
-    const EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0};
+    const EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0, ev.dissipation};
     PetscCall(body(ctx));
   }
   if (two_states) {

@@ -22,6 +22,7 @@ struct StepEval {
   StepRule rule = StepRule::Endpoint;
   double t = 0.0;      ///< load time
   double theta = 1.0;  ///< Theta rule: forces at (1 - theta) x_old + theta x
+  double dissipation = 0.0;  ///< EnergyMomentum: xi of the energy-decaying variant
 };
 
 /// Linear and angular momentum (about the origin) of a state.

@@ -23,6 +23,8 @@ bool is_midpoint_type(IntegratorKind k) { return k == IntegratorKind::EnergyMome
 TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : model_(model), params_(params) {
   if (!model.finalized()) model.finalize();
   if (!model.has_inertia()) throw std::invalid_argument("a dynamic model needs inertia (beam_inertia or point_mass)");
+  if (!(params.dissipation >= 0.0 && params.dissipation <= 1.0))
+    throw std::invalid_argument("energy-momentum dissipation must lie in [0, 1]");
   if (!is_midpoint_type(params.kind)) {
     if (!(params.beta > 0)) throw std::invalid_argument("Newmark beta must be > 0");
     if (params.kind == IntegratorKind::HHT && (params.alpha < -1.0 / 3.0 || params.alpha > 0))
@@ -87,7 +89,7 @@ TimeIntegrator::~TimeIntegrator() {
 
 StepEval TimeIntegrator::step_eval() const {
   switch (params_.kind) {
-    case IntegratorKind::EnergyMomentum: return {StepRule::EnergyMomentum, t_ + 0.5 * h_, 0.5};
+    case IntegratorKind::EnergyMomentum: return {StepRule::EnergyMomentum, t_ + 0.5 * h_, 0.5, params_.dissipation};
     case IntegratorKind::Midpoint: return {StepRule::Theta, t_ + 0.5 * h_, 0.5};
     default: return {StepRule::Endpoint, t_ + h_, 1.0};
   }

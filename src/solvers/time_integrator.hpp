@@ -41,6 +41,7 @@ struct IntegratorParams {
   double beta = 0.25;   ///< Newmark/HHT
   double gamma = 0.5;   ///< Newmark/HHT
   double alpha = 0.0;   ///< HHT, in [-1/3, 0]
+  double dissipation = 0.0;  ///< energy-momentum: xi >= 0 of the energy-decaying variant (0: conserving)
 };
 
 IntegratorKind integrator_from(const std::string& name);

@@ -26,6 +26,7 @@ def pytest_configure(config: pytest.Config) -> None:
         # one temporary tree per rank: ranks must not clean up each other's folders
         config.option.basetemp = f"/tmp/slidebeam-pytest-{os.getpid()}-rank{MPI.COMM_WORLD.Get_rank()}"
     config.addinivalue_line("markers", "skip_in_parallel: only meaningful on one rank (spawns its own processes)")
+    config.addinivalue_line("markers", "stability: the hard-case suite of runs/hard/ (issue 8; a few minutes)")
 
 
 def pytest_runtest_setup(item: pytest.Item) -> None:
