@@ -35,6 +35,7 @@ def main() -> int:
     p.add_argument("-j", "--jobs", type=int, default=2, help="runs at once (default 2)")
     p.add_argument("--scenes", nargs="*", help="scene names in runs/hard/ (default: all)")
     p.add_argument("--out", type=Path, default=ROOT / "docs" / "stability", help="output folder")
+    p.add_argument("--timeout", type=float, default=300.0, help="seconds a run may take (default 300)")
     args = p.parse_args()
     scenes = sorted((ROOT / "runs" / "hard").glob("*.toml"))
     if args.scenes:
@@ -47,15 +48,16 @@ def main() -> int:
         scene, name, sets = item
         variant = Variant(0, {**sets, "output.xdmf": "false"})
         folder = runs_dir / f"{scene.stem}__{name.split(' ')[0].strip(',')}{'_xi' if 'xi' in name else ''}"
-        code, message = _run_one(scene, variant, {}, folder, [])
+        code, message = _run_one(scene, variant, {}, folder, [], args.timeout)
         return scene, name, code, load_run(variant, folder, code, message)
 
     rows = []
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
         for scene, name, code, run in pool.map(work, plan):
             s = run.summary
-            ended = ("finished" if s.get("complete") else
+            ended = ("finished" if s.get("complete") and code == 0 else
                      "stopped: slider at carrier end" if code == 0 and s else
+                     f"not finished: {run.message}" if code == -1 else
                      "stopped: " + (run.message.split(": ", 1)[-1].split(";")[0] if run.message else f"exit {code}"))
             row = (scene.stem, name, ended, run.drift(), s.get("max_constraint_residual", math.nan),
                    s.get("rejected_steps", 0), s.get("newton_iterations", 0), s.get("wall_time_s", math.nan),

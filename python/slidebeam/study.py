@@ -176,14 +176,17 @@ def read_study_file(path: Path) -> dict[str, Any]:
 # -- running ---------------------------------------------------------------------------------
 
 def _run_one(scene: Path, variant: Variant, base_sets: dict[str, str], out: Path,
-             petsc_args: list[str]) -> tuple[int, str]:
+             petsc_args: list[str], timeout: float | None = None) -> tuple[int, str]:
     # no XDMF series: a study compares histories, and 50 runs of series are hundreds of MB
     cmd = [str(ROOT / "scripts" / "slidebeam"), "run", str(scene), "--out", str(out), "-q", "--set", "output.xdmf=false"]
     for k, v in {**base_sets, **variant.extra, **variant.sets}.items():
         cmd += ["--set", f"{k}={v}"]
     if petsc_args:
         cmd += ["--", *petsc_args]
-    res = subprocess.run(cmd, capture_output=True, text=True)
+    try:
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return -1, f"still running after {timeout:.0f} s (stopped by the caller)"
     return res.returncode, (res.stderr.strip().splitlines() or [""])[-1]
 
 
