@@ -58,7 +58,7 @@ def main() -> int:
             ended = ("finished" if s.get("complete") and code == 0 else
                      "stopped: slider at carrier end" if code == 0 and s else
                      f"not finished: {run.message}" if code == -1 else
-                     "stopped: " + (run.message.split(": ", 1)[-1].split(";")[0] if run.message else f"exit {code}"))
+                     "stopped: " + (run.message.split("error: ")[-1].split(";")[0] if run.message else f"exit {code}"))
             row = (scene.stem, name, ended, run.drift(), s.get("max_constraint_residual", math.nan),
                    s.get("rejected_steps", 0), s.get("newton_iterations", 0), s.get("wall_time_s", math.nan),
                    s.get("t_reached", math.nan))
