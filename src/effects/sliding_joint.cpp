@@ -115,14 +115,14 @@ class SlidingJoint final : public Effect {
     const Terms t = terms(ctx);
     const Eigen::Vector3d mu = multipliers(ctx.x);
     const Beam& C = ctx.model.beam(carrier_);
-    // The block spans every carrier control point (zeros away from s), the pattern() block: a
+    // The (s, mu) columns of every position row and the (s, mu) rows (the pattern() blocks): a
     // fixed sparsity pattern whatever the span of s, so that no factorisation (MUMPS in
-    // parallel) ever sees the pattern change under it. O(n_cp^2) per joint: fine for carriers
-    // of tens of spans; long cables need a moving window with re-analysis (issue 6).
+    // parallel) ever sees the pattern change under it. Filled directly, O(n_cp) per joint.
     const int nr = C.n_cp(), n = 9 + 3 * nr + 4;
-    const int is = 9 + 3 * nr, im = is + 1;
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A =
-        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>::Zero(n, n);
+    const int is = 9 + 3 * nr;  // local index of s; mu follows
+    std::vector<double> blocks(static_cast<size_t>(4 * is + 4 * n), 0.0);
+    auto col = [&](int row, int k) -> double& { return blocks[static_cast<size_t>(4 * row + k)]; };  // k: 0 s, 1-3 mu
+    auto srow = [&](int k, int j) -> double& { return blocks[static_cast<size_t>(4 * is + n * k + j)]; };
     double ds_row_s = 0.0;
     Eigen::Vector3d dg_ds = Eigen::Vector3d::Zero();
     for (int a = t.lo; a <= t.hi; ++a) {
@@ -130,30 +130,24 @@ class SlidingJoint final : public Effect {
       const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C.first_cp() + a);
       const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C.first_cp() + a) + (1.0 - t.blend_old) * x1;
       for (int k = 0; k < 3; ++k) {
-        A(ia + k, im + k) = t.Wq.at(a);            // carrier force  / d mu
-        A(ia + k, is) = t.dWq.at(a) * mu(k);       // carrier force  / d s
-        A(is, ia + k) = t.cphi.at(a) * mu(k);      // s equation     / d phi_A
-        A(im + k, ia + k) = t.N1.at(a);            // constraint     / d phi_A
+        col(ia + k, 1 + k) = t.Wq.at(a);           // carrier force  / d mu
+        col(ia + k, 0) = t.dWq.at(a) * mu(k);      // carrier force  / d s
+        srow(0, ia + k) = t.cphi.at(a) * mu(k);    // s equation     / d phi_A
+        srow(1 + k, ia + k) = t.N1.at(a);          // constraint     / d phi_A
       }
       ds_row_s += t.dDs.at(a) * xh.dot(mu);
       dg_ds += t.dN1.at(a) * x1;
     }
     for (int b = 0; b < 3; ++b)
       for (int k = 0; k < 3; ++k) {
-        A(3 * b + k, im + k) = -slider_basis_.N[b];
-        A(im + k, 3 * b + k) = -slider_basis_.N[b];
+        col(3 * b + k, 1 + k) = -slider_basis_.N[b];
+        srow(1 + k, 3 * b + k) = -slider_basis_.N[b];
       }
     for (int k = 0; k < 3; ++k) {
-      A(is, im + k) = t.Gs(k);
-      A(im + k, is) = dg_ds(k);
+      srow(0, is + 1 + k) = t.Gs(k);
+      srow(1 + k, is) = dg_ds(k);
     }
-    A(is, is) = ds_row_s;
-    // the (s, mu) columns of the position rows, then the (s, mu) rows: the nonzero structure
-    std::vector<double> blocks(static_cast<size_t>(4 * is + 4 * n));
-    for (int i = 0; i < is; ++i)
-      for (int k = 0; k < 4; ++k) blocks[static_cast<size_t>(4 * i + k)] = A(i, is + k);
-    for (int k = 0; k < 4; ++k)
-      for (int j = 0; j < n; ++j) blocks[static_cast<size_t>(4 * is + n * k + j)] = A(is + k, j);
+    srow(0, is) = ds_row_s;
     PetscCall(add_blocks(dofs(ctx.model, 0, nr), blocks.data(), J));
     PetscFunctionReturn(0);
   }
