@@ -103,6 +103,16 @@ def _describe(scene: Scene) -> str:
     return "\n".join(lines)
 
 
+def _effects_line(effects) -> str:
+    """Every effect by label; for big scenes (more than 16) the count per type."""
+    if len(effects) <= 16:
+        return "active effects: " + ", ".join(e.label for e in effects)
+    counts: dict[str, int] = {}
+    for e in effects:
+        counts[e.type] = counts.get(e.type, 0) + 1
+    return f"active effects ({len(effects)}): " + ", ".join(f"{t} x{n}" for t, n in counts.items())
+
+
 def _is_solver_failure(err: Exception) -> bool:
     try:
         from . import _core
@@ -196,7 +206,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     t0 = time.perf_counter()
     sim = Simulation(scene)
     _say(rank, _describe(scene))
-    _say(rank, "active effects: " + ", ".join(e.label for e in sim.active_effects))
+    _say(rank, _effects_line(sim.active_effects))
     state = None
     if restart is not None:
         from .checkpoint import read_checkpoint

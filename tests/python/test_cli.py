@@ -271,3 +271,36 @@ def test_cost_breakdown_names_only_the_scene_effects(run_cli, root, tmp_path):
     phases = [row["phase"] for row in json.loads((tmp_path / "s" / "summary.json").read_text())["cost"]]
     assert "assembly: sliding_joint (incl. contact search)" in phases and "assembly: gravity" in phases
     assert "assembly: clamp" not in phases and "assembly: rigid_joint" not in phases
+
+
+@pytest.mark.parametrize("scene, sets", [
+    # S2-incl on a 16-span carrier: C slides from s = 0.4 to 1.9 across the control points of
+    # every rank (the joint lives with the slider, its carrier points are ghosts)
+    (("seed", "free_fall_inclined_1+4.toml"), ["beam.AB.spans=16", "analysis.t_end=0.78"]),
+    (("cables", "ropeway.toml"), ["analysis.t_end=0.1"]),
+])
+def test_one_two_and_three_ranks_give_the_same_history(run_cli, root, tmp_path, scene, sets):
+    args = [a for s in sets for a in ("--set", s)] + ["--set", "output.xdmf=false", "-q"]
+    rows = {}
+    for np_ in (1, 2, 3):
+        out = run_cli("run", str(root.joinpath("runs", *scene)), "--out", f"np{np_}", *args, np=np_)
+        assert out.returncode == 0, out.stderr
+        rows[np_] = list(csv.DictReader((tmp_path / f"np{np_}" / "history.csv").open()))
+    s_col = [c for c in rows[1][0] if c.endswith(".s")][0]
+    s = [float(r[s_col]) for r in rows[1]]
+    assert max(s) - min(s) > (1.0 if scene[0] == "seed" else 0.0)
+    # the scale of a quantity: the largest value of its family (all components, all rows)
+    scale: dict[str, float] = {}
+    for r in rows[1]:
+        for key, v in r.items():
+            if key != "reason":
+                fam = key.split(".")[0]
+                scale[fam] = max(scale.get(fam, 1.0), abs(float(v)))
+    for np_ in (2, 3):
+        assert len(rows[np_]) == len(rows[1])
+        for a, b in zip(rows[1], rows[np_]):
+            for key in a:
+                if key in ("reason", "newton_iterations", "residual_norm") or "reaction" in key:
+                    continue
+                x, y = float(a[key]), float(b[key])
+                assert abs(x - y) <= 1e-10 * scale[key.split(".")[0]], (np_, a["t"], key, x, y)
