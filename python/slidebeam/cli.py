@@ -137,6 +137,10 @@ def _finish_costs(sim, summary: dict, t0: float, rank: int, quiet: bool) -> None
     wall = time.perf_counter() - t0
     rows = cost_breakdown(sim, wall)
     summary["cost"] = rows
+    if sim.integrator is not None:
+        from .costs import event_time
+
+        summary["stepping_time_s"] = event_time("SBTimeStep")  # the time steps alone (no set-up)
     if not quiet:
         _say(rank, "cost by phase (largest over ranks):\n" + cost_table(rows, wall))
 

@@ -45,6 +45,11 @@ def _perf(name: str) -> tuple[float, int]:
     return t, n
 
 
+def event_time(name: str) -> float:
+    """Time in a PETSc log event so far, the largest over the ranks (collective)."""
+    return _perf(name)[0]
+
+
 def cost_breakdown(sim: "Simulation", wall: float) -> list[dict]:
     """Rows {phase, event, time_s, calls, share} for the run so far (collective)."""
     types: list[str] = []
