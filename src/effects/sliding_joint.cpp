@@ -16,6 +16,7 @@
 #include "kernels/sliding.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -67,23 +68,30 @@ class SlidingJoint final : public Effect {
     vals.push_back(s0_);
   }
 
-  void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(slider_cp(m, 0)); }
+  void distribute(const Model& m) override {
+    owned_ = m.dof_map().owns_cp(slider_cp(m, 0));
+    const Beam& C = m.beam(carrier_);
+    const auto r = sliding::touched_cps(C.n_spans(), C.length(), s0_, s0_);
+    move_window(r[0], r[1], C.n_cp());
+  }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
     add_cp_blocks(m.dof_map(), slider_cp(m, 0), 3, dofs);
     add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp(), m.beam(carrier_).n_cp(), dofs);
     for (int k = 0; k < 4; ++k) dofs.push_back(extra_offset() + k);
   }
-  /// Every carrier control point may enter (s moves). The joint couples positions only with s
-  /// and mu, never positions with positions, so its pattern is the columns (s, mu) of every row
-  /// and the rows (s, mu) of every column; a full square block would make the carrier's
-  /// position block dense and its LU cubic.
+  /// The joint couples positions only with s and mu, never positions with positions: its
+  /// pattern is the columns (s, mu) of the position rows and the rows (s, mu), over the slider's
+  /// points and a window of carrier points around s (the touched ones plus kWindowMargin on
+  /// either side). When s leaves the window, the window moves: the Jacobian's pattern changes
+  /// and the solvers set their factorisation up anew (reset_factorization_on_pattern_change).
+  /// Rows over the whole carrier would fill the LU along the carrier for every joint.
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const int nc = m.beam(carrier_).n_cp(), n = 9 + 3 * nc + 4;
+    const int n = 9 + 3 * (win_hi_ - win_lo_ + 1) + 4;
     const std::vector<double> zero(static_cast<size_t>(4 * (n - 4) + 4 * n), 0.0);
-    PetscCall(add_blocks(dofs(m, 0, nc), zero.data(), sink));
+    PetscCall(add_blocks(dofs(m, win_lo_, win_hi_ + 1), zero.data(), sink));
     PetscFunctionReturn(0);
   }
 
@@ -118,7 +126,8 @@ class SlidingJoint final : public Effect {
     // The (s, mu) columns of every position row and the (s, mu) rows (the pattern() blocks): a
     // fixed sparsity pattern whatever the span of s, so that no factorisation (MUMPS in
     // parallel) ever sees the pattern change under it. Filled directly, O(n_cp) per joint.
-    const int nr = C.n_cp(), n = 9 + 3 * nr + 4;
+    move_window(t.lo, t.hi, C.n_cp());
+    const int nr = win_hi_ - win_lo_ + 1, n = 9 + 3 * nr + 4;
     const int is = 9 + 3 * nr;  // local index of s; mu follows
     std::vector<double> blocks(static_cast<size_t>(4 * is + 4 * n), 0.0);
     auto col = [&](int row, int k) -> double& { return blocks[static_cast<size_t>(4 * row + k)]; };  // k: 0 s, 1-3 mu
@@ -126,7 +135,7 @@ class SlidingJoint final : public Effect {
     double ds_row_s = 0.0;
     Eigen::Vector3d dg_ds = Eigen::Vector3d::Zero();
     for (int a = t.lo; a <= t.hi; ++a) {
-      const int ia = 9 + 3 * a;
+      const int ia = 9 + 3 * (a - win_lo_);
       const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C.first_cp() + a);
       const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C.first_cp() + a) + (1.0 - t.blend_old) * x1;
       for (int k = 0; k < 3; ++k) {
@@ -148,7 +157,7 @@ class SlidingJoint final : public Effect {
       srow(1 + k, is) = dg_ds(k);
     }
     srow(0, is) = ds_row_s;
-    PetscCall(add_blocks(dofs(ctx.model, 0, nr), blocks.data(), J));
+    PetscCall(add_blocks(dofs(ctx.model, win_lo_, win_hi_ + 1), blocks.data(), J));
     PetscFunctionReturn(0);
   }
 
@@ -237,7 +246,16 @@ class SlidingJoint final : public Effect {
     return d;
   }
 
+  /// Keep carrier points [lo, hi] inside the window; re-centre it (with margin) when they leave.
+  void move_window(int lo, int hi, int n_cp) const {
+    if (lo >= win_lo_ && hi <= win_hi_) return;
+    win_lo_ = std::max(0, lo - kWindowMargin);
+    win_hi_ = std::min(n_cp - 1, hi + kWindowMargin);
+  }
+  static constexpr int kWindowMargin = 2;  ///< carrier points beyond the touched ones
+
   int slider_, carrier_;
+  mutable int win_lo_ = 0, win_hi_ = -1;  ///< carrier points in the Jacobian pattern
   PointBasis slider_basis_;
   bool exact_ = true;
   double s0_ = 0.0;

@@ -103,6 +103,8 @@ PetscErrorCode CooAssembly::end(Mat A) {
     std::vector<PetscInt> ic(i_), jc(j_);  // PETSc may reorder its input arrays
     PetscCall(MatSetPreallocationCOO(A, static_cast<PetscCount>(ic.size()), ic.data(), jc.data()));
     pattern_changed_ = false;
+    if (recorded_) ++generation_;
+    recorded_ = true;
   }
   v_.resize(cursor_);
   PetscCall(MatSetValuesCOO(A, v_.data(), INSERT_VALUES));

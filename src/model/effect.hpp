@@ -80,6 +80,9 @@ class CooAssembly {
   void add(PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols, const PetscScalar* v, double scale);
   /// Move the values into A (collective). A must be the matrix this object always serves.
   PetscErrorCode end(Mat A);
+  /// Incremented whenever the pattern is recorded again after the first time: a factorisation
+  /// of the matrix must then be set up anew (PCReset), not only refactored numerically.
+  int generation() const { return generation_; }
 
  private:
   std::vector<PetscInt> i_, j_;     // COO indices, one per value
@@ -87,6 +90,8 @@ class CooAssembly {
   std::vector<PetscScalar> v_;
   size_t cursor_ = 0, call_cursor_ = 0;
   bool pattern_changed_ = true;
+  bool recorded_ = false;
+  int generation_ = 0;
 };
 
 /// Adds element matrices into a global matrix: with MatSetValues, or into a CooAssembly.

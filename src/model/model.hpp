@@ -60,6 +60,8 @@ class Model {
   Vec x() const { return x_; }
   Vec residual_vector() const { return r_; }
   Mat jacobian() const { return J_; }
+  /// Pattern generation of J_ (see CooAssembly::generation).
+  int jacobian_pattern_generation() const { return coo_.generation(); }
 
   /// Reset x to the reference configuration (multipliers zero, prescribed values applied).
   void set_reference_state(Vec x) const;

@@ -65,6 +65,19 @@ PetscErrorCode RoundoffTest::test(SNES snes, PetscInt it, PetscReal xnorm, Petsc
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode reset_factorization_on_pattern_change(SNES snes, int generation, int* seen) {
+  PetscFunctionBeginUser;
+  if (generation == *seen) PetscFunctionReturn(0);
+  *seen = generation;
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscInfo(snes, "Jacobian pattern changed (generation %d): the factorisation is set up anew\n", generation));
+  PetscCall(PCReset(pc));
+  PetscFunctionReturn(0);
+}
+
 SolveResult solve_result(SNES snes) {
   SolveResult r;
   SNESConvergedReason reason;

@@ -27,6 +27,12 @@ struct RoundoffTest {
 /// serial, MUMPS parallel). Call before SNESSetFromOptions.
 PetscErrorCode configure_newton(SNES snes, RoundoffTest* test);
 
+/// After the Jacobian's sparsity pattern changed (a sliding joint moved its window of carrier
+/// points: CooAssembly::generation differs from *seen), reset the SNES's preconditioner so that
+/// the next set-up factors the matrix symbolically anew; a numeric refactorisation on the old
+/// symbolic structure would read the wrong memory (MUMPS crashed so).
+PetscErrorCode reset_factorization_on_pattern_change(SNES snes, int generation, int* seen);
+
 /// Reason, iterations and final residual of the last SNESSolve.
 SolveResult solve_result(SNES snes);
 

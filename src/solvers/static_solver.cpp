@@ -23,10 +23,11 @@ PetscErrorCode StaticSolver::form_function(SNES, Vec x, Vec F, void* ctx) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StaticSolver::form_jacobian(SNES, Vec x, Mat J, Mat, void* ctx) {
+PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec x, Mat J, Mat, void* ctx) {
   PetscFunctionBeginUser;
   auto* self = static_cast<StaticSolver*>(ctx);
   PetscCall(self->model_.assemble_jacobian(self->t_, x, J));
+  PetscCall(reset_factorization_on_pattern_change(snes, self->model_.jacobian_pattern_generation(), &self->pattern_seen_));
   PetscFunctionReturn(0);
 }
 

@@ -29,6 +29,7 @@ class StaticSolver {
   Model& model_;
   SNES snes_ = nullptr;
   double t_ = 0.0;
+  int pattern_seen_ = 0;  // CooAssembly generation the factorisation was set up for
 };
 
 }  // namespace slidebeam

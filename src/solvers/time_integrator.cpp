@@ -239,6 +239,7 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
   PetscFunctionBeginUser;
   auto* self = static_cast<TimeIntegrator*>(ctx);
   PetscCall(self->step_jacobian(x, J));
+  PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
   self->jac_solve_ = self->solve_count_;
   self->jac_c0_ = self->c0_;

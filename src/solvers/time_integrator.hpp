@@ -119,6 +119,7 @@ class TimeIntegrator {
   Vec x1_ = nullptr;                              // Newton iterate / solution
   Vec v_prev_ = nullptr;                          // v_{n-1} (predictor of midpoint-type schemes)
   Vec sdot_ = nullptr;                            // (s_n - s_{n-1}) / h on sliding coordinates
+  int pattern_seen_ = 0;                          // CooAssembly generation of the factorisation
   Vec state_mask_ = nullptr;                      // coordinates and sliding coordinates
   double h_prev_ = 0.0;                           // 0: no previous step
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
