@@ -25,7 +25,6 @@ import itertools
 import json
 import math
 import subprocess
-import sys
 import time
 import tomllib
 from concurrent.futures import ThreadPoolExecutor
@@ -272,7 +271,6 @@ def common_record_interval(scene: Path, variants: list[Variant], base_sets: dict
     for v, dt in zip(variants, dts):
         ratio = interval / dt
         if "output.every" not in v.sets and abs(ratio - round(ratio)) < 1e-9 * ratio:
-            v.sets = {**v.sets}
             v.extra = {"output.every": str(round(ratio))}
 
 
@@ -476,7 +474,3 @@ def main_study(args, petsc_args: list[str]) -> int:
     say = (lambda s: None) if args.quiet else (lambda s: print(s, flush=True))
     run_study(scene, varies, out, reference or None, sets, jobs, petsc_args, say, curve_by)
     return 0
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit("use: slidebeam study ...")

@@ -123,9 +123,8 @@ class SlidingJoint final : public Effect {
     const Terms t = terms(ctx);
     const Eigen::Vector3d mu = multipliers(ctx.x);
     const Beam& C = ctx.model.beam(carrier_);
-    // The (s, mu) columns of every position row and the (s, mu) rows (the pattern() blocks): a
-    // fixed sparsity pattern whatever the span of s, so that no factorisation (MUMPS in
-    // parallel) ever sees the pattern change under it. Filled directly, O(n_cp) per joint.
+    // The (s, mu) columns of the position rows and the (s, mu) rows over the slider and the
+    // window of carrier points (see pattern()), filled directly: O(window) per joint.
     move_window(t.lo, t.hi, C.n_cp());
     const int nr = win_hi_ - win_lo_ + 1, n = 9 + 3 * nr + 4;
     const int is = 9 + 3 * nr;  // local index of s; mu follows
