@@ -127,6 +127,8 @@ PYBIND11_MODULE(_core, m) {
            py::arg("beam"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
            "fields sampled along a beam (dict of arrays: s, position, velocity, d1, d2, d3, strain, force, "
            "moment); collective")
+      .def("elimination_order", &Model::elimination_order,
+           "permutation of the unknowns (new position -> old index) of the serial factorisation")
       .def("extra_offset", [](const Model& s, int effect) { return s.effects().at(static_cast<size_t>(effect))->extra_offset(); },
            py::arg("effect"), "global index of an effect's first extra unknown")
       .def("extra_values", [](const Model& s, int effect, Vec x) { return s.extra_values(effect, x); },

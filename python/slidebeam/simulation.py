@@ -274,6 +274,11 @@ class Simulation:
     def tracked_points(self) -> list[tuple[float, float, float]]:
         return [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]
 
+    def elimination_order(self) -> list[int]:
+        """Permutation of the unknowns (new position -> old index) the serial factorisation uses:
+        sliders before carriers, multipliers next to the coordinates they constrain."""
+        return list(self._model.elimination_order())
+
     def sliding_joint_effects(self) -> list[int]:
         """Model effect index of every [[sliding_joint]], in scene order."""
         return [i for i, e in enumerate(self.active_effects) if e.type == "sliding_joint"]

@@ -53,6 +53,7 @@ class RigidJoint final : public Effect {
   PetscInt n_extra() const override { return 6; }
 
   void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(cp(m, a_, ca_)); }
+  PetscInt elimination_anchor(const Model& m) const override { return cp(m, a_, ca_); }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
     add_cp_blocks(m.dof_map(), cp(m, a_, ca_), 1, dofs);

@@ -68,6 +68,10 @@ class SlidingJoint final : public Effect {
     vals.push_back(s0_);
   }
 
+  PetscInt elimination_anchor(const Model& m) const override { return slider_cp(m, 2); }
+  void elimination_precedence(std::vector<std::pair<int, int>>& pairs) const override {
+    pairs.emplace_back(slider_, carrier_);
+  }
   void distribute(const Model& m) override {
     owned_ = m.dof_map().owns_cp(slider_cp(m, 0));
     const Beam& C = m.beam(carrier_);

@@ -93,6 +93,7 @@ class Spherical final : public Effect {
     if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X_.data(), false, rows, vals);
   }
   void distribute(const Model& m) override { owned_ = cp_ < 0 && owns_span(m, m.beam(beam_), basis_.span); }
+  PetscInt elimination_anchor(const Model& m) const override { return first_cp(m) + 2; }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
     add_cp_blocks(m.dof_map(), first_cp(m), 3, dofs);

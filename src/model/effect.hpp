@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace slidebeam {
@@ -145,6 +146,15 @@ class Effect {
   virtual bool extra_is_state(PetscInt) const { return false; }
   /// Values of extra unknowns in the initial state (e.g. a sliding coordinate from a projection).
   virtual void initial_values(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
+
+  /// Serial elimination order (Model::elimination_order): the control point right after whose
+  /// block this effect's extra unknowns are eliminated (-1: at the very end). Choose a point the
+  /// extras couple to, so that the multipliers find their pivot in the coordinates before them
+  /// and their fill stays local.
+  virtual PetscInt elimination_anchor(const Model&) const { return -1; }
+  /// Beams whose control points should be eliminated before another beam's, as (first, then)
+  /// pairs: a slider before its carrier, so that a joint's fill lands in the carrier's band.
+  virtual void elimination_precedence(std::vector<std::pair<int, int>>&) const {}
 
   /// Unknowns this effect prescribes (Dirichlet), with their values. Called on every rank;
   /// return only rows owned by this rank.

@@ -419,4 +419,59 @@ std::vector<double> Model::beam_coordinates(int beam_index, Vec x) const {
   return q;
 }
 
+std::vector<PetscInt> Model::elimination_order() const {
+  // Beam order: a topological order of the precedence pairs (stable: scene order otherwise);
+  // pairs that form a cycle (beams sliding on each other) are dropped.
+  const int nb = static_cast<int>(beams_.size());
+  std::vector<std::vector<int>> after(static_cast<size_t>(nb));
+  std::vector<int> indegree(static_cast<size_t>(nb), 0);
+  {
+    std::vector<std::pair<int, int>> pairs;
+    for (const auto& e : effects_) e->elimination_precedence(pairs);
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    for (const auto& [first, then] : pairs) {
+      after[static_cast<size_t>(first)].push_back(then);
+      ++indegree[static_cast<size_t>(then)];
+    }
+  }
+  std::vector<int> beam_order;
+  std::vector<bool> placed(static_cast<size_t>(nb), false);
+  while (static_cast<int>(beam_order.size()) < nb) {
+    int next = -1;
+    for (int b = 0; b < nb && next < 0; ++b)
+      if (!placed[static_cast<size_t>(b)] && indegree[static_cast<size_t>(b)] == 0) next = b;
+    if (next < 0)  // a cycle: take the first unplaced beam
+      for (int b = 0; b < nb && next < 0; ++b)
+        if (!placed[static_cast<size_t>(b)]) next = b;
+    placed[static_cast<size_t>(next)] = true;
+    beam_order.push_back(next);
+    for (int then : after[static_cast<size_t>(next)]) --indegree[static_cast<size_t>(then)];
+  }
+  // Extras by anchor control point.
+  std::vector<std::vector<size_t>> anchored(static_cast<size_t>(n_cp_total_));
+  std::vector<size_t> unanchored;
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    if (effects_[k]->n_extra() == 0) continue;
+    const PetscInt a = effects_[k]->elimination_anchor(*this);
+    if (a >= 0 && a < n_cp_total_) anchored[static_cast<size_t>(a)].push_back(k);
+    else unanchored.push_back(k);
+  }
+  std::vector<PetscInt> order;
+  order.reserve(static_cast<size_t>(map_.global_size()));
+  auto add_extras = [&](size_t k) {
+    for (PetscInt i = 0; i < effects_[k]->n_extra(); ++i) order.push_back(effects_[k]->extra_offset() + i);
+  };
+  for (int b : beam_order) {
+    const Beam& beam = beams_[static_cast<size_t>(b)];
+    for (int c = 0; c < beam.n_cp(); ++c) {
+      const PetscInt cp = beam.first_cp() + c;
+      for (PetscInt i = 0; i < DofMap::kBlock; ++i) order.push_back(map_.q(cp, 0) + i);
+      for (size_t k : anchored[static_cast<size_t>(cp)]) add_extras(k);
+    }
+  }
+  for (size_t k : unanchored) add_extras(k);
+  return order;
+}
+
 }  // namespace slidebeam

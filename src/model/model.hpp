@@ -111,6 +111,15 @@ class Model {
   /// Coordinates (n_cp x 12, row-major) of a beam's control points at x, on every rank (collective).
   std::vector<double> beam_coordinates(int beam, Vec x) const;
 
+  /// A permutation of all unknowns (new position -> old index) for a factorisation without
+  /// pivoting: beams in an order where every slider comes before its carrier, each control
+  /// point's 12 coordinates before its 6 multipliers, and every effect's extras right after its
+  /// elimination anchor. Each multiplier then meets its pivot as a Schur complement of the
+  /// coordinates before it, and every joint fills only a window of its carrier's band, so the
+  /// factorisation's cost grows linearly with the scene (the natural order, with all extras at
+  /// the end, fills every carrier from its joints to its last point). Same on every rank.
+  std::vector<PetscInt> elimination_order() const;
+
   /// Prescribed rows owned by this rank and their values.
   const std::vector<PetscInt>& prescribed_rows() const { return bc_rows_; }
 

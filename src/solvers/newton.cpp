@@ -65,6 +65,43 @@ PetscErrorCode RoundoffTest::test(SNES snes, PetscInt it, PetscReal xnorm, Petsc
   PetscFunctionReturn(0);
 }
 
+namespace {
+constexpr const char* kOrderKey = "sb_elimination_order";
+
+PetscErrorCode model_ordering(Mat A, MatOrderingType, IS* row, IS* col) {
+  PetscFunctionBeginUser;
+  PetscObject obj = nullptr;
+  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(A), kOrderKey, &obj));
+  if (obj) {
+    PetscCall(ISDuplicate(reinterpret_cast<IS>(obj), row));
+    PetscCall(ISDuplicate(reinterpret_cast<IS>(obj), col));
+  } else {
+    PetscInt n = 0;
+    PetscCall(MatGetLocalSize(A, &n, nullptr));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, n, 0, 1, row));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, n, 0, 1, col));
+  }
+  PetscCall(ISSetPermutation(*row));
+  PetscCall(ISSetPermutation(*col));
+  PetscFunctionReturn(0);
+}
+}  // namespace
+
+PetscErrorCode attach_elimination_order(Mat A, const std::vector<PetscInt>& order) {
+  PetscFunctionBeginUser;
+  static bool registered = false;
+  if (!registered) {
+    PetscCall(MatOrderingRegister(kModelOrdering, model_ordering));
+    registered = true;
+  }
+  IS is = nullptr;
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(order.size()), order.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(ISSetPermutation(is));
+  PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(A), kOrderKey, reinterpret_cast<PetscObject>(is)));
+  PetscCall(ISDestroy(&is));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode reset_factorization_on_pattern_change(SNES snes, int generation, int* seen) {
   PetscFunctionBeginUser;
   if (generation == *seen) PetscFunctionReturn(0);

@@ -6,6 +6,8 @@
 
 #include <petscsnes.h>
 
+#include <vector>
+
 namespace slidebeam {
 
 struct SolveResult {
@@ -32,6 +34,14 @@ PetscErrorCode configure_newton(SNES snes, RoundoffTest* test);
 /// the next set-up factors the matrix symbolically anew; a numeric refactorisation on the old
 /// symbolic structure would read the wrong memory (MUMPS crashed so).
 PetscErrorCode reset_factorization_on_pattern_change(SNES snes, int generation, int* seen);
+
+/// Name of the MatOrdering that factors a matrix in the permutation attached to it by
+/// attach_elimination_order (PCFactorSetMatOrderingType(pc, kModelOrdering), or
+/// -pc_factor_mat_ordering_type sb_model); natural order on a matrix without one.
+inline constexpr const char* kModelOrdering = "sb_model";
+/// Attach a permutation (new position -> old index, Model::elimination_order) to a sequential
+/// matrix for the kModelOrdering ordering (registers it on first use).
+PetscErrorCode attach_elimination_order(Mat A, const std::vector<PetscInt>& order);
 
 /// Reason, iterations and final residual of the last SNESSolve.
 SolveResult solve_result(SNES snes);

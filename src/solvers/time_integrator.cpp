@@ -70,7 +70,10 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     SB_CHECK(SNESGetKSP(snes_, &ksp));
     SB_CHECK(KSPGetPC(ksp, &pc));
     SB_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
-    SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGNATURAL));
+    // The model's elimination order: the natural order with every multiplier next to the
+    // coordinates it constrains, sliders before their carriers (Model::elimination_order).
+    SB_CHECK(attach_elimination_order(J_, model.elimination_order()));
+    SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
     fast_lu_ = true;
   }
   SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_jacobian_reuse", &reuse_, nullptr));
