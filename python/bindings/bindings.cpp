@@ -6,6 +6,7 @@
 
 #include "kernels/bspline.hpp"
 #include "model/model.hpp"
+#include "solvers/equilibrium_solver.hpp"
 #include "solvers/static_solver.hpp"
 #include "solvers/time_integrator.hpp"
 #include "util/petsc_check.hpp"
@@ -155,6 +156,24 @@ PYBIND11_MODULE(_core, m) {
       .def("solve", &StaticSolver::solve, py::arg("t"))
       .def_property("time", &StaticSolver::time, &StaticSolver::set_time)
       .def_property_readonly("snes", &StaticSolver::snes, "the SNES (petsc4py, shared with the core)");
+
+  py::class_<EquilibriumResult>(m, "EquilibriumResult")
+      .def_readonly("converged", &EquilibriumResult::converged)
+      .def_readonly("pseudo_steps", &EquilibriumResult::pseudo_steps)
+      .def_readonly("newton_iterations", &EquilibriumResult::newton_iterations)
+      .def_readonly("residual0", &EquilibriumResult::residual0)
+      .def_readonly("residual", &EquilibriumResult::residual)
+      .def_readonly("polished", &EquilibriumResult::polished)
+      .def_readonly("at_roundoff", &EquilibriumResult::at_roundoff);
+
+  py::class_<EquilibriumSolver>(m, "EquilibriumSolver")
+      .def(py::init<Model&>(), py::arg("model"), py::keep_alive<1, 2>())
+      .def("set_held", &EquilibriumSolver::set_held, py::arg("rows"),
+           "global unknowns kept at their current values (held sliding coordinates)")
+      .def("solve", &EquilibriumSolver::solve, py::arg("t"), py::arg("h0"), py::arg("rtol") = 1e-10,
+           py::arg("max_steps") = 200,
+           "pseudo-transient continuation to static equilibrium from the model's current state (collective)")
+      .def_property_readonly("snes", &EquilibriumSolver::snes);
 
   py::class_<TimeIntegrator>(m, "TimeIntegrator")
       .def(py::init([](Model& model, const std::string& kind, double beta, double gamma, double alpha,

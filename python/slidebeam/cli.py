@@ -307,6 +307,17 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"E = {rec.total_energy:.10e}  |constraints| = {rec.constraint_residual:.1e}"
                    f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
 
+    if state is None and a.start == "equilibrium":
+        from .simulation import EquilibriumFailure
+
+        _say(rank, "static start: solving for the equilibrium under the loads at t = 0 ...")
+        try:
+            eq = sim.settle()
+        except EquilibriumFailure as err:
+            _say(rank, f"slidebeam: error: {err}; nothing was stepped", sys.stderr)
+            return EXIT_SOLVE_FAILED
+        _say(rank, f"static start: equilibrium after {eq.pseudo_steps} continuation steps, {eq.newton_iterations} "
+                   f"Newton iterations (|F| {eq.residual0:.3e} -> {eq.residual:.3e})")
     outcome = sim.run_dynamic(progress, state, save)
     with output_phase():
         output.close()
@@ -327,6 +338,10 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         "max_constraint_residual": max(r.constraint_residual for r in recs),
         "checkpoint": str(checkpoint),
     }
+    if sim.settled is not None:
+        summary["static_start"] = {"continuation_steps": sim.settled.pseudo_steps,
+                                   "newton_iterations": sim.settled.newton_iterations,
+                                   "residual_initial": sim.settled.residual0, "residual": sim.settled.residual}
     if scene.sliding_joints:
         from .results import joint_names
         summary["sliding_joints"] = {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction)}

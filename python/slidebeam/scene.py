@@ -208,6 +208,7 @@ class SlidingJoint:
     discrete_gradient: str   # 'exact' (conserving across knots) or 'midpoint' (the seed's form)
     at_carrier_end: str      # 'stop' (the run ends, exit 0) or 'fail' (the run fails, exit 1)
     tolerance: float | None  # largest slider-carrier distance at the start (None: 1e-6 L_carrier)
+    static: str = "held"     # in the equilibrium start: 'held' (s kept) or 'free' (s slides to equilibrium)
 
 
 @dataclass(frozen=True)
@@ -222,6 +223,7 @@ class Analysis:
     hht_alpha: float
     dt_min: float | None
     em_dissipation: float = 0.0  # energy-momentum: xi of the energy-decaying variant (0: conserving)
+    start: str = "reference"     # dynamic: 'reference' (the scene's geometry) or 'equilibrium' (static first)
 
 
 @dataclass(frozen=True)
@@ -429,7 +431,7 @@ _TOP_KEYS = ("scene", "analysis", "petsc", "gravity", "beam", "support", "load",
              "sliding_joint", "output")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
-    "em_dissipation",
+    "em_dissipation", "start",
 )
 _INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 _BEAM_KEYS = (
@@ -630,7 +632,15 @@ def _parse_analysis(t: _Table) -> Analysis:
         hht_alpha=alpha,  # type: ignore[arg-type]
         dt_min=dt_min,
         em_dissipation=_em_dissipation(t, integrator),
+        start=_start(t, kind),
     )
+
+
+def _start(t: _Table, kind: str) -> str:
+    start = t.choice("start", ("reference", "equilibrium"), "reference")
+    if start == "equilibrium" and kind != "dynamic":
+        raise t.error("start", 'applies to type = "dynamic" only (a static analysis is an equilibrium already)')
+    return start
 
 
 def _em_dissipation(t: _Table, integrator: str) -> float:
@@ -1025,7 +1035,7 @@ def _named_beam(t: _Table, key: str, beams: tuple[Beam, ...]) -> int:
 
 
 def _parse_sliding_joint(t: _Table, beams: tuple[Beam, ...]) -> SlidingJoint:
-    t.check_keys(("slider", "at", "carrier", "discrete_gradient", "at_carrier_end", "tolerance"))
+    t.check_keys(("slider", "at", "carrier", "discrete_gradient", "at_carrier_end", "tolerance", "static"))
     slider = _named_beam(t, "slider", beams)
     carrier = _named_beam(t, "carrier", beams)
     if slider == carrier:
@@ -1033,7 +1043,8 @@ def _parse_sliding_joint(t: _Table, beams: tuple[Beam, ...]) -> SlidingJoint:
     at = _parse_at(t, beams[slider].geometry.length) if t.has("at") else 0.0
     tolerance = t.number("tolerance", check=lambda v: v > 0, requirement="> 0") if t.has("tolerance") else None
     return SlidingJoint(slider, at, carrier, t.choice("discrete_gradient", ("exact", "midpoint"), "exact"),
-                        t.choice("at_carrier_end", ("stop", "fail"), "stop"), tolerance)
+                        t.choice("at_carrier_end", ("stop", "fail"), "stop"), tolerance,
+                        t.choice("static", ("held", "free"), "held"))
 
 
 def _parse_point_mass(t: _Table, beams: tuple[Beam, ...]) -> PointMass:

@@ -20,6 +20,10 @@ from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
 
 
+class EquilibriumFailure(RuntimeError):
+    """The static start of a dynamic run found no equilibrium."""
+
+
 @dataclass
 class StepRecord:
     """One load step (static) as it goes to history.csv."""
@@ -97,6 +101,7 @@ class Simulation:
         self._t = 0.0
         self.use_predictor = True
         self.integrator: _core.TimeIntegrator | None = None
+        self.settled: _core.EquilibriumResult | None = None  # the static start, once done (settle)
         a = scene.analysis
         if a.type == "dynamic":
             self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,
@@ -107,6 +112,28 @@ class Simulation:
             initial_velocity(self, v)
             self.integrator.initialize(0.0, self._model.x, v)
             v.destroy()
+
+    def settle(self) -> "_core.EquilibriumResult":
+        """Start a dynamic run from static equilibrium: solve for the equilibrium under the loads
+        at t = 0 (pseudo-transient continuation, robust for mechanisms and slack cables), with
+        each slider held or free as its scene says, then restart the integrator there at rest
+        (plus the scene's initial velocities). Raises EquilibriumFailure if no equilibrium is
+        reached; the state is then the last one of the continuation."""
+        assert self.integrator is not None, "settle() starts dynamic runs"
+        solver = _core.EquilibriumSolver(self._model)
+        held = [self.sliding_coordinate_index(k) for k, j in enumerate(self.scene.sliding_joints) if j.static == "held"]
+        solver.set_held(held)
+        result = solver.solve(0.0, self.scene.analysis.dt)
+        self.settled = result
+        if not result.converged:
+            raise EquilibriumFailure(
+                f"the static start found no equilibrium: residual {result.residual:.3e} (from {result.residual0:.3e}) "
+                f"after {result.pseudo_steps} continuation steps and {result.newton_iterations} Newton iterations")
+        v = self._model.x.duplicate()
+        initial_velocity(self, v)
+        self.integrator.initialize(0.0, self._model.x, v)
+        v.destroy()
+        return result
 
     @property
     def t(self) -> float:
@@ -324,6 +351,8 @@ class Simulation:
         ``state`` (from :func:`slidebeam.checkpoint.read_checkpoint`) resumes a run."""
         if self.integrator is None:
             raise ValueError("run_dynamic needs [analysis] type = \"dynamic\"")
+        if state is None and self.scene.analysis.start == "equilibrium" and self.settled is None:
+            self.settle()
         return run_dynamic(self, on_step, state, on_checkpoint)
 
     def _beam(self, beam: int | str) -> int:

@@ -67,3 +67,80 @@ def test_elimination_order_is_a_permutation_with_sliders_before_carriers(tmp_pat
         # the joint's extras right after the slider's three points, before any carrier point
         assert position[first_extra] > position[18 * (slider + 2) + 17]
         assert position[first_extra] < position[18 * carrier]
+
+
+def test_static_start_hangs_a_straight_rope_in_its_sag():
+    """A straight rope between spherical supports has no transverse stiffness but its tiny EI:
+    statics from there is a near-singular mechanism. The equilibrium start reaches its sag,
+    which matches the taut elastic cable (parabola, d^3 = 3 q L^4 / (64 EA)) to 0.5 %, and the
+    run then stays at rest."""
+    import math
+
+    import slidebeam
+
+    sim = slidebeam.Simulation(slidebeam.load_scene(ROOT / "runs" / "cables" / "slack_rope.toml"))
+    outcome = sim.run_dynamic()
+    assert outcome.complete and sim.settled is not None and sim.settled.converged
+    EA, q, L = 1e11 * math.pi * 1e-4, 7800 * math.pi * 1e-4 * 9.81, 20.0
+    sag = -outcome.records[0].tracked[0][2]
+    assert sag == pytest.approx((3 * q * L**4 / (64 * EA)) ** (1 / 3), rel=5e-3)
+    energy = abs(outcome.records[0].total_energy)
+    assert max(r.kinetic_energy for r in outcome.records) < 1e-12 * energy
+    assert abs(outcome.records[-1].tracked[0][2] + sag) < 1e-9 * sag
+
+
+def _ropeway(tmp_path: Path, static: str) -> "slidebeam.Simulation":
+    import slidebeam
+
+    scene = cable_scene(tmp_path, 1, 32, 3, "--start", "equilibrium", "--static", static, "--t-end", "0.02")
+    return slidebeam.Simulation(slidebeam.load_scene(scene))
+
+
+def test_static_start_with_held_sliders_keeps_them_in_place(tmp_path):
+    sim = _ropeway(tmp_path, "held")
+    s0 = [j.s for j in sim.joint_states()]
+    outcome = sim.run_dynamic()
+    assert outcome.complete
+    first = outcome.records[0]
+    assert [j.s for j in first.joints] == pytest.approx(s0, abs=1e-12)
+    assert first.kinetic_energy == 0.0
+    assert first.tracked[0][2] < -2.0 - 0.05  # the cable sags under the masses: the hanger's end below its start
+    # released, the sliders start to move (they were held off the low point)
+    assert max(abs(a.s - b.s) for a, b in zip(outcome.records[-1].joints, first.joints)) > 1e-6
+
+
+def test_static_start_with_free_sliders_finds_the_low_point(tmp_path):
+    """Free sliders on a symmetric sagging rope all end at its low point, the middle, and stay."""
+    sim = _ropeway(tmp_path, "free")
+    outcome = sim.run_dynamic()
+    assert outcome.complete
+    for rec in (outcome.records[0], outcome.records[-1]):
+        assert [j.s for j in rec.joints] == pytest.approx([10.0] * 3, abs=1e-6)
+    energy = abs(outcome.records[0].total_energy)
+    assert max(r.kinetic_energy for r in outcome.records) < 1e-12 * energy
+
+
+def test_equilibrium_start_keys_are_checked(tmp_path):
+    import slidebeam
+
+    text = (ROOT / "runs" / "cables" / "slack_rope.toml").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('start = "equilibrium"', 'start = "equilibrum"'))
+    with pytest.raises(slidebeam.SceneError, match="start"):
+        slidebeam.load_scene(bad)
+    bad.write_text(text.replace('type = "dynamic"', 'type = "static"'))
+    with pytest.raises(slidebeam.SceneError, match='applies to type = "dynamic" only'):
+        slidebeam.load_scene(bad)
+
+
+def test_static_start_is_the_same_on_all_ranks_and_on_one():
+    """Meaningful under mpirun: the distributed equilibrium equals the serial one to the level
+    its residual floor defines it (1e-8 of the sag)."""
+    import slidebeam
+
+    scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.002"])
+    world = slidebeam.Simulation(scene, MPI.COMM_WORLD).run_dynamic().records
+    alone = slidebeam.Simulation(scene, MPI.COMM_SELF).run_dynamic().records
+    for a, b in zip(world, alone):
+        for p, q in zip(a.tracked, b.tracked):
+            assert max(abs(u - v) for u, v in zip(p, q)) < 1e-8

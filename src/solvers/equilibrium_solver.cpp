@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/equilibrium_solver.hpp"
+
+#include "util/petsc_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slidebeam {
+
+EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
+  if (!model.finalized()) model.finalize();
+  M_ = model.create_mass_matrix();
+  SB_CHECK(MatDuplicate(model.jacobian(), MAT_DO_NOT_COPY_VALUES, &J_));
+  SB_CHECK(VecDuplicate(model.x(), &x_k_));
+  SB_CHECK(VecDuplicate(model.x(), &work_));
+  SB_CHECK(SNESCreate(model.comm(), &snes_));
+  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &EquilibriumSolver::form_function, this));
+  SB_CHECK(SNESSetJacobian(snes_, J_, J_, &EquilibriumSolver::form_jacobian, this));
+  SB_CHECK(configure_newton(snes_, &test_));
+  SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-12, 1e-12, 25, 10000));
+  SB_CHECK(SNESSetConvergenceTest(snes_, &EquilibriumSolver::converged, this, nullptr));
+  SB_CHECK(SNESSetFromOptions(snes_));
+}
+
+EquilibriumSolver::~EquilibriumSolver() {
+  SNESDestroy(&snes_);
+  MatDestroy(&J_);
+  MatDestroy(&M_);
+  VecDestroy(&x_k_);
+  VecDestroy(&work_);
+}
+
+void EquilibriumSolver::set_held(const std::vector<PetscInt>& rows) {
+  held_.clear();
+  const DofMap& map = model_.dof_map();
+  for (PetscInt r : rows)
+    if (r >= map.owned_lo() && r < map.owned_hi()) held_.push_back(r);
+  std::sort(held_.begin(), held_.end());
+  held_.erase(std::unique(held_.begin(), held_.end()), held_.end());
+}
+
+/// F(x) + c M (x - x_k); prescribed and held rows: x_i - (prescribed value | x_k,i).
+PetscErrorCode EquilibriumSolver::form_function(SNES, Vec x, Vec F, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<EquilibriumSolver*>(ctx);
+  PetscCall(self->model_.assemble_effects_residual(StepEval{StepRule::Endpoint, self->t_, 1.0}, x, F));
+  if (self->c_ > 0) {
+    PetscCall(VecWAXPY(self->work_, -1.0, self->x_k_, x));
+    PetscCall(VecScale(self->work_, self->c_));
+    PetscCall(MatMultAdd(self->M_, self->work_, F, F));
+  }
+  PetscCall(self->model_.set_prescribed_residual_rows(x, F));
+  if (!self->held_.empty()) {
+    const PetscScalar *xa = nullptr, *ka = nullptr;
+    PetscScalar* fa = nullptr;
+    const PetscInt lo = self->model_.dof_map().owned_lo();
+    PetscCall(VecGetArrayRead(x, &xa));
+    PetscCall(VecGetArrayRead(self->x_k_, &ka));
+    PetscCall(VecGetArray(F, &fa));
+    for (PetscInt r : self->held_) fa[r - lo] = xa[r - lo] - ka[r - lo];
+    PetscCall(VecRestoreArray(F, &fa));
+    PetscCall(VecRestoreArrayRead(self->x_k_, &ka));
+    PetscCall(VecRestoreArrayRead(x, &xa));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode EquilibriumSolver::form_jacobian(SNES snes, Vec x, Mat J, Mat, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<EquilibriumSolver*>(ctx);
+  PetscCall(self->model_.assemble_effects_jacobian(StepEval{StepRule::Endpoint, self->t_, 1.0}, x, J, &self->coo_,
+                                                   1.0, self->c_));
+  PetscCall(self->model_.set_prescribed_jacobian_rows(J));
+  PetscCall(MatZeroRows(J, static_cast<PetscInt>(self->held_.size()), self->held_.data(), 1.0, nullptr, nullptr));
+  PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
+  PetscFunctionReturn(0);
+}
+
+/// PETSc's test and the roundoff test, plus: converged once the residual stagnates with a Newton
+/// step below 1e-9 of the state. Near equilibrium the residual sits at its roundoff floor
+/// (large EA times 1e-16), which no relative decrease can pass.
+PetscErrorCode EquilibriumSolver::converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                            SNESConvergedReason* reason, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<EquilibriumSolver*>(ctx);
+  const double prev = self->test_.fnorm_prev;
+  PetscCall(RoundoffTest::test(snes, it, xnorm, snorm, fnorm, reason, &self->test_));
+  if (*reason == SNES_CONVERGED_ITERATING && it > 1 && fnorm >= 0.5 * prev && snorm <= 1e-9 * xnorm)
+    *reason = SNES_CONVERGED_SNORM_RELATIVE;
+  PetscFunctionReturn(0);
+}
+
+/// ||F(x)|| of plain statics (held rows count as satisfied).
+PetscErrorCode EquilibriumSolver::static_residual_norm(Vec x, double* norm) {
+  PetscFunctionBeginUser;
+  const double c = c_;
+  c_ = 0.0;
+  PetscCall(VecCopy(x, x_k_));  // held rows: x_i - x_i = 0
+  PetscCall(form_function(snes_, x, work_, this));
+  c_ = c;
+  PetscReal n = 0;
+  PetscCall(VecNorm(work_, NORM_2, &n));
+  *norm = n;
+  PetscFunctionReturn(0);
+}
+
+EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int max_steps) {
+  EquilibriumResult res;
+  t_ = t;
+  Vec x = model_.x();
+  model_.apply_prescribed(x);
+  Vec x_start = nullptr, F = nullptr;
+  SB_CHECK(VecDuplicate(x, &x_start));
+  SB_CHECK(VecDuplicate(x, &F));
+  double r = 0.0;
+  SB_CHECK(static_residual_norm(x, &r));
+  res.residual0 = r;
+  const double target = std::max(rtol * r, 1e-10);
+  double h = h0;
+  auto newton = [&](double c) {
+    c_ = c;
+    SB_CHECK(VecCopy(x, x_k_));
+    SB_CHECK(SNESSolve(snes_, nullptr, x));
+    const SolveResult s = solve_result(snes_);
+    res.newton_iterations += s.iterations;
+    return s.converged() && std::isfinite(s.residual_norm);
+  };
+  int cuts = 0;
+  bool polish_tried = false;
+  while (r > target && res.pseudo_steps < max_steps) {
+    SB_CHECK(VecCopy(x, x_start));
+    if (!newton(1.0 / (h * h))) {
+      SB_CHECK(VecCopy(x_start, x));
+      h *= 0.5;
+      if (++cuts > 12) break;  // in a row: 1/4096 of the pseudo-step that last worked
+      continue;
+    }
+    cuts = 0;
+    ++res.pseudo_steps;
+    double r_new = 0.0, dx = 0.0, xn = 0.0;
+    SB_CHECK(static_residual_norm(x, &r_new));
+    // how far the coordinates moved (multipliers are as noisy as the residual is small)
+    SB_CHECK(VecWAXPY(work_, -1.0, x_start, x));
+    SB_CHECK(VecPointwiseMult(work_, work_, model_.coordinate_mask()));
+    SB_CHECK(VecNorm(work_, NORM_INFINITY, &dx));
+    SB_CHECK(VecPointwiseMult(work_, x, model_.coordinate_mask()));
+    SB_CHECK(VecNorm(work_, NORM_INFINITY, &xn));
+    // The pseudo-step grows at least 2x after an easy solve, faster when the residual falls
+    // (switched evolution relaxation), at most 10x; a hard solve keeps it.
+    const SolveResult last = solve_result(snes_);
+    const double ser = std::sqrt(r / std::max(r_new, 1e-300));
+    h *= last.iterations <= 6 ? std::clamp(ser, 2.0, 10.0) : std::clamp(ser, 1.0, 2.0);
+    const bool stagnant = r_new >= 0.5 * r;
+    SB_CHECK(PetscInfo(snes_, "continuation step %d: h %g, |F| %g, |dx| %g, |x| %g, Newton %d\n", res.pseudo_steps, h, r_new, dx, xn, (int)last.iterations));
+    r = r_new;
+    // At the residual's roundoff floor (large EA times 1e-16) it stops falling: that is the
+    // equilibrium. Stop there: a mechanism (a hanger's spin about its own axis, free at a
+    // slider) leaves the plain tangent singular, and ever larger pseudo-steps would let roundoff
+    // drive the state along it.
+    if (stagnant && r <= 1e-6 * res.residual0) {
+      res.at_roundoff = true;
+      break;
+    }
+    // Close to equilibrium, try plain Newton once (not before: from far away it may find an
+    // unstable equilibrium, a hanger pointing up).
+    if (!polish_tried && r <= 1e-4 * res.residual0) {
+      polish_tried = true;
+      SB_CHECK(VecCopy(x, x_start));
+      if (newton(0.0)) {
+        SB_CHECK(static_residual_norm(x, &r));
+        res.polished = true;
+        break;
+      }
+      SB_CHECK(VecCopy(x_start, x));
+    }
+  }
+  c_ = 0.0;
+  res.residual = r;
+  res.converged = r <= target || res.polished || res.at_roundoff;
+  SB_CHECK(VecDestroy(&x_start));
+  SB_CHECK(VecDestroy(&F));
+  return res;
+}
+
+}  // namespace slidebeam

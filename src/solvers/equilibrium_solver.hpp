@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Static equilibrium of a scene that may be a mechanism at its start: a hanging beam that
+/// can swing about its slider, a slider free to move along a straight cable, a straight cable
+/// whose only transverse stiffness is a tiny EI. Plain Newton on F(x) = 0 meets a singular or
+/// nearly singular tangent there (zero tension: zero geometric stiffness). Pseudo-transient
+/// continuation (Kelley & Keyes 1998) solves instead a sequence of heavily damped steps from rest
+///
+///   F(x) + M (x - x_k) / h_k^2 = 0,
+///
+/// whose matrix K + M/h^2 is regular wherever a dynamic step's is, and lets h grow by the ratio
+/// of successive residuals (switched evolution relaxation) until the term vanishes: the limit is
+/// a root of F. A final plain Newton solve polishes the state when its tangent is regular
+/// (a mechanism in equilibrium keeps the continued state, whose residual is already at the
+/// tolerance). Sliders can be held (s prescribed at its current value) during the solve.
+
+#include "model/model.hpp"
+#include "solvers/newton.hpp"
+
+#include <vector>
+
+namespace slidebeam {
+
+struct EquilibriumResult {
+  bool converged = false;
+  int pseudo_steps = 0;       ///< continuation steps taken (accepted)
+  int newton_iterations = 0;  ///< all Newton iterations, polish included
+  double residual0 = 0.0;     ///< ||F|| of the start state
+  double residual = 0.0;      ///< ||F|| of the final state
+  bool polished = false;      ///< the final plain Newton solve converged
+  bool at_roundoff = false;   ///< stopped at the residual's roundoff floor, the state at rest
+};
+
+class EquilibriumSolver {
+ public:
+  explicit EquilibriumSolver(Model& model);
+  ~EquilibriumSolver();
+  EquilibriumSolver(const EquilibriumSolver&) = delete;
+  EquilibriumSolver& operator=(const EquilibriumSolver&) = delete;
+
+  /// Unknowns kept at their current values during the solve (held sliding coordinates); global
+  /// indices, any rank may list any row.
+  void set_held(const std::vector<PetscInt>& rows);
+  /// Continuation from the model's current x to equilibrium under the loads at time t, with
+  /// initial pseudo-step h0 (the scene's dt is a good start), to ||F|| <= rtol ||F_0|| (or the
+  /// Newton tolerance). x is updated in place: the last accepted state if it did not converge.
+  EquilibriumResult solve(double t, double h0, double rtol = 1e-10, int max_steps = 200);
+  SNES snes() const { return snes_; }
+
+ private:
+  static PetscErrorCode form_function(SNES, Vec x, Vec F, void* ctx);
+  static PetscErrorCode form_jacobian(SNES, Vec x, Mat J, Mat P, void* ctx);
+  static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                  SNESConvergedReason* reason, void* ctx);
+  PetscErrorCode static_residual_norm(Vec x, double* norm);
+
+  Model& model_;
+  RoundoffTest test_;
+  SNES snes_ = nullptr;
+  Mat J_ = nullptr, M_ = nullptr;
+  CooAssembly coo_;
+  Vec x_k_ = nullptr, work_ = nullptr;
+  std::vector<PetscInt> held_;  // owned rows
+  double t_ = 0.0;
+  double c_ = 0.0;  // 1 / h^2 (0: plain statics)
+  int pattern_seen_ = 0;
+};
+
+}  // namespace slidebeam
