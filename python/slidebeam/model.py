@@ -3,6 +3,7 @@
 physical term the scene names (and nothing else)."""
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from . import _core
@@ -70,16 +71,12 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
     for j in scene.rigid_joints:
         add("rigid_joint", f"rigid_joint[{_where(scene, j.beam_a, j.at_a)}-{_where(scene, j.beam_b, j.at_b)}]",
             {"beam_a": j.beam_a, "s_a": j.at_a, "beam_b": j.beam_b, "s_b": j.at_b})
-    for i, sj in enumerate(scene.sliding_joints):
+    for sj in scene.sliding_joints:
         num = {"slider": sj.slider, "slider_s": sj.at, "carrier": sj.carrier}
         if sj.tolerance is not None:
             num["tolerance"] = sj.tolerance
-        try:
-            add("sliding_joint", f"sliding_joint[{_where(scene, sj.slider, sj.at)} on {scene.beams[sj.carrier].name}]",
-                num, None, {"discrete_gradient": sj.discrete_gradient})
-        except ValueError as exc:  # the core's closest-point projection found the slider off its carrier
-            raise SceneError(str(exc).removeprefix("sliding_joint: "), scene.file,
-                             f"[[sliding_joint]] #{i + 1}") from exc
+        add("sliding_joint", f"sliding_joint[{_where(scene, sj.slider, sj.at)} on {scene.beams[sj.carrier].name}]",
+            num, None, {"discrete_gradient": sj.discrete_gradient})
     for pm in scene.point_masses:
         add("point_mass", f"point_mass[{_where(scene, pm.beam, pm.at)}, {pm.mass:g} kg]",
             {"beam": pm.beam, "s": pm.at, "mass": pm.mass})
@@ -89,5 +86,20 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
               else TimeFunction("constant", 0.0, float("inf"), float("inf")))
         num, text = _tf(tf)
         add("gravity", "gravity", num, {"g": list(scene.gravity)}, text)
-    model.finalize()
+    try:
+        model.finalize()
+    except ValueError as exc:
+        raise _placement_error(scene, str(exc)) from exc
     return model, effects
+
+
+def _placement_error(scene: Scene, message: str) -> Exception:
+    """The core's parallel closest-point search found a slider off its carrier: name the
+    [[sliding_joint]] (the message names the slider and carrier beams)."""
+    match = re.match(r"sliding_joint: the slider point of beam '(.*?)' .* from carrier '(.*?)'", message)
+    if not match:
+        return ValueError(message)
+    for i, sj in enumerate(scene.sliding_joints):
+        if (scene.beams[sj.slider].name, scene.beams[sj.carrier].name) == match.groups():
+            return SceneError(message.removeprefix("sliding_joint: "), scene.file, f"[[sliding_joint]] #{i + 1}")
+    return ValueError(message)

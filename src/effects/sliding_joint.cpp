@@ -41,19 +41,26 @@ class SlidingJoint final : public Effect {
     else if (form == "midpoint") exact_ = false;
     else throw std::invalid_argument("sliding_joint: discrete_gradient must be 'exact' or 'midpoint', not '" + form + "'");
 
-    // initial s: closest point of the slider point on the carrier (reference configuration)
-    double point[3] = {0, 0, 0};
+    // initial s: the closest point of the slider point on the carrier (reference configuration),
+    // found by the model's parallel search (closest_point_queries / set_closest_points)
     for (int b = 0; b < 3; ++b)
-      for (int k = 0; k < 3; ++k) point[k] += slider_basis_.N[b] * S.q_ref()[12 * (slider_basis_.span + b) + k];
-    const auto proj = sliding::project(C.n_spans(), C.length(), C.q_ref().data(), 12, point);
-    s0_ = proj[0];
-    const double tol = p.number("tolerance", 1e-6 * C.length());
+      for (int k = 0; k < 3; ++k) point_[k] += slider_basis_.N[b] * S.q_ref()[12 * (slider_basis_.span + b) + k];
+    tolerance_ = p.number("tolerance", 1e-6 * C.length());
     label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + C.name() + "]";
-    if (proj[1] > tol) {
+  }
+  void closest_point_queries(const Model&, std::vector<ClosestPointQuery>& q) const override {
+    ClosestPointQuery query;
+    query.carrier = carrier_;
+    std::copy(point_, point_ + 3, query.point);
+    q.push_back(query);
+  }
+  void set_closest_points(const Model& m, const ClosestPoint* found) override {
+    s0_ = found[0].s;
+    if (found[0].distance > tolerance_) {
       std::ostringstream msg;
-      msg << "sliding_joint: the slider point of beam '" << S.name() << "' (" << point[0] << ", " << point[1] << ", "
-          << point[2] << ") is " << proj[1] << " from carrier '" << C.name() << "' (closest at s = " << s0_
-          << "); tolerance " << tol;
+      msg << "sliding_joint: the slider point of beam '" << m.beam(slider_).name() << "' (" << point_[0] << ", "
+          << point_[1] << ", " << point_[2] << ") is " << found[0].distance << " from carrier '"
+          << m.beam(carrier_).name() << "' (closest at s = " << s0_ << "); tolerance " << tolerance_;
       throw std::invalid_argument(msg.str());
     }
   }
@@ -77,12 +84,26 @@ class SlidingJoint final : public Effect {
     const Beam& C = m.beam(carrier_);
     const auto r = sliding::touched_cps(C.n_spans(), C.length(), s0_, s0_);
     move_window(r[0], r[1], C.n_cp());
+    ghost_lo_ = std::max(0, r[0] - kGhostMargin);
+    ghost_hi_ = std::min(C.n_cp() - 1, r[1] + kGhostMargin);
   }
+  /// The slider's points, the carrier points around s (the ghost window: the touched ones plus
+  /// kGhostMargin on either side, moved by refresh_needed_dofs) and the joint's extras: the
+  /// carrier points a joint reads come from whichever rank owns them, O(1) per joint.
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
     add_cp_blocks(m.dof_map(), slider_cp(m, 0), 3, dofs);
-    add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp(), m.beam(carrier_).n_cp(), dofs);
+    add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp() + ghost_lo_, ghost_hi_ - ghost_lo_ + 1, dofs);
     for (int k = 0; k < 4; ++k) dofs.push_back(extra_offset() + k);
+  }
+  bool refresh_needed_dofs(const Model& m, const LocalValues& x, const LocalValues& x_old) const override {
+    if (!owned_) return false;
+    const Beam& C = m.beam(carrier_);
+    const auto r = sliding::touched_cps(C.n_spans(), C.length(), x_old.at(s_index()), x.at(s_index()));
+    if (r[0] >= ghost_lo_ && r[1] <= ghost_hi_) return false;
+    ghost_lo_ = std::max(0, r[0] - kGhostMargin);
+    ghost_hi_ = std::min(C.n_cp() - 1, r[1] + kGhostMargin);
+    return true;
   }
   /// The joint couples positions only with s and mu, never positions with positions: its
   /// pattern is the columns (s, mu) of the position rows and the rows (s, mu), over the slider's
@@ -256,12 +277,18 @@ class SlidingJoint final : public Effect {
     win_hi_ = std::min(n_cp - 1, hi + kWindowMargin);
   }
   static constexpr int kWindowMargin = 2;  ///< carrier points beyond the touched ones
+  /// Ghosted carrier points beyond the touched ones: wider than the Jacobian's window, which
+  /// must lie within them (its values are read), so ghosts move less often than the pattern.
+  static constexpr int kGhostMargin = 4;
 
   int slider_, carrier_;
   mutable int win_lo_ = 0, win_hi_ = -1;  ///< carrier points in the Jacobian pattern
+  mutable int ghost_lo_ = 0, ghost_hi_ = -1;  ///< carrier points ghosted
   PointBasis slider_basis_;
   bool exact_ = true;
   double s0_ = 0.0;
+  double point_[3] = {0, 0, 0};  ///< the slider point, reference configuration
+  double tolerance_ = 0.0;       ///< largest distance from the carrier at the start
   std::string label_;
   bool owned_ = false;
 };

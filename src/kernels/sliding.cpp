@@ -54,9 +54,8 @@ void difference_quotient(int n_spans, double L, double s0, double s1, Weights& D
   }
 }
 
-std::array<double, 2> project(int n_spans, double L, const double* x, int stride, const double p[3]) {
-  double best_s = 0.0, best_d = std::numeric_limits<double>::infinity();
-  auto eval = [&](int e, double s, double c[3], double dc[3], double ddc[3]) {
+std::array<double, 2> project_on_span(int n_spans, double L, const double* x, int stride, int e, const double p[3]) {
+  auto eval = [&](double s, double c[3], double dc[3], double ddc[3]) {
     const auto b = bspline::basis_on_span(n_spans, e, s / L);
     for (int k = 0; k < 3; ++k) c[k] = dc[k] = ddc[k] = 0.0;
     for (int a = 0; a < 3; ++a) {
@@ -68,33 +67,38 @@ std::array<double, 2> project(int n_spans, double L, const double* x, int stride
       }
     }
   };
-  for (int e = 0; e < n_spans; ++e) {
-    const double sa = L * e / n_spans, sb = L * (e + 1) / n_spans;
-    constexpr int kSamples = 8;
-    double s = sa, dmin = std::numeric_limits<double>::infinity();
-    double c[3], dc[3], ddc[3];
-    for (int i = 0; i <= kSamples; ++i) {  // start from the nearest sample
-      const double si = sa + (sb - sa) * i / kSamples;
-      eval(e, si, c, dc, ddc);
-      const double d = std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2]);
-      if (d < dmin) dmin = d, s = si;
-    }
-    for (int it = 0; it < 50; ++it) {  // Newton on f(s) = (c - p) . c', kept inside the span
-      eval(e, s, c, dc, ddc);
-      double f = 0, df = 0;
-      for (int k = 0; k < 3; ++k) {
-        f += (c[k] - p[k]) * dc[k];
-        df += dc[k] * dc[k] + (c[k] - p[k]) * ddc[k];
-      }
-      if (df <= 0) break;
-      const double sn = std::clamp(s - f / df, sa, sb);
-      const bool done = std::abs(sn - s) <= 1e-15 * L;
-      s = sn;
-      if (done) break;
-    }
-    eval(e, s, c, dc, ddc);
+  const double sa = L * e / n_spans, sb = L * (e + 1) / n_spans;
+  constexpr int kSamples = 8;
+  double s = sa, dmin = std::numeric_limits<double>::infinity();
+  double c[3], dc[3], ddc[3];
+  for (int i = 0; i <= kSamples; ++i) {  // start from the nearest sample
+    const double si = sa + (sb - sa) * i / kSamples;
+    eval(si, c, dc, ddc);
     const double d = std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2]);
-    if (d < best_d) best_d = d, best_s = s;
+    if (d < dmin) dmin = d, s = si;
+  }
+  for (int it = 0; it < 50; ++it) {  // Newton on f(s) = (c - p) . c', kept inside the span
+    eval(s, c, dc, ddc);
+    double f = 0, df = 0;
+    for (int k = 0; k < 3; ++k) {
+      f += (c[k] - p[k]) * dc[k];
+      df += dc[k] * dc[k] + (c[k] - p[k]) * ddc[k];
+    }
+    if (df <= 0) break;
+    const double sn = std::clamp(s - f / df, sa, sb);
+    const bool done = std::abs(sn - s) <= 1e-15 * L;
+    s = sn;
+    if (done) break;
+  }
+  eval(s, c, dc, ddc);
+  return {s, std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2])};
+}
+
+std::array<double, 2> project(int n_spans, double L, const double* x, int stride, const double p[3]) {
+  double best_s = 0.0, best_d = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < n_spans; ++e) {
+    const auto r = project_on_span(n_spans, L, x, stride, e, p);
+    if (r[1] < best_d) best_d = r[1], best_s = r[0];
   }
   return {best_s, best_d};
 }

@@ -38,6 +38,10 @@ void difference_quotient(int n_spans, double L, double s0, double s1, Weights& D
 /// First and last carrier control point touched by [min(s0,s1), max(s0,s1)] (span range + 2).
 std::array<int, 2> touched_cps(int n_spans, double L, double s0, double s1);
 
+/// Closest point of span e of the curve sum_A N_A(s) x_A to p (samples, then Newton on
+/// (c(s) - p) . c'(s) = 0 inside the span). Returns {s, distance}.
+std::array<double, 2> project_on_span(int n_spans, double L, const double* x, int stride, int e, const double p[3]);
+
 /// Closest point of the curve sum_A N_A(s) x_A (x_A: control point positions, 3 values each
 /// with the given stride) to the point p: search every span (samples, then Newton on
 /// (c(s) - p) . c'(s) = 0 inside the span). Returns {s, distance}.

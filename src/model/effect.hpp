@@ -5,6 +5,7 @@
 /// assembles exactly the effects a scene creates.
 
 #include "model/dof_map.hpp"
+#include "search/closest_point_search.hpp"
 
 #include <petscmat.h>
 
@@ -125,10 +126,25 @@ class Effect {
   void set_extra_offset(PetscInt first) { extra_offset_ = first; }
   PetscInt extra_offset() const { return extra_offset_; }
 
+  /// Points this effect wants located on beams' centre lines (reference configuration) before
+  /// distribute(): the model answers all effects' queries in one parallel search.
+  virtual void closest_point_queries(const Model&, std::vector<ClosestPointQuery>&) const {}
+  /// The answers to this effect's queries, in order, on every rank (so an error is the same
+  /// everywhere). Throws std::invalid_argument for a point off its beam.
+  virtual void set_closest_points(const Model&, const ClosestPoint*) {}
+
   /// Choose the items (elements, points) this rank evaluates. Called once after numbering.
   virtual void distribute(const Model& model) = 0;
   /// Global unknowns read by this rank's items (for the ghost scatter).
   virtual void needed_dofs(const Model& model, std::vector<PetscInt>& dofs) const = 0;
+  /// Effects whose unknowns move (a sliding joint reads the carrier points around s): given the
+  /// ghosted unknowns before an evaluation (x and the step start x_old), return true when they
+  /// will read unknowns outside needed_dofs(), after updating what needed_dofs() returns. The
+  /// model then rebuilds its ghost scatter (collective). Unknowns the effect declared always
+  /// stay readable, so an effect may read its own moving coordinate here.
+  virtual bool refresh_needed_dofs(const Model&, const LocalValues& /*x*/, const LocalValues& /*x_old*/) const {
+    return false;
+  }
   /// Record every Jacobian entry the effect may ever touch (values are ignored).
   virtual PetscErrorCode pattern(const Model& model, const MatSink& sink) const = 0;
 

@@ -40,6 +40,7 @@ Model::~Model() {
   // Effects may hold no PETSc objects; destroy ours. Safe after PetscFinalize only if never created.
   VecScatterDestroy(&scatter_);
   VecDestroy(&x_local_);
+  VecDestroy(&x_old_);
   VecDestroy(&r_local_);
   VecDestroy(&x_old_local_);
   VecDestroy(&xf_local_);
@@ -75,25 +76,13 @@ void Model::finalize() {
     n_extra += e->n_extra();
   }
   map_ = DofMap(n_cp_total_, n_extra, rank_, size_);
+  locate_points();
   for (auto& e : effects_) e->distribute(*this);
-
-  // Ghost scatter: every unknown an effect on this rank reads.
-  for (const auto& e : effects_) e->needed_dofs(*this, ghost_dofs_);
-  std::sort(ghost_dofs_.begin(), ghost_dofs_.end());
-  ghost_dofs_.erase(std::unique(ghost_dofs_.begin(), ghost_dofs_.end()), ghost_dofs_.end());
-  const PetscInt n_ghost = static_cast<PetscInt>(ghost_dofs_.size());
 
   SB_CHECK(VecCreateMPI(comm_, map_.local_size(), map_.global_size(), &x_));
   SB_CHECK(VecSetOptionsPrefix(x_, "sb_x_"));
   SB_CHECK(VecDuplicate(x_, &r_));
-  SB_CHECK(VecCreateSeq(PETSC_COMM_SELF, n_ghost, &x_local_));
-  SB_CHECK(VecDuplicate(x_local_, &r_local_));
-  SB_CHECK(VecDuplicate(x_local_, &x_old_local_));
-  SB_CHECK(VecDuplicate(x_local_, &xf_local_));
-  IS is = nullptr;
-  SB_CHECK(ISCreateGeneral(PETSC_COMM_SELF, n_ghost, ghost_dofs_.data(), PETSC_COPY_VALUES, &is));
-  SB_CHECK(VecScatterCreate(x_, is, x_local_, nullptr, &scatter_));
-  SB_CHECK(ISDestroy(&is));
+  SB_CHECK(build_ghosts());
 
   // Jacobian with exact preallocation: record every block effects may touch, plus the diagonal.
   Mat P = nullptr;
@@ -169,6 +158,21 @@ void Model::finalize() {
   set_reference_state(x_);
 }
 
+void Model::locate_points() {
+  std::vector<ClosestPointQuery> queries;
+  std::vector<size_t> first(effects_.size() + 1, 0);
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    effects_[k]->closest_point_queries(*this, queries);
+    first[k + 1] = queries.size();
+  }
+  if (queries.empty()) return;
+  PetscLogEventBegin(event("SBContactSearch"), 0, 0, 0, 0);
+  const std::vector<ClosestPoint> answers = closest_points(*this, queries);
+  PetscLogEventEnd(event("SBContactSearch"), 0, 0, 0, 0);
+  for (size_t k = 0; k < effects_.size(); ++k)
+    if (first[k + 1] > first[k]) effects_[k]->set_closest_points(*this, answers.data() + first[k]);
+}
+
 std::vector<double> Model::extra_values(int effect, Vec x) const {
   const Effect& e = *effects_.at(static_cast<size_t>(effect));
   std::vector<double> v(static_cast<size_t>(e.n_extra()), 0.0);
@@ -221,7 +225,60 @@ Momenta Model::momenta(Vec x, Vec p) const {
   return out;
 }
 
-PetscErrorCode Model::set_step_start(Vec x_old) { return update_ghosts(x_old, x_old_local_); }
+PetscErrorCode Model::set_step_start(Vec x_old) {
+  PetscFunctionBeginUser;
+  if (x_old != x_old_) {  // keep it alive: a ghost rebuild within the step ghosts it again
+    PetscCall(PetscObjectReference(reinterpret_cast<PetscObject>(x_old)));
+    PetscCall(VecDestroy(&x_old_));
+    x_old_ = x_old;
+  }
+  PetscCall(update_ghosts(x_old, x_old_local_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::build_ghosts() const {
+  PetscFunctionBeginUser;
+  ghost_dofs_.clear();
+  for (const auto& e : effects_) e->needed_dofs(*this, ghost_dofs_);
+  std::sort(ghost_dofs_.begin(), ghost_dofs_.end());
+  ghost_dofs_.erase(std::unique(ghost_dofs_.begin(), ghost_dofs_.end()), ghost_dofs_.end());
+  const PetscInt n_ghost = static_cast<PetscInt>(ghost_dofs_.size());
+  for (Vec* v : {&x_local_, &r_local_, &x_old_local_, &xf_local_}) PetscCall(VecDestroy(v));
+  PetscCall(VecScatterDestroy(&scatter_));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n_ghost, &x_local_));
+  PetscCall(VecDuplicate(x_local_, &r_local_));
+  PetscCall(VecDuplicate(x_local_, &x_old_local_));
+  PetscCall(VecDuplicate(x_local_, &xf_local_));
+  IS is = nullptr;
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n_ghost, ghost_dofs_.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(VecScatterCreate(x_, is, x_local_, nullptr, &scatter_));
+  PetscCall(ISDestroy(&is));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::prepare_ghosts(const StepEval& ev, Vec x) const {
+  PetscFunctionBeginUser;
+  PetscCall(update_ghosts(x));
+  const bool two_states = ev.rule != StepRule::Endpoint;
+  int moved = 0;
+  {
+    PetscScalar *xa = nullptr, *oa = nullptr;
+    PetscCall(VecGetArray(x_local_, &xa));
+    if (two_states) PetscCall(VecGetArray(x_old_local_, &oa));
+    const LocalValues xv(ghost_dofs_, xa), ov(ghost_dofs_, two_states ? oa : xa);
+    for (const auto& e : effects_) moved |= e->refresh_needed_dofs(*this, xv, ov) ? 1 : 0;
+    if (two_states) PetscCall(VecRestoreArray(x_old_local_, &oa));
+    PetscCall(VecRestoreArray(x_local_, &xa));
+  }
+  if (size_ > 1) PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &moved, 1, MPI_INT, MPI_LOR, comm_));
+  if (!moved) PetscFunctionReturn(0);
+  ++ghost_rebuilds_;
+  PetscCall(PetscInfo(nullptr, "Ghost set rebuilt (a sliding joint left its carrier window): %d\n", ghost_rebuilds_));
+  PetscCall(build_ghosts());
+  PetscCall(update_ghosts(x));
+  if (two_states && x_old_) PetscCall(update_ghosts(x_old_, x_old_local_));
+  PetscFunctionReturn(0);
+}
 
 void Model::apply_prescribed(Vec x) const {
   PetscScalar* a = nullptr;
@@ -273,7 +330,7 @@ PetscErrorCode Model::update_ghosts(Vec x, Vec local) const {
 template <class Body>
 PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const {
   PetscFunctionBeginUser;
-  PetscCall(update_ghosts(x));
+  PetscCall(prepare_ghosts(ev, x));
   // Endpoint rule: one state. Otherwise x_f = (1 - theta) x_old + theta x (x_old ghosted by
   // set_step_start).
   const bool two_states = ev.rule != StepRule::Endpoint;
@@ -301,20 +358,21 @@ PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const
 PetscErrorCode Model::assemble_effects_residual(const StepEval& ev, Vec x, Vec F) const {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev_residual_, 0, 0, 0, 0));
-  PetscCall(VecZeroEntries(r_local_));
-  PetscScalar* ra = nullptr;
-  PetscCall(VecGetArray(r_local_, &ra));
-  const LocalValues rv(ghost_dofs_, ra);
   PetscCall(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
     PetscFunctionBeginUser;
+    // r_local_ after the ghosts are ready: a rebuild replaces it
+    PetscCall(VecZeroEntries(r_local_));
+    PetscScalar* ra = nullptr;
+    PetscCall(VecGetArray(r_local_, &ra));
+    const LocalValues rv(ghost_dofs_, ra);
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
       PetscCall(effects_[k]->residual(ctx, rv));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }
+    PetscCall(VecRestoreArray(r_local_, &ra));
     PetscFunctionReturn(0);
   }));
-  PetscCall(VecRestoreArray(r_local_, &ra));
   PetscCall(VecZeroEntries(F));
   PetscCall(VecScatterBegin(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));

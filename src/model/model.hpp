@@ -120,12 +120,22 @@ class Model {
   /// the end, fills every carrier from its joints to its last point). Same on every rank.
   std::vector<PetscInt> elimination_order() const;
 
+  /// How often the ghost set was rebuilt because an effect moved (sliding joints).
+  int ghost_rebuilds() const { return ghost_rebuilds_; }
+
   /// Prescribed rows owned by this rank and their values.
   const std::vector<PetscInt>& prescribed_rows() const { return bc_rows_; }
 
  private:
   /// Scatter the global x into a ghosted local vector (default: x_local_).
   PetscErrorCode update_ghosts(Vec x, Vec local = nullptr) const;
+  /// The effects' closest-point queries, answered by one parallel search (collective).
+  void locate_points();
+  /// Ghost set and scatter from the effects' needed_dofs() (collective).
+  PetscErrorCode build_ghosts() const;
+  /// Ghost x (and, for two-state rules, the step start); if an effect's unknowns moved out of
+  /// its ghosts (refresh_needed_dofs), rebuild the ghosts on all ranks and ghost again.
+  PetscErrorCode prepare_ghosts(const StepEval& ev, Vec x) const;
   /// Ghost x, build the evaluation context of a step rule (x, x_f, x_old) and call body(ctx).
   template <class Body>
   PetscErrorCode with_context(const StepEval& ev, Vec x, Body&& body) const;
@@ -138,11 +148,14 @@ class Model {
   PetscInt n_cp_total_ = 0;
   DofMap map_;
 
-  // ghosting: sorted global indices needed on this rank, scatter global -> local work vector
-  std::vector<PetscInt> ghost_dofs_;
-  VecScatter scatter_ = nullptr;
-  Vec x_local_ = nullptr, r_local_ = nullptr;
-  Vec x_old_local_ = nullptr, xf_local_ = nullptr;
+  // ghosting: sorted global indices needed on this rank, scatter global -> local work vector;
+  // rebuilt when a moving effect needs other unknowns (hence mutable)
+  mutable std::vector<PetscInt> ghost_dofs_;
+  mutable VecScatter scatter_ = nullptr;
+  mutable Vec x_local_ = nullptr, r_local_ = nullptr;
+  mutable Vec x_old_local_ = nullptr, xf_local_ = nullptr;
+  Vec x_old_ = nullptr;  // the step start last given to set_step_start (not owned)
+  mutable int ghost_rebuilds_ = 0;
   Vec q_mask_ = nullptr, s_mask_ = nullptr;
   bool has_sliding_state_ = false;
   std::vector<PetscInt> init_rows_;  // initial values of extras (owned rows)
