@@ -128,6 +128,9 @@ PYBIND11_MODULE(_core, m) {
            py::arg("beam"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
            "fields sampled along a beam (dict of arrays: s, position, velocity, d1, d2, d3, strain, force, "
            "moment); collective")
+      .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
+      .def_property_readonly("ghost_rebuilds", &Model::ghost_rebuilds,
+                             "how often the ghost set was rebuilt because a sliding joint moved")
       .def("elimination_order", &Model::elimination_order,
            "permutation of the unknowns (new position -> old index) of the serial factorisation")
       .def("extra_offset", [](const Model& s, int effect) { return s.effects().at(static_cast<size_t>(effect))->extra_offset(); },

@@ -141,6 +141,12 @@ def _finish_costs(sim, summary: dict, t0: float, rank: int, quiet: bool) -> None
         from .costs import event_time
 
         summary["stepping_time_s"] = event_time("SBTimeStep")  # the time steps alone (no set-up)
+        summary["contact_search_setup_s"] = event_time("SBContactSearch")  # initial slider projection
+        times = sorted(sim.step_wall_times)
+        if times:
+            # the first step also sets up the Jacobian's pattern and the symbolic factorisation
+            summary["step_time_s"] = {"first": sim.step_wall_times[0], "median": times[len(times) // 2],
+                                      "max": times[-1]}
     if not quiet:
         _say(rank, "cost by phase (largest over ranks):\n" + cost_table(rows, wall))
 

@@ -7,6 +7,7 @@ The numerics (one SNES solve per step, the four integrators) live in the C++ cor
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable
 
@@ -164,7 +165,9 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
         # so that a run stopped at t_end and restarted takes exactly the steps of one that went on.
         remaining = t_end - integ.time
         h = st.dt if remaining >= st.dt * (1 - 1e-9) else remaining
+        t_step = time.perf_counter()
         result = integ.step(h)
+        sim.step_wall_times.append(time.perf_counter() - t_step)
         st.newton += result.iterations
         if result.converged:  # the core already counts NaN/Inf in F or x as a failure
             st.step += 1

@@ -102,6 +102,7 @@ class Simulation:
         self.use_predictor = True
         self.integrator: _core.TimeIntegrator | None = None
         self.settled: _core.EquilibriumResult | None = None  # the static start, once done (settle)
+        self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
         a = scene.analysis
         if a.type == "dynamic":
             self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,

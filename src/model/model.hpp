@@ -120,6 +120,8 @@ class Model {
   /// the end, fills every carrier from its joints to its last point). Same on every rank.
   std::vector<PetscInt> elimination_order() const;
 
+  /// Unknowns ghosted on this rank (owned ones included).
+  PetscInt ghost_count() const { return static_cast<PetscInt>(ghost_dofs_.size()); }
   /// How often the ghost set was rebuilt because an effect moved (sliding joints).
   int ghost_rebuilds() const { return ghost_rebuilds_; }
 

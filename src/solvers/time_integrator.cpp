@@ -60,8 +60,12 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   // SuperLU on these small banded systems. It does not pivot, so a zero pivot (d1 of the seed's
   // strains, which has neither mass nor stiffness) or any failed step switches to SuperLU for
   // good (use_pivoting_lu). An explicit -pc_factor_mat_solver_type wins over both.
-  PetscBool user_solver = PETSC_FALSE;
+  // An explicit solver or preconditioner (-pc_type asm, -pc_type fieldsplit, ...) from the
+  // options database wins.
+  PetscBool user_solver = PETSC_FALSE, user_pc = PETSC_FALSE;
   SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-pc_factor_mat_solver_type", &user_solver));
+  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-pc_type", &user_pc));
+  if (user_pc) user_solver = PETSC_TRUE;
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
   if (size == 1 && !user_solver) {
