@@ -20,6 +20,8 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
   SB_CHECK(configure_newton(snes_, &test_));
   SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-12, 1e-12, 25, 10000));
   SB_CHECK(SNESSetConvergenceTest(snes_, &EquilibriumSolver::converged, this, nullptr));
+  // Direct LU whatever -sb_schwarz says: near equilibrium the continuation's matrix approaches
+  // the singular tangent of a mechanism, where GMRES stalls. (-pc_type and friends still apply.)
   SB_CHECK(SNESSetFromOptions(snes_));
 }
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/time_integrator.hpp"
 
+#include "solvers/schwarz.hpp"
+
 #include "util/petsc_check.hpp"
 
 #include <cmath>
@@ -68,7 +70,10 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   if (user_pc) user_solver = PETSC_TRUE;
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
-  if (size == 1 && !user_solver) {
+  if (schwarz_requested()) {
+    SB_CHECK(configure_schwarz(snes_, model, J_));
+    schwarz_ = true;
+  } else if (size == 1 && !user_solver) {
     KSP ksp = nullptr;
     PC pc = nullptr;
     SB_CHECK(SNESGetKSP(snes_, &ksp));
@@ -246,7 +251,16 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
   PetscFunctionBeginUser;
   auto* self = static_cast<TimeIntegrator*>(ctx);
   PetscCall(self->step_jacobian(x, J));
+  const int seen = self->pattern_seen_;
   PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
+  if (self->schwarz_ && seen != self->pattern_seen_) {  // PCReset dropped the subdomains
+    KSP ksp = nullptr;
+    PC pc = nullptr;
+    PetscCall(SNESGetKSP(snes, &ksp));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCSetType(pc, PCASM));
+    PetscCall(set_schwarz_subdomains(pc, self->model_, J));
+  }
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
   self->jac_solve_ = self->solve_count_;
   self->jac_c0_ = self->c0_;
@@ -308,7 +322,7 @@ SolveResult TimeIntegrator::step(double h) {
     // After a failure, from the same predictor: first a pivoting LU (if the fast one was in
     // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
     if (attempt > 0) {
-      if (fast_lu_) {
+      if (fast_lu_ || schwarz_) {
         use_pivoting_lu();
       } else if (!tried_full_newton) {
         SB_CHECK(SNESSetLagJacobian(snes_, 1));
@@ -367,7 +381,7 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu) {
   h_prev_ = h_prev;
   last_failed_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
-  if (pivoting_lu && fast_lu_) use_pivoting_lu();
+  if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();
 }
 
 void TimeIntegrator::use_pivoting_lu() {
@@ -375,12 +389,17 @@ void TimeIntegrator::use_pivoting_lu() {
   PC pc = nullptr;
   SB_CHECK(SNESGetKSP(snes_, &ksp));
   SB_CHECK(KSPGetPC(ksp, &pc));
-  SB_CHECK(PetscInfo(snes_, "Step failed with the non-pivoting LU: SuperLU from now on\n"));
+  int size = 1;
+  MPI_Comm_size(model_.comm(), &size);
+  SB_CHECK(PetscInfo(snes_, "Step failed with the non-pivoting LU or the Schwarz preconditioner: a pivoting direct "
+                            "LU (SuperLU, MUMPS in parallel) from now on\n"));
   SB_CHECK(PCReset(pc));
+  SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(PCSetType(pc, PCLU));
-  SB_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERSUPERLU));
-  SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGND));
+  SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
+  if (size == 1) SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGND));
   fast_lu_ = false;
+  schwarz_ = false;
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 

@@ -70,7 +70,7 @@ class TimeIntegrator {
   Vec v_prev() const { return v_prev_; }
   double h_prev() const { return h_prev_; }
   /// True once time steps use the pivoting LU (after a failed step, or when the user chose a solver).
-  bool pivoting_lu() const { return !fast_lu_; }
+  bool pivoting_lu() const { return !fast_lu_ && !schwarz_; }
   /// Resume from a checkpoint: x, v, a, v_prev and sliding_rate have been loaded into this
   /// integrator's vectors; set the time, the predictor memory and the linear solver state.
   void restore(double t, double h_prev, bool pivoting_lu);
@@ -135,6 +135,7 @@ class TimeIntegrator {
   double jac_c0_ = 0.0;
   bool last_failed_ = false;
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
+  bool schwarz_ = false;  // -sb_schwarz: GMRES + Schwarz on the model's subdomains
   PetscLogEvent ev_step_ = 0;
 };
 

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/schwarz.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace slidebeam {
+
+bool schwarz_requested() {
+  PetscBool flag = PETSC_FALSE;
+  PetscOptionsGetBool(nullptr, nullptr, "-sb_schwarz", &flag, nullptr);
+  return flag == PETSC_TRUE;
+}
+
+PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J) {
+  PetscFunctionBeginUser;
+  const std::vector<PetscInt> order = model.elimination_order();
+  std::vector<PetscInt> position(order.size());
+  for (size_t k = 0; k < order.size(); ++k) position[static_cast<size_t>(order[k])] = static_cast<PetscInt>(k);
+  PetscInt lo = 0, hi = 0;
+  PetscCall(MatGetOwnershipRange(J, &lo, &hi));
+  std::vector<PetscInt> local, overlapped;
+  for (PetscInt i = lo; i < hi; ++i) {
+    local.push_back(i);
+    PetscInt ncols = 0;
+    const PetscInt* cols = nullptr;
+    PetscCall(MatGetRow(J, i, &ncols, &cols, nullptr));
+    overlapped.insert(overlapped.end(), cols, cols + ncols);
+    PetscCall(MatRestoreRow(J, i, &ncols, &cols, nullptr));
+    overlapped.push_back(i);
+  }
+  std::sort(overlapped.begin(), overlapped.end());
+  overlapped.erase(std::unique(overlapped.begin(), overlapped.end()), overlapped.end());
+  auto by_elimination = [&](PetscInt a, PetscInt b) { return position[static_cast<size_t>(a)] < position[static_cast<size_t>(b)]; };
+  std::sort(local.begin(), local.end(), by_elimination);
+  std::sort(overlapped.begin(), overlapped.end(), by_elimination);
+  IS is = nullptr, is_local = nullptr;
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(overlapped.size()), overlapped.data(), PETSC_COPY_VALUES, &is));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(local.size()), local.data(), PETSC_COPY_VALUES, &is_local));
+  PetscCall(PCASMSetSortIndices(pc, PETSC_FALSE));
+  PetscCall(PCASMSetOverlap(pc, 0));  // the overlap is in the subdomains already
+  PetscCall(PCASMSetLocalSubdomains(pc, 1, &is, &is_local));
+  PetscCall(ISDestroy(&is));
+  PetscCall(ISDestroy(&is_local));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
+  PetscFunctionBeginUser;
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPGMRES));
+  PetscCall(KSPGMRESSetRestart(ksp, 100));
+  // tight: Newton keeps its quadratic rate and the roundoff tests stay meaningful
+  PetscCall(KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCASM));
+  PetscCall(set_schwarz_subdomains(pc, model, J));
+  for (const auto& [key, value] : {std::pair{"-sub_ksp_type", "preonly"}, {"-sub_pc_type", "lu"},
+                                   {"-sub_pc_factor_mat_solver_type", "petsc"},
+                                   {"-sub_pc_factor_mat_ordering_type", "natural"}}) {
+    PetscBool has = PETSC_FALSE;
+    PetscCall(PetscOptionsHasName(nullptr, nullptr, key, &has));
+    if (!has) PetscCall(PetscOptionsSetValue(nullptr, key, value));
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace slidebeam
