@@ -137,9 +137,16 @@ PYBIND11_MODULE(_core, m) {
       .def("beam_coordinates",
            [](const Model& s, int beam, Vec x) {
              const auto q = s.beam_coordinates(beam, x);
-             return as_array(q, s.beam(beam).n_cp(), 12);
+             return as_array(q, s.beam(beam).n_cp(), s.beam(beam).coordinates_per_cp());
            },
-           "control point coordinates (n_cp x 12: phi, d1, d2, d3) on every rank (collective)")
+           "control point coordinates on every rank (collective): n_cp x 12 (phi, d1, d2, d3) for a "
+           "director beam")
+      .def("beam_first_cp", [](const Model& s, int beam) { return s.beam(beam).first_cp(); }, py::arg("beam"),
+           "global index of a beam's first control point")
+      .def("cp_unknowns", [](const Model& s, PetscInt cp) {
+             const DofMap& m = s.dof_map();
+             return py::make_tuple(m.q(cp, 0), m.n_coordinates(cp));
+           }, py::arg("cp"), "(global index of the first unknown, number of coordinates) of a control point")
       .def_property_readonly("prescribed_rows", &Model::prescribed_rows,
                              "prescribed (support) unknowns owned by this rank, global indices");
 

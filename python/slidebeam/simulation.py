@@ -295,8 +295,12 @@ class Simulation:
 
     def first_control_point(self, beam: int | str) -> int:
         """Global index of a beam's first control point."""
-        b = self._beam(beam)
-        return sum(other.spans + 2 for other in self.scene.beams[:b])
+        return self._model.beam_first_cp(self._beam(beam))
+
+    def control_point_unknowns(self, cp: int) -> tuple[int, int]:
+        """(global index of the first unknown, number of coordinates) of control point cp: its
+        coordinates are the unknowns first .. first + count - 1 (multipliers follow)."""
+        return tuple(self._model.cp_unknowns(cp))
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
         return [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]

@@ -104,6 +104,8 @@ class BeamElastic final : public SpanEffect {
 
 /// Six orthonormality constraints per control point with their multipliers (seed eq. 2).
 class DirectorConstraints final : public Effect {
+  static constexpr int kBlock = kernels::kNq + 6;  ///< a director control point's DofMap block
+
  public:
   DirectorConstraints(const Model& m, const EffectParams& p)
       : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
@@ -120,11 +122,11 @@ class DirectorConstraints final : public Effect {
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
-    const double zero[DofMap::kBlock * DofMap::kBlock] = {};
+    const double zero[kBlock * kBlock] = {};
     for (PetscInt cp : cps_) {
-      PetscInt d[DofMap::kBlock];
-      for (int k = 0; k < DofMap::kBlock; ++k) d[k] = m.dof_map().q(cp, 0) + k;
-      PetscCall(sink.add(DofMap::kBlock, d, DofMap::kBlock, d, zero));
+      PetscInt d[kBlock];
+      for (int k = 0; k < kBlock; ++k) d[k] = m.dof_map().q(cp, 0) + k;
+      PetscCall(sink.add(kBlock, d, kBlock, d, zero));
     }
     PetscFunctionReturn(0);
   }
@@ -145,7 +147,7 @@ class DirectorConstraints final : public Effect {
   }
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
-    using Mat18 = Eigen::Matrix<double, DofMap::kBlock, DofMap::kBlock, Eigen::RowMajor>;
+    using Mat18 = Eigen::Matrix<double, kBlock, kBlock, Eigen::RowMajor>;
     for (PetscInt cp : cps_) {
       const PetscScalar* x = ctx.x.cp(ctx.map, cp);
       const kernels::Vec12 q = Eigen::Map<const kernels::Vec12>(x);
@@ -155,9 +157,9 @@ class DirectorConstraints final : public Effect {
       A.topLeftCorner<12, 12>() = ctx.theta * kernels::orthonormality_hessian(lam);
       A.topRightCorner<12, 6>() = kernels::orthonormality_jacobian(qf).transpose();
       A.bottomLeftCorner<6, 12>() = kernels::orthonormality_jacobian(q);
-      PetscInt d[DofMap::kBlock];
-      for (int k = 0; k < DofMap::kBlock; ++k) d[k] = ctx.map.q(cp, 0) + k;
-      PetscCall(J.add(DofMap::kBlock, d, DofMap::kBlock, d, A.data()));
+      PetscInt d[kBlock];
+      for (int k = 0; k < kBlock; ++k) d[k] = ctx.map.q(cp, 0) + k;
+      PetscCall(J.add(kBlock, d, kBlock, d, A.data()));
     }
     PetscFunctionReturn(0);
   }

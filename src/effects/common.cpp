@@ -41,7 +41,7 @@ int end_cp(const Beam& b, double s) {
 
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs) {
   for (PetscInt cp = cp0; cp < cp0 + n; ++cp)
-    for (PetscInt k = 0; k < DofMap::kBlock; ++k) dofs.push_back(map.q(cp, 0) + k);
+    for (PetscInt k = 0; k < map.block_size(cp); ++k) dofs.push_back(map.q(cp, 0) + k);
 }
 
 kernels::VecEl gather_span(const LocalValues& x, const DofMap& map, const Beam& b, int e) {

@@ -23,7 +23,7 @@ inline bool owns_span(const Model& m, const Beam& b, int e) { return m.dof_map()
 /// inside the beam. Open knot vectors make end control points interpolate.
 int end_cp(const Beam& b, double s);
 
-/// Add the 18 unknowns of control points cp0 .. cp0+n-1 to a dof list.
+/// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
 /// The 36 coordinates of span e (control points e, e+1, e+2) in the state x.

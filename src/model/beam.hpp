@@ -51,6 +51,10 @@ class Beam {
   const std::string& name() const { return spec_.name; }
   int n_spans() const { return spec_.n_spans; }
   int n_cp() const { return spec_.n_spans + 2; }
+  /// Coordinates and constraint multipliers of each control point (the DofMap block sizes):
+  /// phi, d1, d2, d3 and the 6 orthonormality multipliers.
+  int coordinates_per_cp() const { return 12; }
+  int multipliers_per_cp() const { return 6; }
   double length() const { return spec_.length; }
   int first_cp() const { return first_cp_; }  ///< global index of the first control point
   const Section& section() const { return spec_.section; }
