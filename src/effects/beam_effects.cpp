@@ -16,7 +16,8 @@ using RowMajorEl = Eigen::Matrix<double, kernels::kNqEl, kernels::kNqEl, Eigen::
 /// their three control points and may touch the 36 x 36 block of their coordinates.
 class SpanEffect : public Effect {
  public:
-  SpanEffect(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
+  SpanEffect(const Model& m, const EffectParams& p, const std::string& who)
+      : beam_(director_beam_param(m, p, who)), name_(m.beam(beam_).name()) {}
   std::string label() const override { return type() + "[" + name_ + "]"; }
 
   void distribute(const Model& m) override {
@@ -48,7 +49,7 @@ class SpanEffect : public Effect {
 /// Strain energy of one beam (formulation.md section 3), integrated span by span.
 class BeamElastic final : public SpanEffect {
  public:
-  using SpanEffect::SpanEffect;
+  BeamElastic(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_elastic") {}
   std::string type() const override { return "beam_elastic"; }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
@@ -108,7 +109,7 @@ class DirectorConstraints final : public Effect {
 
  public:
   DirectorConstraints(const Model& m, const EffectParams& p)
-      : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
+      : beam_(director_beam_param(m, p, "director_constraints")), name_(m.beam(beam_).name()) {}
   std::string type() const override { return "director_constraints"; }
   std::string label() const override { return "director_constraints[" + name_ + "]"; }
 
@@ -175,7 +176,7 @@ class DirectorConstraints final : public Effect {
 /// once into the mass matrix; the time integrator applies it.
 class BeamInertia final : public SpanEffect {
  public:
-  using SpanEffect::SpanEffect;
+  BeamInertia(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_inertia") {}
   std::string type() const override { return "beam_inertia"; }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }

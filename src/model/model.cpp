@@ -173,7 +173,7 @@ void Model::finalize() {
   SB_CHECK(VecAssemblyBegin(s_mask_));
   SB_CHECK(VecAssemblyEnd(s_mask_));
   for (const auto& e : effects_)
-    if (e->type() == "beam_inertia" || e->type() == "point_mass") has_inertia_ = true;
+    if (e->type() == "beam_inertia" || e->type() == "ancf_inertia" || e->type() == "point_mass") has_inertia_ = true;
   finalized_ = true;
   set_reference_state(x_);
 }
