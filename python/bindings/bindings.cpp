@@ -61,6 +61,14 @@ PYBIND11_MODULE(_core, m) {
       },
       py::arg("n_spans"), py::arg("xi"), "(span, N[3], dN/dxi[3], d2N/dxi2[3]) at xi in [0,1]");
   m.def("greville", &bspline::greville, py::arg("n_spans"), py::arg("a"));
+  m.def(
+      "hermite_basis",
+      [](double x, double Le) {
+        const auto b = kernels::ancf::hermite(x, Le);
+        return py::make_tuple(b.S, b.dS, b.ddS);
+      },
+      py::arg("x"), py::arg("Le"),
+      "ANCF cable: (S[4], dS/dx[4], d2S/dx2[4]) at x in [0, Le], order (r_1, r'_1, r_2, r'_2)");
 
   py::class_<Model>(m, "Model")
       .def(py::init([](py::object comm) { return std::make_unique<Model>(comm_from_py(comm)); }),
@@ -69,9 +77,12 @@ PYBIND11_MODULE(_core, m) {
           "add_beam",
           [](Model& self, const std::string& name, int n_spans, double length, const std::map<std::string, double>& sec,
              const std::string& strain, const std::string& quadrature,
-             py::array_t<double, py::array::c_style | py::array::forcecast> q_ref) {
+             py::array_t<double, py::array::c_style | py::array::forcecast> q_ref, const std::string& formulation) {
             BeamSpec spec;
             spec.name = name;
+            if (formulation == "ancf") spec.formulation = Formulation::Ancf;
+            else if (formulation != "director")
+              throw std::invalid_argument("unknown formulation '" + formulation + "' (director, ancf)");
             spec.n_spans = n_spans;
             spec.length = length;
             auto get = [&](const char* k) {
@@ -87,7 +98,8 @@ PYBIND11_MODULE(_core, m) {
             return self.add_beam(spec);
           },
           py::arg("name"), py::arg("n_spans"), py::arg("length"), py::arg("section"), py::arg("strain"),
-          py::arg("quadrature"), py::arg("q_ref"))
+          py::arg("quadrature"), py::arg("q_ref"), py::arg("formulation") = "director",
+          "add a beam: director (q_ref: (spans+2) x 12) or ANCF cable (q_ref: (spans+1) x 6, r and r')")
       .def(
           "add_effect",
           [](Model& self, const std::string& type, const std::map<std::string, double>& num,
@@ -140,9 +152,16 @@ PYBIND11_MODULE(_core, m) {
       .def("beam_coordinates",
            [](const Model& s, int beam, Vec x) {
              const auto q = s.beam_coordinates(beam, x);
-             return as_array(q, s.beam(beam).n_cp(), 12);
+             return as_array(q, s.beam(beam).n_cp(), s.beam(beam).coordinates_per_cp());
            },
-           "control point coordinates (n_cp x 12: phi, d1, d2, d3) on every rank (collective)")
+           "control point coordinates on every rank (collective): n_cp x 12 (phi, d1, d2, d3) for a "
+           "director beam")
+      .def("beam_first_cp", [](const Model& s, int beam) { return s.beam(beam).first_cp(); }, py::arg("beam"),
+           "global index of a beam's first control point")
+      .def("cp_unknowns", [](const Model& s, PetscInt cp) {
+             const DofMap& m = s.dof_map();
+             return py::make_tuple(m.q(cp, 0), m.n_coordinates(cp));
+           }, py::arg("cp"), "(global index of the first unknown, number of coordinates) of a control point")
       .def_property_readonly("prescribed_rows", &Model::prescribed_rows,
                              "prescribed (support) unknowns owned by this rank, global indices");
 

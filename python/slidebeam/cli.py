@@ -90,6 +90,10 @@ def _say(rank: int, text: str, stream=sys.stdout) -> None:
 def _describe(scene: Scene) -> str:
     lines = [f"scene '{scene.name}' ({scene.file}): {scene.analysis.type} analysis"]
     for b in scene.beams:
+        if b.formulation == "ancf":
+            lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, ANCF cable, {b.spans} "
+                         f"element{'' if b.spans == 1 else 's'}")
+            continue
         lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} span{'' if b.spans == 1 else 's'}, "
                      f"{b.quadrature} quadrature, {b.strain} strains")
     def count(n: int, what: str, plural: str = "") -> str:

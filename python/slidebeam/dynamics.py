@@ -17,9 +17,6 @@ from petsc4py import PETSc
 if TYPE_CHECKING:
     from .simulation import Simulation
 
-BLOCK = 18  # unknowns per control point: phi, d1, d2, d3, then 6 multipliers
-
-
 @dataclass(frozen=True)
 class JointState:
     """A sliding joint after a step: sliding coordinate s on the carrier, its mean rate over the
@@ -73,7 +70,9 @@ class DynamicRecord:
 def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
     """Rigid initial motion of each beam: phi_dot = v + w x (phi - c), d_i_dot = w x d_i, with
     the beam's ``velocity`` v and ``angular_velocity`` w about its ``rotation_center`` c (default:
-    the beam's first point). Beams joined together and spinning as one body need the same c."""
+    the beam's first point). Beams joined together and spinning as one body need the same c.
+    Every control point's first coordinate 3-block is a point (phi; ANCF: r), the others are
+    directions (d_i; ANCF: r'), which only turn."""
     lo, hi = v.getOwnershipRange()
     arr = v.getArray()
     arr[:] = 0.0
@@ -86,11 +85,12 @@ def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
                   else sim.evaluate(beam.index, 0.0)[0, :3])
         first = sim.first_control_point(beam.index)
         for c in range(q.shape[0]):
-            base = BLOCK * (first + c)
+            base, nq = sim.control_point_unknowns(first + c)
             if not lo <= base < hi:
                 continue
-            rates = [vel + np.cross(omega, q[c, :3] - origin)] + [np.cross(omega, q[c, 3 * k:3 * k + 3]) for k in (1, 2, 3)]
-            arr[base - lo:base - lo + 12] = np.concatenate(rates)
+            rates = [vel + np.cross(omega, q[c, :3] - origin)] + [np.cross(omega, q[c, 3 * k:3 * k + 3])
+                                                                  for k in range(1, nq // 3)]
+            arr[base - lo:base - lo + nq] = np.concatenate(rates)
     v.setArray(arr)
 
 

@@ -42,8 +42,23 @@ def _tangent(beam: Beam, s: float, h: float) -> np.ndarray:
     return t / np.linalg.norm(t)
 
 
+def ancf_reference_coordinates(beam: Beam) -> np.ndarray:
+    """(spans+1) x 6 reference coordinates (r, r') of an ANCF cable's nodes: equal elements of a
+    straight line, r' the unit tangent (so the element coordinate is the arc length)."""
+    n, L = beam.spans, beam.geometry.length
+    t = np.asarray(beam.geometry.tangent_at_start())
+    q = np.zeros((n + 1, 6))
+    for a in range(n + 1):
+        q[a, 0:3] = beam.geometry.point_at(L * a / n)
+        q[a, 3:6] = t
+    return q
+
+
 def reference_coordinates(beam: Beam) -> np.ndarray:
-    """(spans+2) x 12 reference coordinates (phi, d1, d2, d3) of the control points."""
+    """(spans+2) x 12 reference coordinates (phi, d1, d2, d3) of the control points of a director
+    beam, (spans+1) x 6 (r, r') of the nodes of an ANCF cable."""
+    if beam.formulation == "ancf":
+        return ancf_reference_coordinates(beam)
     n, L = beam.spans, beam.geometry.length
     xi = np.array([_core.greville(n, a) for a in range(n + 2)])
     # Collocation at the Greville abscissae (Schoenberg-Whitney holds, the system is regular).

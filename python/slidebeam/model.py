@@ -46,10 +46,16 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
         model.add_beam(
             b.name, b.spans, b.geometry.length,
             {k: getattr(sec, k) for k in ("EA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI2", "rhoI3")},
-            b.strain, b.quadrature, reference_coordinates(b),
+            "simo-reissner" if b.formulation == "ancf" else b.strain, b.quadrature, reference_coordinates(b),
+            b.formulation,
         )
     dynamic = scene.analysis.type == "dynamic"
     for b in scene.beams:
+        if b.formulation == "ancf":  # a cable has no constraints of its own
+            add("ancf_elastic", f"ancf_elastic[{b.name}]", {"beam": b.index})
+            if dynamic:
+                add("ancf_inertia", f"ancf_inertia[{b.name}]", {"beam": b.index})
+            continue
         add("beam_elastic", f"beam_elastic[{b.name}]", {"beam": b.index})
         add("director_constraints", f"director_constraints[{b.name}]", {"beam": b.index})
         if dynamic:

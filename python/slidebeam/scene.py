@@ -441,6 +441,11 @@ _BEAM_KEYS = (
 _ARC_KEYS = ("center", "radius", "normal", "start", "angle")
 _SHAPE_KEYS = ("shape", "b", "h", "r", "E", "nu", "rho", "k")
 _EXPLICIT_KEYS = ("EA", "kGA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI2", "rhoI3")
+# formulation = "ancf" (the gradient-deficient ANCF cable): axial and one bending stiffness, mass
+_ANCF_EXPLICIT_KEYS = ("EA", "EI", "rhoA")
+_ANCF_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "rho")
+# beam keys that describe what a cable does not have (section frame, director strains, B-spline quadrature)
+_DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain")
 _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1")}
 # sub-tables an override may create when absent
@@ -750,6 +755,9 @@ def _parse_beam(t: _Table, index: int) -> Beam:
     geometry = _parse_geometry(t)
     if not t.has("section"):
         raise t.error("section", "missing required table [beam.section]")
+    formulation = t.choice("formulation", ("director", "ancf"), "director")
+    if formulation == "ancf":
+        return _parse_ancf_beam(t, index, name, geometry)
     section = _parse_section(t.sub("section", f"{t.label}.section"))
     return Beam(
         name=name,
@@ -759,12 +767,78 @@ def _parse_beam(t: _Table, index: int) -> Beam:
         spans=t.integer("spans"),
         quadrature=t.choice("quadrature", ("full", "reduced"), "full"),
         strain=t.choice("strain", ("simo-reissner", "seed"), "simo-reissner"),
-        formulation=t.choice("formulation", ("director",), "director"),
+        formulation=formulation,
         section=section,
         velocity=t.vec3("velocity", list(_ZERO)),
         angular_velocity=t.vec3("angular_velocity", list(_ZERO)),
         rotation_center=t.vec3("rotation_center") if t.has("rotation_center") else None,
     )
+
+
+def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry) -> Beam:
+    """A [[beam]] with formulation = "ancf": the gradient-deficient ANCF cable, `spans` equal
+    elements (spans + 1 nodes with r and r'), straight reference only."""
+    for key in _DIRECTOR_ONLY_BEAM_KEYS:
+        if t.has(key):
+            raise t.error(key, f"not used by formulation = 'ancf' (the cable has no section frame, director "
+                               f"strains or B-spline quadrature); remove '{key}' or use formulation = 'director'")
+    if geometry.kind != "line":
+        raise t.error(geometry.kind, "formulation = 'ancf' needs a straight reference ('start' + 'end'): the "
+                                     "cable's bending energy |r'' - r0''|^2 is frame-indifferent only for a "
+                                     "straight stress-free state")
+    return Beam(
+        name=name,
+        index=index,
+        geometry=geometry,
+        d2=None,
+        spans=t.integer("spans"),
+        quadrature="full",
+        strain="green-cable",
+        formulation="ancf",
+        section=_parse_ancf_section(t.sub("section", f"{t.label}.section")),
+        velocity=t.vec3("velocity", list(_ZERO)),
+        angular_velocity=t.vec3("angular_velocity", list(_ZERO)),
+        rotation_center=t.vec3("rotation_center") if t.has("rotation_center") else None,
+    )
+
+
+def _parse_ancf_section(t: _Table) -> Section:
+    """Section of an ANCF cable: EA, one bending stiffness EI and rhoA, explicit or from a shape
+    with equal bending stiffness about every axis (circle, square). Shear, torsion and rotary
+    inertia do not exist in the cable, so their keys are errors rather than silently ignored."""
+    for key in _SHAPE_KEYS + _EXPLICIT_KEYS:
+        if t.has(key) and key not in _ANCF_SHAPE_KEYS + _ANCF_EXPLICIT_KEYS:
+            raise t.error(key, f"not used by formulation = 'ancf' (the cable has no shear, torsion or rotary "
+                               f"inertia); give {_quoted(_ANCF_EXPLICIT_KEYS)} or a shape with "
+                               f"{_quoted(_ANCF_SHAPE_KEYS)}")
+    t.check_keys(_ANCF_SHAPE_KEYS + _ANCF_EXPLICIT_KEYS)
+    shape_keys = [k for k in _ANCF_SHAPE_KEYS if t.has(k)]
+    explicit_keys = [k for k in _ANCF_EXPLICIT_KEYS if t.has(k)]
+    if shape_keys and explicit_keys:
+        raise t.error(explicit_keys[0], "explicit resultants cannot be mixed with shape-based keys "
+                                        f"({', '.join(shape_keys)}); give one or the other")
+    if explicit_keys:
+        EA = t.number("EA", check=lambda x: x > 0, requirement="> 0")
+        EI = t.number("EI", check=lambda x: x > 0, requirement="> 0")
+        rhoA = t.number("rhoA", 0.0, check=lambda x: x >= 0, requirement=">= 0")
+    else:
+        if not shape_keys:
+            raise t.error("shape", "section needs either 'shape' (+ E, rho) or explicit EA, EI, rhoA")
+        shape = t.choice("shape", ("rectangle", "circle"))
+        dims = ("b", "h") if shape == "rectangle" else ("r",)
+        for key in ("b", "h", "r"):
+            if key not in dims and t.has(key):
+                raise t.error(key, f"not allowed for shape '{shape}' (needs {_quoted(dims)})")
+        size = [t.number(k, check=lambda x: x > 0, requirement="> 0") for k in dims]
+        if shape == "rectangle" and size[0] != size[1]:
+            raise t.error("h", f"the ANCF cable has one bending stiffness: a rectangle needs b == h, got "
+                               f"b = {size[0]}, h = {size[1]}")
+        area, i2, _, _ = rectangle_properties(*size) if shape == "rectangle" else circle_properties(*size)
+        E = t.number("E", check=lambda x: x > 0, requirement="> 0")
+        rho = t.number("rho", 0.0, check=lambda x: x >= 0, requirement=">= 0")
+        EA, EI, rhoA = E * area, E * i2, rho * area
+    # EI2 = EI3 = EI; the director-only resultants are zero (never read for a cable)
+    return Section(EA=EA, kGA2=0.0, kGA3=0.0, GJ=0.0, EI2=EI, EI3=EI, rhoA=rhoA, rhoI2=0.0, rhoI3=0.0)
 
 
 def _parse_geometry(t: _Table) -> Geometry:
@@ -843,6 +917,9 @@ def _parse_d2(t: _Table, geometry: Geometry) -> Vec3 | None:
 
 
 def _parse_section(t: _Table) -> Section:
+    if t.has("EI"):
+        raise t.error("EI", "EI (one bending stiffness) is for formulation = 'ancf'; a director beam needs "
+                            "EI2 and EI3")
     t.check_keys(_SHAPE_KEYS + _EXPLICIT_KEYS)
     shape_keys = [k for k in _SHAPE_KEYS if t.has(k)]
     explicit_keys = [k for k in _EXPLICIT_KEYS if t.has(k)]
@@ -975,6 +1052,9 @@ def _parse_load(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Load:
         tf = TimeFunction("ramp", 0.0, analysis.t_end, math.inf)
     else:
         tf = TimeFunction("constant")
+    if kind == "moment" and beams[index].formulation == "ancf":
+        raise t.error("type", f"beam '{beams[index].name}' is an ANCF cable: it has no rotational unknowns, so "
+                              "only forces can act on it")
     return Load(kind, index, _parse_at(t, beams[index].geometry.length), t.vec3("value"), frame, tf)
 
 
@@ -1016,6 +1096,10 @@ def _parse_rigid_joint(t: _Table, beams: tuple[Beam, ...]) -> RigidJoint:
         index.append(match[0])
     if index[0] == index[1]:
         raise t.error("beams", f"a rigid joint needs two different beams, got '{names[0]}' twice")
+    for i in index:
+        if beams[i].formulation == "ancf":
+            raise t.error("beams", f"beam '{beams[i].name}' is an ANCF cable: rigid joints weld director "
+                                   "triads (director beams only)")
     s = [0.0 if e == "start" else beams[i].geometry.length for i, e in zip(index, ends)]
     pa, pb = (np.asarray(beams[i].geometry.point_at(si)) for i, si in zip(index, s))
     scale = max(beams[index[0]].geometry.length, beams[index[1]].geometry.length)
@@ -1040,6 +1124,10 @@ def _parse_sliding_joint(t: _Table, beams: tuple[Beam, ...]) -> SlidingJoint:
     carrier = _named_beam(t, "carrier", beams)
     if slider == carrier:
         raise t.error("carrier", f"a beam cannot slide on itself ('{beams[slider].name}')")
+    for key, i in (("slider", slider), ("carrier", carrier)):
+        if beams[i].formulation == "ancf":
+            raise t.error(key, f"beam '{beams[i].name}' is an ANCF cable: sliding joints on or of ANCF cables "
+                               "are not supported yet (director beams only)")
     at = _parse_at(t, beams[slider].geometry.length) if t.has("at") else 0.0
     tolerance = t.number("tolerance", check=lambda v: v > 0, requirement="> 0") if t.has("tolerance") else None
     return SlidingJoint(slider, at, carrier, t.choice("discrete_gradient", ("exact", "midpoint"), "exact"),

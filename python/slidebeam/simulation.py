@@ -195,22 +195,32 @@ class Simulation:
     def energies(self) -> dict[str, float]:
         """Strain energy (beams) and potential energy of conservative external loads."""
         e = self._model.effect_energies(self.t, self.x)
-        strain = sum(v for info, v in zip(self.effects, e) if info.type == "beam_elastic")
+        strain = sum(v for info, v in zip(self.effects, e) if info.type in ("beam_elastic", "ancf_elastic"))
         potential = sum(v for info, v in zip(self.effects, e) if info.type in ("gravity", "force"))
         return {"strain": strain, "potential": potential}
 
     def control_points(self, beam: int | str, x: PETSc.Vec | None = None) -> np.ndarray:
-        """(n_cp, 12) coordinates phi, d1, d2, d3 of a beam's control points in the current
-        state, or in x (collective)."""
+        """(n_cp, 12) coordinates phi, d1, d2, d3 of a beam's control points (ANCF cable: (n_nodes,
+        6), r and r') in the current state, or in x (collective)."""
         return self._model.beam_coordinates(self._beam(beam), self.x if x is None else x)
 
     def evaluate(self, beam: int | str, s: np.ndarray | float, x: PETSc.Vec | None = None) -> np.ndarray:
-        """Interpolated (phi, d1, d2, d3) at arc lengths s: array (len(s), 12), in the current
-        state or in x (collective)."""
+        """Interpolated (phi, d1, d2, d3) at arc lengths s: array (len(s), 12) (ANCF cable: (r, r'),
+        (len(s), 6)), in the current state or in x (collective)."""
         b = self._beam(beam)
         q = self.control_points(b, x)
         spec = self.scene.beams[b]
         s_arr = np.atleast_1d(np.asarray(s, dtype=float))
+        if spec.formulation == "ancf":
+            le = spec.geometry.length / spec.spans
+            out = np.zeros((len(s_arr), 6))
+            for i, si in enumerate(s_arr):
+                e = min(max(int(np.floor(si / le)), 0), spec.spans - 1)
+                S, dS, _ = _core.hermite_basis(min(max(si - e * le, 0.0), le), le)
+                blocks = [q[e, :3], q[e, 3:], q[e + 1, :3], q[e + 1, 3:]]  # the Hermite basis order
+                out[i, :3] = sum(w * y for w, y in zip(S, blocks))
+                out[i, 3:] = sum(w * y for w, y in zip(dS, blocks))
+            return out
         out = np.zeros((len(s_arr), 12))
         for i, si in enumerate(s_arr):
             span, N, _, _ = _core.bspline_basis(spec.spans, min(max(si / spec.geometry.length, 0.0), 1.0))
@@ -296,8 +306,12 @@ class Simulation:
 
     def first_control_point(self, beam: int | str) -> int:
         """Global index of a beam's first control point."""
-        b = self._beam(beam)
-        return sum(other.spans + 2 for other in self.scene.beams[:b])
+        return self._model.beam_first_cp(self._beam(beam))
+
+    def control_point_unknowns(self, cp: int) -> tuple[int, int]:
+        """(global index of the first unknown, number of coordinates) of control point cp: its
+        coordinates are the unknowns first .. first + count - 1 (multipliers follow)."""
+        return tuple(self._model.cp_unknowns(cp))
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
         return [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]

@@ -16,7 +16,8 @@ using RowMajorEl = Eigen::Matrix<double, kernels::kNqEl, kernels::kNqEl, Eigen::
 /// their three control points and may touch the 36 x 36 block of their coordinates.
 class SpanEffect : public Effect {
  public:
-  SpanEffect(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
+  SpanEffect(const Model& m, const EffectParams& p, const std::string& who)
+      : beam_(director_beam_param(m, p, who)), name_(m.beam(beam_).name()) {}
   std::string label() const override { return type() + "[" + name_ + "]"; }
 
   void distribute(const Model& m) override {
@@ -48,7 +49,7 @@ class SpanEffect : public Effect {
 /// Strain energy of one beam (formulation.md section 3), integrated span by span.
 class BeamElastic final : public SpanEffect {
  public:
-  using SpanEffect::SpanEffect;
+  BeamElastic(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_elastic") {}
   std::string type() const override { return "beam_elastic"; }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
@@ -104,9 +105,11 @@ class BeamElastic final : public SpanEffect {
 
 /// Six orthonormality constraints per control point with their multipliers (seed eq. 2).
 class DirectorConstraints final : public Effect {
+  static constexpr int kBlock = kernels::kNq + 6;  ///< a director control point's DofMap block
+
  public:
   DirectorConstraints(const Model& m, const EffectParams& p)
-      : beam_(beam_param(m, p)), name_(m.beam(beam_).name()) {}
+      : beam_(director_beam_param(m, p, "director_constraints")), name_(m.beam(beam_).name()) {}
   std::string type() const override { return "director_constraints"; }
   std::string label() const override { return "director_constraints[" + name_ + "]"; }
 
@@ -120,11 +123,11 @@ class DirectorConstraints final : public Effect {
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
-    const double zero[DofMap::kBlock * DofMap::kBlock] = {};
+    const double zero[kBlock * kBlock] = {};
     for (PetscInt cp : cps_) {
-      PetscInt d[DofMap::kBlock];
-      for (int k = 0; k < DofMap::kBlock; ++k) d[k] = m.dof_map().q(cp, 0) + k;
-      PetscCall(sink.add(DofMap::kBlock, d, DofMap::kBlock, d, zero));
+      PetscInt d[kBlock];
+      for (int k = 0; k < kBlock; ++k) d[k] = m.dof_map().q(cp, 0) + k;
+      PetscCall(sink.add(kBlock, d, kBlock, d, zero));
     }
     PetscFunctionReturn(0);
   }
@@ -145,7 +148,7 @@ class DirectorConstraints final : public Effect {
   }
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
-    using Mat18 = Eigen::Matrix<double, DofMap::kBlock, DofMap::kBlock, Eigen::RowMajor>;
+    using Mat18 = Eigen::Matrix<double, kBlock, kBlock, Eigen::RowMajor>;
     for (PetscInt cp : cps_) {
       const PetscScalar* x = ctx.x.cp(ctx.map, cp);
       const kernels::Vec12 q = Eigen::Map<const kernels::Vec12>(x);
@@ -155,9 +158,9 @@ class DirectorConstraints final : public Effect {
       A.topLeftCorner<12, 12>() = ctx.theta * kernels::orthonormality_hessian(lam);
       A.topRightCorner<12, 6>() = kernels::orthonormality_jacobian(qf).transpose();
       A.bottomLeftCorner<6, 12>() = kernels::orthonormality_jacobian(q);
-      PetscInt d[DofMap::kBlock];
-      for (int k = 0; k < DofMap::kBlock; ++k) d[k] = ctx.map.q(cp, 0) + k;
-      PetscCall(J.add(DofMap::kBlock, d, DofMap::kBlock, d, A.data()));
+      PetscInt d[kBlock];
+      for (int k = 0; k < kBlock; ++k) d[k] = ctx.map.q(cp, 0) + k;
+      PetscCall(J.add(kBlock, d, kBlock, d, A.data()));
     }
     PetscFunctionReturn(0);
   }
@@ -173,7 +176,7 @@ class DirectorConstraints final : public Effect {
 /// once into the mass matrix; the time integrator applies it.
 class BeamInertia final : public SpanEffect {
  public:
-  using SpanEffect::SpanEffect;
+  BeamInertia(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_inertia") {}
   std::string type() const override { return "beam_inertia"; }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }

@@ -4,6 +4,7 @@
 namespace slidebeam {
 namespace effects {
 void register_beam_effects(EffectRegistry& r);
+void register_ancf_effects(EffectRegistry& r);
 void register_load_effects(EffectRegistry& r);
 void register_support_effects(EffectRegistry& r);
 void register_joint_effects(EffectRegistry& r);
@@ -12,6 +13,7 @@ void register_sliding_effects(EffectRegistry& r);
 
 void register_builtin_effects(EffectRegistry& registry) {
   effects::register_beam_effects(registry);
+  effects::register_ancf_effects(registry);
   effects::register_load_effects(registry);
   effects::register_support_effects(registry);
   effects::register_joint_effects(registry);

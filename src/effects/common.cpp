@@ -32,6 +32,39 @@ int beam_param(const Model& model, const EffectParams& p) {
   return b;
 }
 
+int director_beam_param(const Model& model, const EffectParams& p, const std::string& who) {
+  const int b = beam_param(model, p);
+  if (model.beam(b).is_ancf())
+    throw std::invalid_argument(who + ": beam '" + model.beam(b).name() + "' is an ANCF cable (director beams only)");
+  return b;
+}
+
+int ancf_beam_param(const Model& model, const EffectParams& p, const std::string& who) {
+  const int b = beam_param(model, p);
+  if (!model.beam(b).is_ancf())
+    throw std::invalid_argument(who + ": beam '" + model.beam(b).name() + "' is a director beam (ANCF cables only)");
+  return b;
+}
+
+std::vector<PetscInt> stencil_dofs(const DofMap& map, const Beam& b, const PositionStencil& st) {
+  std::vector<PetscInt> d;
+  for (int j = 0; j < st.n; ++j)
+    for (int k = 0; k < 3; ++k) d.push_back(map.q(b.first_cp() + st.cp[j], st.comp[j] + k));
+  return d;
+}
+
+Eigen::Vector3d stencil_point(const LocalValues& x, const DofMap& map, const Beam& b, const PositionStencil& st) {
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  for (int j = 0; j < st.n; ++j)
+    r += st.w[j] * Eigen::Map<const Eigen::Vector3d>(x.cp(map, b.first_cp() + st.cp[j]) + st.comp[j]);
+  return r;
+}
+
+void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, const PositionStencil& st,
+                     const Eigen::Vector3d& f) {
+  for (int j = 0; j < st.n; ++j) Eigen::Map<Eigen::Vector3d>(r.cp(map, b.first_cp() + st.cp[j]) + st.comp[j]) += st.w[j] * f;
+}
+
 int end_cp(const Beam& b, double s) {
   const double tol = 1e-12 * b.length();
   if (std::abs(s) <= tol) return 0;
@@ -41,7 +74,7 @@ int end_cp(const Beam& b, double s) {
 
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs) {
   for (PetscInt cp = cp0; cp < cp0 + n; ++cp)
-    for (PetscInt k = 0; k < DofMap::kBlock; ++k) dofs.push_back(map.q(cp, 0) + k);
+    for (PetscInt k = 0; k < map.block_size(cp); ++k) dofs.push_back(map.q(cp, 0) + k);
 }
 
 kernels::VecEl gather_span(const LocalValues& x, const DofMap& map, const Beam& b, int e) {

@@ -6,6 +6,8 @@
 #include "kernels/beam_kernels.hpp"
 #include "model/model.hpp"
 
+#include <Eigen/Dense>
+
 #include <array>
 #include <string>
 #include <vector>
@@ -14,16 +16,31 @@ namespace slidebeam::effects {
 
 /// Beam index from parameters, checked against the model.
 int beam_param(const Model& model, const EffectParams& p);
+/// Beam index of an effect that exists for one formulation only ("who" names the effect in the
+/// error message).
+int director_beam_param(const Model& model, const EffectParams& p, const std::string& who);
+int ancf_beam_param(const Model& model, const EffectParams& p, const std::string& who);
 
-/// Rank that evaluates span e of a beam: the owner of its middle control point, so that every
-/// span has exactly one owner and neighbouring spans mostly stay on one rank.
-inline bool owns_span(const Model& m, const Beam& b, int e) { return m.dof_map().owns_cp(b.first_cp() + e + 1); }
+/// Rank that evaluates span (element) e of a beam: the owner of Beam::span_owner_cp(e), so that
+/// every span has exactly one owner and neighbouring spans mostly stay on one rank.
+inline bool owns_span(const Model& m, const Beam& b, int e) {
+  return m.dof_map().owns_cp(b.first_cp() + b.span_owner_cp(e));
+}
+
+/// Global indices of the coordinate 3-blocks of a position stencil (3 per stencil entry).
+std::vector<PetscInt> stencil_dofs(const DofMap& map, const Beam& b, const PositionStencil& st);
+/// r(s) = sum_j w_j y_j of a stencil in the state x.
+Eigen::Vector3d stencil_point(const LocalValues& x, const DofMap& map, const Beam& b, const PositionStencil& st);
+/// r(stencil's nodes) += w_j f for every entry j: the generalised force of a point force f.
+void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, const PositionStencil& st,
+                     const Eigen::Vector3d& f);
 
 /// Index (within the beam) of the end control point at arc length s (0 or L), or -1 if s is
-/// inside the beam. Open knot vectors make end control points interpolate.
+/// inside the beam. Open knot vectors make end control points interpolate; ANCF end nodes are
+/// the end points.
 int end_cp(const Beam& b, double s);
 
-/// Add the 18 unknowns of control points cp0 .. cp0+n-1 to a dof list.
+/// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
 /// The 36 coordinates of span e (control points e, e+1, e+2) in the state x.

@@ -34,6 +34,9 @@ class RigidJoint final : public Effect {
         throw std::invalid_argument("rigid_joint: no beam with index " + std::to_string(beam));
     if (a_ == b_) throw std::invalid_argument("rigid_joint: a beam cannot be joined to itself");
     const Beam &A = m.beam(a_), &B = m.beam(b_);
+    for (const Beam* X : {&A, &B})
+      if (X->is_ancf())
+        throw std::invalid_argument("rigid_joint: beam '" + X->name() + "' is an ANCF cable (it has no directors to weld)");
     ca_ = joint_end_cp(A, p.number("s_a"));
     cb_ = joint_end_cp(B, p.number("s_b"));
     const double* qa = A.q_ref().data() + 12 * ca_;

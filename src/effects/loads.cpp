@@ -17,10 +17,12 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   return S;
 }
 
-/// A point of a beam given by arc length, with the basis of the span that holds it.
+/// A point of a beam given by arc length: its position stencil (both formulations) and, on a
+/// director beam, the basis of the span that holds it (directors at the point).
 struct BeamPoint {
   int beam = 0;
   double s = 0.0;
+  PositionStencil stencil;
   PointBasis basis;
 
   BeamPoint(const Model& m, const EffectParams& p, const std::string& who) : beam(beam_param(m, p)) {
@@ -29,10 +31,23 @@ struct BeamPoint {
     if (s < -1e-12 * b.length() || s > b.length() * (1 + 1e-12))
       throw std::invalid_argument(who + ": point s = " + std::to_string(s) + " is outside beam '" + b.name() +
                                   "' (length " + std::to_string(b.length()) + ")");
-    basis = b.basis_at(s);
+    stencil = b.position_at(s);
+    if (!b.is_ancf()) basis = b.basis_at(s);
   }
   PetscInt cp(const Model& m, int a) const { return m.beam(beam).first_cp() + basis.span + a; }
-  bool owned(const Model& m) const { return owns_span(m, m.beam(beam), basis.span); }
+  bool owned(const Model& m) const { return owns_span(m, m.beam(beam), stencil.span); }
+  /// All unknowns of the control points the stencil reads.
+  void add_stencil_blocks(const Model& m, std::vector<PetscInt>& dofs) const {
+    const Beam& b = m.beam(beam);
+    for (int j = 0; j < stencil.n; ++j) add_cp_blocks(m.dof_map(), b.first_cp() + stencil.cp[j], 1, dofs);
+  }
+  Eigen::Vector3d position(const EvalContext& ctx, const LocalValues& x) const {
+    return stencil_point(x, ctx.map, ctx.model.beam(beam), stencil);
+  }
+  /// r += the generalised force of a point force f at the point.
+  void add_force(const EvalContext& ctx, const LocalValues& r, const Eigen::Vector3d& f) const {
+    scatter_stencil(r, ctx.map, ctx.model.beam(beam), stencil, f);
+  }
   /// Interpolated block (0 = phi, 1..3 = d1..d3) at the point in the state x.
   Eigen::Vector3d field(const EvalContext& ctx, const LocalValues& x, int block) const {
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
@@ -42,7 +57,8 @@ struct BeamPoint {
 };
 }  // namespace
 
-/// A lumped mass at a beam point: m N^A(s) N^B(s) on the phi blocks of the mass matrix. Its
+/// A lumped mass at a beam point: m w_a(s) w_b(s) on the position stencil's blocks of the mass
+/// matrix (director: N^A N^B on the phi blocks; ANCF: the Hermite weights on r and r'). Its
 /// weight comes through the gravity effect.
 class PointMass final : public Effect {
  public:
@@ -56,9 +72,10 @@ class PointMass final : public Effect {
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const auto d = phi_dofs(m);
-    const double zero[81] = {};
-    PetscCall(sink.add(9, d.data(), 9, d.data(), zero));
+    const auto d = stencil_dofs(m.dof_map(), m.beam(point.beam), point.stencil);
+    const std::vector<double> zero(d.size() * d.size(), 0.0);
+    const auto n = static_cast<PetscInt>(d.size());
+    PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
@@ -66,12 +83,14 @@ class PointMass final : public Effect {
   PetscErrorCode mass(const Model& m, const MatSink& M) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    Eigen::Matrix<double, 9, 9, Eigen::RowMajor> A = Eigen::Matrix<double, 9, 9, Eigen::RowMajor>::Zero();
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        A.block<3, 3>(3 * a, 3 * b) = kg * point.basis.N[a] * point.basis.N[b] * Eigen::Matrix3d::Identity();
-    const auto d = phi_dofs(m);
-    PetscCall(M.add(9, d.data(), 9, d.data(), A.data()));
+    const PositionStencil& st = point.stencil;
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMajor A = RowMajor::Zero(3 * st.n, 3 * st.n);
+    for (int a = 0; a < st.n; ++a)
+      for (int b = 0; b < st.n; ++b)
+        A.block<3, 3>(3 * a, 3 * b) = kg * st.w[a] * st.w[b] * Eigen::Matrix3d::Identity();
+    const auto d = stencil_dofs(m.dof_map(), m.beam(point.beam), st);
+    PetscCall(M.add(3 * st.n, d.data(), 3 * st.n, d.data(), A.data()));
     PetscFunctionReturn(0);
   }
 
@@ -79,16 +98,11 @@ class PointMass final : public Effect {
   double kg;  ///< the mass
 
  private:
-  std::array<PetscInt, 9> phi_dofs(const Model& m) const {
-    std::array<PetscInt, 9> d{};
-    for (int a = 0; a < 3; ++a)
-      for (int k = 0; k < 3; ++k) d[3 * a + k] = m.dof_map().q(point.cp(m, a), k);
-    return d;
-  }
   bool owned_ = false;
 };
 
-/// Uniform gravity on every beam (rho A) and on every point mass of the model.
+/// Uniform gravity on every beam (rho A) and on every point mass of the model. On an ANCF
+/// cable the consistent load int rhoA S^T g dx of each element (kernels/ancf_kernels.hpp).
 class Gravity final : public Effect {
  public:
   Gravity(const Model&, const EffectParams& p) : f_(TimeFunction::from(p)) {
@@ -108,8 +122,8 @@ class Gravity final : public Effect {
       if (const auto* pm = dynamic_cast<const PointMass*>(eff.get()); pm && pm->point.owned(m)) masses_.push_back(pm);
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    for (const auto& [b, e] : spans_) add_cp_blocks(m.dof_map(), m.beam(b).first_cp() + e, 3, dofs);
-    for (const auto* pm : masses_) add_cp_blocks(m.dof_map(), pm->point.cp(m, 0), 3, dofs);
+    for (const auto& [b, e] : spans_) add_cp_blocks(m.dof_map(), m.beam(b).first_cp() + e, m.beam(b).is_ancf() ? 2 : 3, dofs);
+    for (const auto* pm : masses_) pm->point.add_stencil_blocks(m, dofs);
   }
   PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }  // constant force
 
@@ -118,15 +132,19 @@ class Gravity final : public Effect {
     const Eigen::Vector3d g = f_(ctx.t) * g_;
     for (const auto& [bi, e] : spans_) {
       const Beam& b = ctx.model.beam(bi);
+      if (b.is_ancf()) {
+        const kernels::ancf::ElVec f = kernels::ancf::gravity_load(b.ancf_section(), b.ancf_element(e), g);
+        for (int a = 0; a < 2; ++a)  // nodes e, e+1: 6 coordinates each, contiguous in f
+          Eigen::Map<Eigen::Matrix<double, 6, 1>>(r.cp(ctx.map, b.first_cp() + e + a)) -= f.segment<6>(6 * a);
+        continue;
+      }
       for (int q = 0; q < 3; ++q) {
         const auto& gp = b.gp_full(e, q);
         for (int a = 0; a < 3; ++a)
           Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, b.first_cp() + e + a)) -= gp.w * gp.N[a] * b.section().rhoA * g;
       }
     }
-    for (const auto* pm : masses_)
-      for (int a = 0; a < 3; ++a)
-        Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, pm->point.cp(ctx.model, a))) -= pm->point.basis.N[a] * pm->kg * g;
+    for (const auto* pm : masses_) pm->point.add_force(ctx, r, -pm->kg * g);
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
@@ -135,6 +153,12 @@ class Gravity final : public Effect {
     double V = 0.0;
     for (const auto& [bi, e] : spans_) {
       const Beam& b = ctx.model.beam(bi);
+      if (b.is_ancf()) {  // the load is constant, so V = -q . load
+        const kernels::ancf::ElVec f = kernels::ancf::gravity_load(b.ancf_section(), b.ancf_element(e), g);
+        for (int a = 0; a < 2; ++a)
+          V -= f.segment<6>(6 * a).dot(Eigen::Map<const Eigen::Matrix<double, 6, 1>>(ctx.x.cp(ctx.map, b.first_cp() + e + a)));
+        continue;
+      }
       for (int q = 0; q < 3; ++q) {
         const auto& gp = b.gp_full(e, q);
         Eigen::Vector3d phi = Eigen::Vector3d::Zero();
@@ -142,7 +166,7 @@ class Gravity final : public Effect {
         V -= gp.w * b.section().rhoA * g.dot(phi);
       }
     }
-    for (const auto* pm : masses_) V -= pm->kg * g.dot(pm->point.field(ctx, ctx.x, 0));
+    for (const auto* pm : masses_) V -= pm->kg * g.dot(pm->point.position(ctx, ctx.x));
     return V;
   }
 
@@ -166,13 +190,15 @@ class PointLoad final : public Effect {
     if (frame != "spatial" && frame != "material") throw std::invalid_argument("load frame must be spatial or material");
     material_ = frame == "material";
     if (material_ && !moment) throw std::invalid_argument("force: only moments can be given in the material frame");
+    if (moment && m.beam(point_.beam).is_ancf())  // the cable has no rotational unknowns to do work on
+      throw std::invalid_argument("moment: beam '" + m.beam(point_.beam).name() + "' is an ANCF cable (forces only)");
   }
   std::string type() const override { return moment_ ? "moment" : "force"; }
   std::string label() const override { return type() + "[" + std::to_string(point_.beam) + "@" + std::to_string(point_.s) + "]"; }
 
   void distribute(const Model& m) override { owned_ = point_.owned(m); }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    if (owned_) add_cp_blocks(m.dof_map(), point_.cp(m, 0), 3, dofs);
+    if (owned_) point_.add_stencil_blocks(m, dofs);
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
@@ -187,8 +213,7 @@ class PointLoad final : public Effect {
     if (!owned_) PetscFunctionReturn(0);
     const double amp = f_(ctx.t);
     if (!moment_) {
-      for (int a = 0; a < 3; ++a)
-        Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, point_.cp(ctx.model, a))) -= amp * point_.basis.N[a] * value_;
+      point_.add_force(ctx, r, -amp * value_);
       PetscFunctionReturn(0);
     }
     const Eigen::Vector3d M = amp * moment_vector(ctx);
@@ -224,7 +249,7 @@ class PointLoad final : public Effect {
   double energy(const EvalContext& ctx) const override {
     // A force of fixed direction is conservative; a moment in 3D is not, so it has no potential.
     if (!owned_ || moment_) return 0.0;
-    return -f_(ctx.t) * value_.dot(point_.field(ctx, ctx.x, 0));
+    return -f_(ctx.t) * value_.dot(point_.position(ctx, ctx.x));
   }
 
  private:

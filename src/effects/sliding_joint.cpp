@@ -32,6 +32,8 @@ class SlidingJoint final : public Effect {
       if (beam < 0 || beam >= nb) throw std::invalid_argument("sliding_joint: no beam with index " + std::to_string(beam));
     if (slider_ == carrier_) throw std::invalid_argument("sliding_joint: a beam cannot slide on itself");
     const Beam &S = m.beam(slider_), &C = m.beam(carrier_);
+    for (const Beam* X : {&S, &C})  // ANCF carriers and sliders: not yet (issue 9)
+      if (X->is_ancf()) throw std::invalid_argument("sliding_joint: beam '" + X->name() + "' is an ANCF cable (not supported yet)");
     const double sigma = p.number("slider_s");
     if (sigma < -1e-12 * S.length() || sigma > S.length() * (1 + 1e-12))
       throw std::invalid_argument("sliding_joint: slider point s = " + std::to_string(sigma) + " outside beam '" + S.name() + "'");

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @file Supports. At a beam end a support prescribes unknowns of the interpolating end control
 /// point (eliminated from the Newton system by identity rows); a spherical support inside a
-/// beam adds three multipliers for sum_A N^A(s) phi^A = X.
+/// beam adds three multipliers for r(s) = X (director: sum_A N^A(s) phi^A; ANCF: the Hermite
+/// interpolation of the element's r and r'). On an ANCF cable a clamp fixes the end node's r and
+/// r' (so also the stretch |r'| = 1 at that point, as in Exudyn's clamped cables).
 
 #include "effects/common.hpp"
 
@@ -11,7 +13,8 @@
 namespace slidebeam::effects {
 
 namespace {
-/// Prescribe coordinates (component range [k0, k1)) of one control point, and optionally its multipliers.
+/// Prescribe coordinates (component range [k0, k1)) of one control point, and optionally its
+/// multipliers (director control points; ANCF nodes have none).
 void prescribe_cp(const Model& m, const Beam& b, int c, int k0, int k1, const double* values, bool multipliers,
                   std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) {
   const PetscInt cp = b.first_cp() + c;
@@ -20,7 +23,7 @@ void prescribe_cp(const Model& m, const Beam& b, int c, int k0, int k1, const do
     vals.push_back(values[k - k0]);
   }
   if (multipliers)
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < b.multipliers_per_cp(); ++k) {
       rows.push_back(m.dof_map().lambda(cp, k));
       vals.push_back(0.0);
     }
@@ -50,7 +53,8 @@ class Clamp final : public PrescribingSupport {
   std::string label() const override { return "clamp[" + std::to_string(beam_) + (cp_ == 0 ? ":start]" : ":end]"); }
   void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     const Beam& b = m.beam(beam_);
-    prescribe_cp(m, b, cp_, 0, 12, b.q_ref().data() + 12 * cp_, true, rows, vals);
+    const int nq = b.coordinates_per_cp();
+    prescribe_cp(m, b, cp_, 0, nq, b.q_ref().data() + nq * cp_, true, rows, vals);
   }
 
  private:
@@ -66,7 +70,8 @@ class Fixed final : public PrescribingSupport {
   std::string label() const override { return "fixed[" + std::to_string(beam_) + "]"; }
   void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     const Beam& b = m.beam(beam_);
-    for (int c = 0; c < b.n_cp(); ++c) prescribe_cp(m, b, c, 0, 12, b.q_ref().data() + 12 * c, true, rows, vals);
+    const int nq = b.coordinates_per_cp();
+    for (int c = 0; c < b.n_cp(); ++c) prescribe_cp(m, b, c, 0, nq, b.q_ref().data() + nq * c, true, rows, vals);
   }
 
  private:
@@ -83,7 +88,7 @@ class Spherical final : public Effect {
     const auto& X = p.vector("position", 3);
     X_ = Eigen::Vector3d(X[0], X[1], X[2]);
     cp_ = end_cp(b, s_);
-    basis_ = b.basis_at(s_);
+    stencil_ = b.position_at(s_);
   }
   std::string type() const override { return "spherical"; }
   std::string label() const override { return "spherical[" + std::to_string(beam_) + "@" + std::to_string(s_) + "]"; }
@@ -92,19 +97,23 @@ class Spherical final : public Effect {
   void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X_.data(), false, rows, vals);
   }
-  void distribute(const Model& m) override { owned_ = cp_ < 0 && owns_span(m, m.beam(beam_), basis_.span); }
-  PetscInt elimination_anchor(const Model& m) const override { return first_cp(m) + 2; }
+  void distribute(const Model& m) override { owned_ = cp_ < 0 && owns_span(m, m.beam(beam_), stencil_.span); }
+  /// The last control point the support couples to.
+  PetscInt elimination_anchor(const Model& m) const override {
+    return m.beam(beam_).first_cp() + stencil_.cp[stencil_.n - 1];
+  }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
-    add_cp_blocks(m.dof_map(), first_cp(m), 3, dofs);
+    for (int j = 0; j < stencil_.n; ++j) add_cp_blocks(m.dof_map(), m.beam(beam_).first_cp() + stencil_.cp[j], 1, dofs);
     for (int k = 0; k < 3; ++k) dofs.push_back(extra_offset() + k);
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     if (owned_) {
       const auto d = dofs(m.dof_map(), m);
-      const double zero[12 * 12] = {};
-      PetscCall(sink.add(12, d.data(), 12, d.data(), zero));
+      const std::vector<double> zero(d.size() * d.size(), 0.0);
+      const auto n = static_cast<PetscInt>(d.size());
+      PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
     }
     PetscFunctionReturn(0);
   }
@@ -112,41 +121,37 @@ class Spherical final : public Effect {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
     const Eigen::Vector3d mu(ctx.x.at(extra_offset()), ctx.x.at(extra_offset() + 1), ctx.x.at(extra_offset() + 2));
-    Eigen::Vector3d gap = -X_;
-    for (int a = 0; a < 3; ++a) {
-      const PetscInt cp = first_cp(ctx.model) + a;
-      gap += basis_.N[a] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, cp));
-      Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, cp)) += basis_.N[a] * mu;
-    }
+    const Beam& b = ctx.model.beam(beam_);
+    const Eigen::Vector3d gap = stencil_point(ctx.x, ctx.map, b, stencil_) - X_;
+    scatter_stencil(r, ctx.map, b, stencil_, mu);
     for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += gap(k);
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    Eigen::Matrix<double, 12, 12, Eigen::RowMajor> A = Eigen::Matrix<double, 12, 12, Eigen::RowMajor>::Zero();
-    for (int a = 0; a < 3; ++a)
-      for (int k = 0; k < 3; ++k) A(3 * a + k, 9 + k) = A(9 + k, 3 * a + k) = basis_.N[a];
+    const int n = 3 * stencil_.n + 3;  // stencil coordinates, then the multipliers
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMajor A = RowMajor::Zero(n, n);
+    for (int a = 0; a < stencil_.n; ++a)
+      for (int k = 0; k < 3; ++k) A(3 * a + k, n - 3 + k) = A(n - 3 + k, 3 * a + k) = stencil_.w[a];
     const auto d = dofs(ctx.map, ctx.model);
-    PetscCall(J.add(12, d.data(), 12, d.data(), A.data()));
+    PetscCall(J.add(n, d.data(), n, d.data(), A.data()));
     PetscFunctionReturn(0);
   }
 
  private:
-  PetscInt first_cp(const Model& m) const { return m.beam(beam_).first_cp() + basis_.span; }
-  /// phi of the span's 3 control points, then the 3 multipliers.
-  std::array<PetscInt, 12> dofs(const DofMap& map, const Model& m) const {
-    std::array<PetscInt, 12> d{};
-    for (int a = 0; a < 3; ++a)
-      for (int k = 0; k < 3; ++k) d[3 * a + k] = map.q(first_cp(m) + a, k);
-    for (int k = 0; k < 3; ++k) d[9 + k] = extra_offset() + k;
+  /// The stencil's coordinates (director: phi of the span's 3 control points), then the 3 multipliers.
+  std::vector<PetscInt> dofs(const DofMap& map, const Model& m) const {
+    std::vector<PetscInt> d = stencil_dofs(map, m.beam(beam_), stencil_);
+    for (int k = 0; k < 3; ++k) d.push_back(extra_offset() + k);
     return d;
   }
   int beam_;
   double s_;
   Eigen::Vector3d X_;
   int cp_ = -1;
-  PointBasis basis_;
+  PositionStencil stencil_;
   bool owned_ = false;
 };
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "model/beam.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace slidebeam {
@@ -32,8 +34,18 @@ std::vector<kernels::GaussPoint> gauss_points(int n_spans, double L, kernels::Qu
 Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), first_cp_(first_cp) {
   if (spec.n_spans < 1) throw std::invalid_argument("beam '" + spec.name + "': spans must be >= 1");
   if (!(spec.length > 0)) throw std::invalid_argument("beam '" + spec.name + "': length must be > 0");
-  if (spec.q_ref.size() != static_cast<size_t>(12 * n_cp()))
-    throw std::invalid_argument("beam '" + spec.name + "': q_ref must hold 12 values per control point");
+  if (spec.q_ref.size() != static_cast<size_t>(coordinates_per_cp() * n_cp()))
+    throw std::invalid_argument("beam '" + spec.name + "': q_ref must hold " + std::to_string(coordinates_per_cp()) +
+                                " values per control point");
+  if (is_ancf()) {
+    // Equal elements of the reference arc length; each element's stress-free state is its slice
+    // of q_ref (x = arc length, so r0' should be a unit vector).
+    const double Le = spec.length / spec.n_spans;
+    for (int e = 0; e < spec.n_spans; ++e)
+      ancf_elements_.push_back(kernels::ancf::make_element(
+          Le, Eigen::Map<const kernels::ancf::ElVec>(spec.q_ref.data() + kernels::ancf::kNodeDofs * e)));
+    return;
+  }
   const auto& s = spec.section;
   stiffness_ << s.EA, s.kGA2, s.kGA3, s.GJ, s.EI2, s.EI3;
   gps_ = gauss_points(spec.n_spans, spec.length, spec.quadrature);
@@ -62,7 +74,9 @@ PointBasis Beam::basis_on_span(int span, double s) const {
 BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const {
   if (samples_per_span < 1) throw std::invalid_argument("samples_per_span must be >= 1");
   if (q.size() != spec_.q_ref.size() || (!q_dot.empty() && q_dot.size() != q.size()))
-    throw std::invalid_argument("beam '" + name() + "': sample needs 12 coordinates per control point");
+    throw std::invalid_argument("beam '" + name() + "': sample needs " + std::to_string(coordinates_per_cp()) +
+                                " coordinates per control point");
+  if (is_ancf()) return sample_ancf(q, q_dot, samples_per_span);
   const int n = n_spans() * samples_per_span + 1;
   BeamSamples out;
   out.s.resize(static_cast<size_t>(n));
@@ -99,6 +113,73 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     put(out.force, n_sp);
     put(out.moment, m_sp);
     for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
+  }
+  return out;
+}
+
+int Beam::ancf_element_at(double s, double& x) const {
+  const double Le = length() / n_spans();
+  const int e = std::clamp(static_cast<int>(std::floor(s / Le)), 0, n_spans() - 1);
+  x = s - e * Le;
+  return e;
+}
+
+PositionStencil Beam::position_at(double s) const {
+  PositionStencil p;
+  if (is_ancf()) {
+    double x = 0.0;
+    const int e = ancf_element_at(s, x);
+    p.n = 4;
+    p.span = e;
+    p.cp = {e, e, e + 1, e + 1};
+    p.comp = {0, 3, 0, 3};  // r_1, r'_1, r_2, r'_2: the order of the Hermite basis
+    p.w = kernels::ancf::hermite(x, length() / n_spans()).S;
+    return p;
+  }
+  const PointBasis b = basis_at(s);
+  p.n = 3;
+  p.span = b.span;
+  for (int a = 0; a < 3; ++a) {
+    p.cp[a] = b.span + a;
+    p.w[a] = b.N[a];
+  }
+  return p;
+}
+
+BeamSamples Beam::sample_ancf(const std::vector<double>& q, const std::vector<double>& q_dot,
+                              int samples_per_span) const {
+  namespace ancf = kernels::ancf;
+  const int n = n_spans() * samples_per_span + 1;
+  const double Le = length() / n_spans();
+  BeamSamples out;
+  out.s.resize(static_cast<size_t>(n));
+  for (auto* v : {&out.position, &out.velocity, &out.d1, &out.d2, &out.d3, &out.force, &out.moment})
+    v->assign(static_cast<size_t>(3 * n), 0.0);
+  out.strain.assign(static_cast<size_t>(6 * n), 0.0);
+  const auto sec = ancf_section();
+  for (int i = 0; i < n; ++i) {
+    const double s = length() * i / (n - 1);
+    double x = 0.0;
+    const int e = ancf_element_at(s, x);
+    const auto slice = [e](const std::vector<double>& v) {
+      return ancf::ElVec(Eigen::Map<const ancf::ElVec>(v.data() + ancf::kNodeDofs * e));
+    };
+    const ancf::CablePoint c = ancf::evaluate(Le, x, slice(q)), c0 = ancf::evaluate(Le, x, slice(spec_.q_ref));
+    const double eps = 0.5 * (c.dr.squaredNorm() - c0.dr.squaredNorm());
+    const double stretch = c.dr.norm();
+    const Eigen::Vector3d t = c.dr / stretch;
+    const Eigen::Vector3d kappa = c.dr.cross(c.ddr) / (stretch * stretch * stretch);
+    auto put = [i](std::vector<double>& v, const Eigen::Vector3d& y) {
+      for (int k = 0; k < 3; ++k) v[static_cast<size_t>(3 * i + k)] = y(k);
+    };
+    out.s[static_cast<size_t>(i)] = s;
+    put(out.position, c.r);
+    if (!q_dot.empty()) put(out.velocity, ancf::interpolate(c.basis.S, slice(q_dot)));
+    put(out.d1, t);
+    put(out.force, sec.EA * eps * t);
+    put(out.moment, sec.EI * c.dr.cross(c.ddr - c0.ddr));
+    out.strain[static_cast<size_t>(6 * i)] = eps;
+    for (int k = 0; k < 3; ++k) out.strain[static_cast<size_t>(6 * i + 3 + k)] = kappa(k);
   }
   return out;
 }

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file A director beam: reference control points, section, quadrature tables and reference
-/// strains. Pure data plus basis evaluation; no PETSc.
+/// @file A beam: reference control points, section, quadrature tables and reference strains.
+/// Two formulations: the director beam (quadratic B-splines, control points phi, d1, d2, d3) and
+/// the ANCF cable (cubic Hermite elements, nodes r, r'; kernels/ancf_kernels.hpp). Pure data
+/// plus basis evaluation; no PETSc.
 
+#include "kernels/ancf_kernels.hpp"
 #include "kernels/beam_kernels.hpp"
 #include "kernels/bspline.hpp"
 
@@ -17,15 +20,25 @@ struct Section {
   double rhoA = 0, rhoI2 = 0, rhoI3 = 0;
 };
 
+/// How a beam is discretised.
+///  - Director: n_spans quadratic B-spline spans, n_spans + 2 control points of 12 coordinates
+///    (phi, d1, d2, d3) and 6 orthonormality multipliers each.
+///  - Ancf: n_spans equal cubic Hermite elements of the gradient-deficient ANCF cable,
+///    n_spans + 1 nodes of 6 coordinates (r, r' = dr/ds) and no multipliers. Uses EA, EI2 (the
+///    one bending stiffness) and rhoA of the section.
+enum class Formulation { Director, Ancf };
+
 /// Everything needed to create a beam.
 struct BeamSpec {
   std::string name;
-  int n_spans = 1;
+  Formulation formulation = Formulation::Director;
+  int n_spans = 1;  ///< knot spans (director) or elements (ANCF)
   double length = 1.0;  ///< reference arc length L; the spline parameter is xi = s / L
   Section section;
   kernels::StrainMeasure strain = kernels::StrainMeasure::SimoReissner;
   kernels::Quadrature quadrature = kernels::Quadrature::Full;
-  /// (n_spans+2) x 12 reference coordinates (phi, d1, d2, d3) of the control points, row-major.
+  /// Reference coordinates of the control points, row-major: (n_spans+2) x 12 (phi, d1, d2, d3)
+  /// for a director beam, (n_spans+1) x 6 (r, r') for an ANCF cable.
   std::vector<double> q_ref;
 };
 
@@ -36,9 +49,24 @@ struct PointBasis {
   std::array<double, 3> dN{};
 };
 
+/// Where a point of the centre line sits in the unknowns: r(s) = sum_j w[j] y_j with y_j the
+/// coordinate 3-block starting at component comp[j] of the beam's control point cp[j] (index
+/// within the beam). Director: the phi blocks of a span's 3 control points; ANCF: r and r' of an
+/// element's 2 nodes. So d r(s) / d y_j = w[j] I.
+struct PositionStencil {
+  int n = 0;
+  int span = 0;  ///< knot span / element holding the point
+  std::array<int, 4> cp{};
+  std::array<int, 4> comp{};
+  std::array<double, 4> w{};
+};
+
 /// Fields of a beam sampled along its centre line (output). Arrays are row-major, one row per
 /// sample: s (1), position, velocity, d1, d2, d3, spatial force and moment resultants (3 each),
 /// strains minus reference strains (6, the order of the stiffness).
+/// ANCF cable: d1 is the unit tangent r'/|r'|, d2 and d3 are zero (a cable has no section
+/// frame); strain = (eps, 0, 0, k) with eps the Green axial strain and k = r' x r'' / |r'|^3 the
+/// spatial curvature vector; force = EA eps t, moment = EI r' x (r'' - r0'').
 struct BeamSamples {
   std::vector<double> s, position, velocity, d1, d2, d3, strain, force, moment;
 };
@@ -49,8 +77,27 @@ class Beam {
 
   int id() const { return id_; }
   const std::string& name() const { return spec_.name; }
-  int n_spans() const { return spec_.n_spans; }
-  int n_cp() const { return spec_.n_spans + 2; }
+  Formulation formulation() const { return spec_.formulation; }
+  bool is_ancf() const { return spec_.formulation == Formulation::Ancf; }
+  int n_spans() const { return spec_.n_spans; }  ///< knot spans (director) or elements (ANCF)
+  int n_cp() const { return spec_.n_spans + (is_ancf() ? 1 : 2); }  ///< control points or nodes
+  /// Coordinates and constraint multipliers of each control point (the DofMap block sizes):
+  /// director: phi, d1, d2, d3 and the 6 orthonormality multipliers; ANCF: r, r' and none.
+  int coordinates_per_cp() const { return is_ancf() ? kernels::ancf::kNodeDofs : 12; }
+  int multipliers_per_cp() const { return is_ancf() ? 0 : 6; }
+  /// The control point (index within the beam) whose owner evaluates span e: the middle one of
+  /// a director span (neighbouring spans mostly stay on one rank), the first node of an element.
+  int span_owner_cp(int e) const { return is_ancf() ? e : e + 1; }
+  /// Centre-line point s as a combination of coordinate blocks (both formulations).
+  PositionStencil position_at(double s) const;
+
+  /// ANCF: element tables (reference, quadrature) of element e, and the section data.
+  const kernels::ancf::AncfElement& ancf_element(int e) const { return ancf_elements_.at(static_cast<size_t>(e)); }
+  kernels::ancf::AncfSection ancf_section() const {
+    return {spec_.section.EA, spec_.section.EI2, spec_.section.rhoA};
+  }
+  /// ANCF: the element holding s (the last one at s = L) and the local coordinate x in it.
+  int ancf_element_at(double s, double& x) const;
   double length() const { return spec_.length; }
   int first_cp() const { return first_cp_; }  ///< global index of the first control point
   const Section& section() const { return spec_.section; }
@@ -84,6 +131,9 @@ class Beam {
   kernels::Stiffness stiffness_;
   std::vector<kernels::GaussPoint> gps_, gps_full_;
   std::vector<kernels::Vec6> eps0_;
+  std::vector<kernels::ancf::AncfElement> ancf_elements_;
+
+  BeamSamples sample_ancf(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const;
 };
 
 }  // namespace slidebeam

@@ -2,34 +2,44 @@
 #pragma once
 /// @file Global numbering of unknowns and its distribution over ranks.
 ///
-/// Layout: every control point (all beams, numbered consecutively) owns a block of 18 unknowns,
-/// its 12 coordinates (phi, d1, d2, d3) followed by the 6 multipliers of its orthonormality
-/// constraints; after all control points come the extra unknowns of effects (support and joint
-/// multipliers, sliding coordinates). Control points are split evenly over ranks in index order,
-/// so one long beam spans several ranks; the extra unknowns live on the last rank.
+/// Layout: every control point (all beams, numbered consecutively) owns a contiguous block of
+/// unknowns, its coordinates followed by the multipliers of its own constraints. The block size
+/// depends on the beam's formulation: a director control point has 12 coordinates (phi, d1, d2,
+/// d3) and 6 orthonormality multipliers (18), an ANCF node 6 coordinates (r, r') and none. Block
+/// offsets are a prefix sum over the control points. After all control points come the extra
+/// unknowns of effects (support and joint multipliers, sliding coordinates). Control points are
+/// split evenly over ranks in index order, so one long beam spans several ranks; the extra
+/// unknowns live on the last rank.
 
 #include <petscsys.h>
+
+#include <vector>
 
 namespace slidebeam {
 
 class DofMap {
  public:
-  static constexpr PetscInt kBlock = 18;  ///< unknowns per control point
-  static constexpr PetscInt kNq = 12;     ///< coordinates per control point
-
   DofMap() = default;
-  DofMap(PetscInt n_cp, PetscInt n_extra, int rank, int size);
+  /// coordinates[cp] and multipliers[cp]: sizes of the two parts of every control point's block.
+  DofMap(const std::vector<int>& coordinates, const std::vector<int>& multipliers, PetscInt n_extra, int rank,
+         int size);
 
   PetscInt n_cp() const { return n_cp_; }
   PetscInt n_extra() const { return n_extra_; }
-  PetscInt global_size() const { return kBlock * n_cp_ + n_extra_; }
+  PetscInt global_size() const { return offset_.back() + n_extra_; }
   PetscInt local_size() const { return hi_ - lo_; }
   PetscInt owned_lo() const { return lo_; }  ///< first owned global unknown
   PetscInt owned_hi() const { return hi_; }
 
-  PetscInt q(PetscInt cp, int comp) const { return kBlock * cp + comp; }
-  PetscInt lambda(PetscInt cp, int k) const { return kBlock * cp + kNq + k; }
-  PetscInt extra(PetscInt i) const { return kBlock * n_cp_ + i; }
+  /// Coordinates and all unknowns (coordinates + multipliers) of control point cp.
+  int n_coordinates(PetscInt cp) const { return n_q_[static_cast<size_t>(cp)]; }
+  int block_size(PetscInt cp) const { return static_cast<int>(offset_[static_cast<size_t>(cp) + 1] - offset_[static_cast<size_t>(cp)]); }
+
+  PetscInt q(PetscInt cp, int comp) const { return offset_[static_cast<size_t>(cp)] + comp; }
+  PetscInt lambda(PetscInt cp, int k) const { return q(cp, n_coordinates(cp)) + k; }
+  PetscInt extra(PetscInt i) const { return offset_.back() + i; }
+  /// Unknowns before the first extra: all control point blocks.
+  PetscInt n_cp_unknowns() const { return offset_.back(); }
 
   /// Rank owning control point cp.
   int cp_owner(PetscInt cp) const;
@@ -39,6 +49,8 @@ class DofMap {
 
  private:
   PetscInt cp_begin(int r) const { return (n_cp_ * r) / size_; }
+  std::vector<PetscInt> offset_{0};  // n_cp + 1 prefix sums of block sizes
+  std::vector<int> n_q_;             // coordinates per control point
   PetscInt n_cp_ = 0, n_extra_ = 0, lo_ = 0, hi_ = 0;
   int rank_ = 0, size_ = 1;
 };

@@ -70,12 +70,20 @@ int Model::add_effect(const std::string& type, const EffectParams& params) {
 void Model::finalize() {
   if (finalized_) return;
   if (beams_.empty()) throw std::invalid_argument("the model has no beams");
+  std::vector<int> coordinates, multipliers;
+  PetscInt n_cp_unknowns = 0;
+  for (const auto& b : beams_)
+    for (int c = 0; c < b.n_cp(); ++c) {
+      coordinates.push_back(b.coordinates_per_cp());
+      multipliers.push_back(b.multipliers_per_cp());
+      n_cp_unknowns += b.coordinates_per_cp() + b.multipliers_per_cp();
+    }
   PetscInt n_extra = 0;
   for (auto& e : effects_) {
-    e->set_extra_offset(DofMap::kBlock * n_cp_total_ + n_extra);
+    e->set_extra_offset(n_cp_unknowns + n_extra);
     n_extra += e->n_extra();
   }
-  map_ = DofMap(n_cp_total_, n_extra, rank_, size_);
+  map_ = DofMap(coordinates, multipliers, n_extra, rank_, size_);
   locate_points();
   for (auto& e : effects_) e->distribute(*this);
 
@@ -126,9 +134,10 @@ void Model::finalize() {
   {
     PetscScalar* a = nullptr;
     SB_CHECK(VecGetArray(q_mask_, &a));
-    for (PetscInt i = map_.owned_lo(); i < map_.owned_hi(); ++i) {
-      const bool coordinate = i < DofMap::kBlock * n_cp_total_ && i % DofMap::kBlock < 12;
-      a[i - map_.owned_lo()] = coordinate ? 1.0 : 0.0;
+    for (PetscInt i = map_.owned_lo(); i < map_.owned_hi(); ++i) a[i - map_.owned_lo()] = 0.0;
+    for (PetscInt cp = 0; cp < n_cp_total_; ++cp) {
+      if (!map_.owns_cp(cp)) continue;
+      for (int k = 0; k < map_.n_coordinates(cp); ++k) a[map_.q(cp, k) - map_.owned_lo()] = 1.0;
     }
     SB_CHECK(VecRestoreArray(q_mask_, &a));
   }
@@ -153,7 +162,7 @@ void Model::finalize() {
   SB_CHECK(VecAssemblyBegin(s_mask_));
   SB_CHECK(VecAssemblyEnd(s_mask_));
   for (const auto& e : effects_)
-    if (e->type() == "beam_inertia" || e->type() == "point_mass") has_inertia_ = true;
+    if (e->type() == "beam_inertia" || e->type() == "ancf_inertia" || e->type() == "point_mass") has_inertia_ = true;
   finalized_ = true;
   set_reference_state(x_);
 }
@@ -207,8 +216,10 @@ Momenta Model::momenta(Vec x, Vec p) const {
   for (PetscInt cp = 0; cp < n_cp_total_; ++cp) {
     if (!map_.owns_cp(cp)) continue;
     const PetscInt o = map_.q(cp, 0) - map_.owned_lo();
-    // J = sum_A phi^A x p_phi^A + sum_i d_i^A x p_di^A (benchmarks.md 3.7)
-    for (int blk = 0; blk < 4; ++blk) {
+    // J = sum_A phi^A x p_phi^A + sum_i d_i^A x p_di^A (benchmarks.md 3.7). The same sum over
+    // every 3-block of coordinates holds for any interpolation r = sum_a S_a y_a whose position
+    // blocks' shape functions sum to one (ANCF: r, r'); L is the sum over the position blocks.
+    for (int blk = 0; blk < map_.n_coordinates(cp) / 3; ++blk) {
       const Eigen::Map<const Eigen::Vector3d> y(xa + o + 3 * blk), py(pa + o + 3 * blk);
       if (blk == 0) L += py;
       J += y.cross(py);
@@ -290,12 +301,15 @@ void Model::apply_prescribed(Vec x) const {
 void Model::project_directors(Vec x) const {
   PetscScalar* a = nullptr;
   SB_CHECK(VecGetArray(x, &a));
-  for (PetscInt cp = 0; cp < n_cp_total_; ++cp) {
-    if (!map_.owns_cp(cp)) continue;
-    Eigen::Map<Eigen::Matrix3d> D(a + map_.q(cp, 3) - map_.owned_lo());  // columns d1, d2, d3
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
-    if (R.determinant() > 0) D = R;  // a reflection means the extrapolation was useless: keep it
+  for (const auto& b : beams_) {
+    if (b.multipliers_per_cp() == 0) continue;  // no director triads (ANCF nodes)
+    for (PetscInt cp = b.first_cp(); cp < b.first_cp() + b.n_cp(); ++cp) {
+      if (!map_.owns_cp(cp)) continue;
+      Eigen::Map<Eigen::Matrix3d> D(a + map_.q(cp, 3) - map_.owned_lo());  // columns d1, d2, d3
+      Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+      if (R.determinant() > 0) D = R;  // a reflection means the extrapolation was useless: keep it
+    }
   }
   SB_CHECK(VecRestoreArray(x, &a));
   apply_prescribed(x);
@@ -309,7 +323,8 @@ void Model::set_reference_state(Vec x) const {
     for (int c = 0; c < b.n_cp(); ++c) {
       const PetscInt cp = b.first_cp() + c;
       if (!map_.owns_cp(cp)) continue;
-      for (int k = 0; k < 12; ++k) a[map_.q(cp, k) - map_.owned_lo()] = b.q_ref()[12 * c + k];
+      const int nq = b.coordinates_per_cp();
+      for (int k = 0; k < nq; ++k) a[map_.q(cp, k) - map_.owned_lo()] = b.q_ref()[static_cast<size_t>(nq * c + k)];
     }
   }
   for (size_t i = 0; i < init_rows_.size(); ++i) a[init_rows_[i] - map_.owned_lo()] = init_values_[i];
@@ -464,13 +479,14 @@ std::vector<double> Model::effect_energies(double t, Vec x) const {
 
 std::vector<double> Model::beam_coordinates(int beam_index, Vec x) const {
   const Beam& b = beam(beam_index);
-  std::vector<double> q(static_cast<size_t>(12 * b.n_cp()), 0.0);
+  const int nq = b.coordinates_per_cp();
+  std::vector<double> q(static_cast<size_t>(nq * b.n_cp()), 0.0);
   const PetscScalar* a = nullptr;
   SB_CHECK(VecGetArrayRead(x, &a));
   for (int c = 0; c < b.n_cp(); ++c) {
     const PetscInt cp = b.first_cp() + c;
     if (!map_.owns_cp(cp)) continue;
-    for (int k = 0; k < 12; ++k) q[12 * c + k] = a[map_.q(cp, k) - map_.owned_lo()];
+    for (int k = 0; k < nq; ++k) q[static_cast<size_t>(nq * c + k)] = a[map_.q(cp, k) - map_.owned_lo()];
   }
   SB_CHECK(VecRestoreArrayRead(x, &a));
   MPI_Allreduce(MPI_IN_PLACE, q.data(), static_cast<int>(q.size()), MPI_DOUBLE, MPI_SUM, comm_);
@@ -524,7 +540,7 @@ std::vector<PetscInt> Model::elimination_order() const {
     const Beam& beam = beams_[static_cast<size_t>(b)];
     for (int c = 0; c < beam.n_cp(); ++c) {
       const PetscInt cp = beam.first_cp() + c;
-      for (PetscInt i = 0; i < DofMap::kBlock; ++i) order.push_back(map_.q(cp, 0) + i);
+      for (PetscInt i = 0; i < map_.block_size(cp); ++i) order.push_back(map_.q(cp, 0) + i);
       for (size_t k : anchored[static_cast<size_t>(cp)]) add_extras(k);
     }
   }

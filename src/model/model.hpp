@@ -95,7 +95,7 @@ class Model {
   bool has_inertia() const { return has_inertia_; }
   /// New constant mass matrix with the Jacobian's sparsity pattern (so M and J add cheaply).
   Mat create_mass_matrix() const;
-  /// 1 at coordinate unknowns (phi, d_i), 0 at multipliers and extras.
+  /// 1 at coordinate unknowns (phi, d_i; ANCF: r, r'), 0 at multipliers and extras.
   Vec coordinate_mask() const { return q_mask_; }
   /// 1 at extras that are state without mass (sliding coordinates), 0 elsewhere.
   Vec sliding_mask() const { return s_mask_; }
@@ -108,7 +108,8 @@ class Model {
   /// Potential energy of each effect at x (collective); same order as effects().
   std::vector<double> effect_energies(double t, Vec x) const;
 
-  /// Coordinates (n_cp x 12, row-major) of a beam's control points at x, on every rank (collective).
+  /// Coordinates (n_cp x coordinates_per_cp, row-major) of a beam's control points at x, on every
+  /// rank (collective).
   std::vector<double> beam_coordinates(int beam, Vec x) const;
 
   /// A permutation of all unknowns (new position -> old index) for a factorisation without

@@ -125,11 +125,38 @@ TEST(Model, DofMapCoversEveryUnknownOnce) {
   for (int n_cp : {3, 7, 50}) {
     PetscInt total = 0;
     for (int r = 0; r < size; ++r) {
-      DofMap d(n_cp, 5, r, size);
+      DofMap d(std::vector<int>(static_cast<size_t>(n_cp), 12), std::vector<int>(static_cast<size_t>(n_cp), 6), 5, r,
+               size);
       total += d.local_size();
       for (PetscInt cp = 0; cp < n_cp; ++cp)
         if (d.owns_cp(cp)) EXPECT_TRUE(d.q(cp, 0) >= d.owned_lo() && d.q(cp, 17) < d.owned_hi());
     }
     EXPECT_EQ(total, 18 * n_cp + 5);
   }
+}
+
+TEST(Model, DofMapMixedBlockSizes) {
+  // Director control points (12 + 6) and ANCF nodes (6 + 0) in one numbering: blocks are
+  // contiguous, multipliers follow the coordinates, extras follow all blocks.
+  const std::vector<int> nq = {12, 12, 6, 6, 6, 12}, nl = {6, 6, 0, 0, 0, 6};
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  PetscInt total = 0, next = 0;
+  for (int r = 0; r < size; ++r) {
+    DofMap d(nq, nl, 4, r, size);
+    total += d.local_size();
+    if (r == 0) {
+      for (PetscInt cp = 0; cp < 6; ++cp) {
+        EXPECT_EQ(d.q(cp, 0), next);
+        EXPECT_EQ(d.n_coordinates(cp), nq[static_cast<size_t>(cp)]);
+        if (nl[static_cast<size_t>(cp)] > 0) EXPECT_EQ(d.lambda(cp, 0), next + nq[static_cast<size_t>(cp)]);
+        next += d.block_size(cp);
+      }
+      EXPECT_EQ(d.extra(0), next);
+    }
+    for (PetscInt cp = 0; cp < 6; ++cp)
+      if (d.owns_cp(cp))
+        EXPECT_TRUE(d.q(cp, 0) >= d.owned_lo() && d.q(cp, d.block_size(cp) - 1) < d.owned_hi());
+  }
+  EXPECT_EQ(total, 18 * 3 + 6 * 3 + 4);
 }

@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: MIT
+/// @file Effects of an ANCF cable itself (kernels/ancf_kernels.hpp): elastic strain energy and
+/// inertia. Element e couples the 12 coordinates of nodes e and e+1 (r, r' each); the cable has
+/// no constraints of its own, so there is no counterpart of director_constraints.
+
+#include "effects/common.hpp"
+
+#include <Eigen/Dense>
+
+namespace slidebeam::effects {
+
+namespace ancf = kernels::ancf;
+using RowMajorEl = Eigen::Matrix<double, ancf::kElDofs, ancf::kElDofs, Eigen::RowMajor>;
+
+/// An effect integrated element by element over one ANCF cable: each rank takes the elements
+/// whose first node it owns.
+class AncfElementEffect : public Effect {
+ public:
+  AncfElementEffect(const Model& m, const EffectParams& p, const std::string& who)
+      : beam_(ancf_beam_param(m, p, who)), name_(m.beam(beam_).name()) {}
+  std::string label() const override { return type() + "[" + name_ + "]"; }
+
+  void distribute(const Model& m) override {
+    const Beam& b = m.beam(beam_);
+    for (int e = 0; e < b.n_spans(); ++e)
+      if (owns_span(m, b, e)) elements_.push_back(e);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    const Beam& b = m.beam(beam_);
+    for (int e : elements_) add_cp_blocks(m.dof_map(), b.first_cp() + e, 2, dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    const RowMajorEl zero = RowMajorEl::Zero();
+    for (int e : elements_) {
+      const auto d = dofs(m.dof_map(), m.beam(beam_), e);
+      PetscCall(sink.add(ancf::kElDofs, d.data(), ancf::kElDofs, d.data(), zero.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
+ protected:
+  /// Global indices of element e's 12 coordinates (nodes e, e+1; ANCF nodes have no multipliers,
+  /// so they are contiguous).
+  static std::array<PetscInt, ancf::kElDofs> dofs(const DofMap& map, const Beam& b, int e) {
+    std::array<PetscInt, ancf::kElDofs> d{};
+    for (int k = 0; k < ancf::kElDofs; ++k) d[static_cast<size_t>(k)] = map.q(b.first_cp() + e, 0) + k;
+    return d;
+  }
+  static ancf::ElVec gather(const LocalValues& x, const DofMap& map, const Beam& b, int e) {
+    ancf::ElVec q;
+    for (int a = 0; a < 2; ++a)
+      q.segment<ancf::kNodeDofs>(ancf::kNodeDofs * a) =
+          Eigen::Map<const Eigen::Matrix<double, ancf::kNodeDofs, 1>>(x.cp(map, b.first_cp() + e + a));
+    return q;
+  }
+  static void scatter(const LocalValues& r, const DofMap& map, const Beam& b, int e, const ancf::ElVec& v) {
+    for (int a = 0; a < 2; ++a)
+      Eigen::Map<Eigen::Matrix<double, ancf::kNodeDofs, 1>>(r.cp(map, b.first_cp() + e + a)) +=
+          v.segment<ancf::kNodeDofs>(ancf::kNodeDofs * a);
+  }
+
+  int beam_;
+  std::string name_;
+  std::vector<int> elements_;
+};
+
+/// Strain energy of one cable: Green axial strain and |r'' - r0''|^2 bending. Endpoint and Theta
+/// rules: the force at x_f (tangent times theta); EnergyMomentum: the averaged-strain force, an
+/// exact discrete gradient (with the optional xi dissipation, as beam_elastic).
+class AncfElastic final : public AncfElementEffect {
+ public:
+  AncfElastic(const Model& m, const EffectParams& p) : AncfElementEffect(m, p, "ancf_elastic") {}
+  std::string type() const override { return "ancf_elastic"; }
+
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    const Beam& b = ctx.model.beam(beam_);
+    for (int e : elements_) {
+      ancf::ElVec f;
+      element(ctx, b, e, f, nullptr);
+      scatter(r, ctx.map, b, e, f);
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    const Beam& b = ctx.model.beam(beam_);
+    for (int e : elements_) {
+      ancf::ElVec f;
+      ancf::ElMat K;
+      element(ctx, b, e, f, &K);
+      const RowMajorEl Kr = K;
+      const auto d = dofs(ctx.map, b, e);
+      PetscCall(J.add(ancf::kElDofs, d.data(), ancf::kElDofs, d.data(), Kr.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+  double energy(const EvalContext& ctx) const override {
+    const Beam& b = ctx.model.beam(beam_);
+    double U = 0.0;
+    for (int e : elements_) U += ancf::energy(b.ancf_section(), b.ancf_element(e), gather(ctx.x, ctx.map, b, e));
+    return U;
+  }
+
+ private:
+  void element(const EvalContext& ctx, const Beam& b, int e, ancf::ElVec& f, ancf::ElMat* K) const {
+    if (ctx.rule == StepRule::EnergyMomentum) {
+      ancf::internal_force_em(b.ancf_section(), b.ancf_element(e), gather(ctx.x_old, ctx.map, b, e),
+                              gather(ctx.x, ctx.map, b, e), f, K, ctx.dissipation);
+      return;
+    }
+    ancf::internal_force(b.ancf_section(), b.ancf_element(e), gather(ctx.xf, ctx.map, b, e), f, K);
+    if (K && ctx.theta != 1.0) *K *= ctx.theta;
+  }
+};
+
+/// Kinetic energy of one cable: the constant consistent mass int rhoA S^T S dx (no rotary
+/// inertia). Assembled once into the mass matrix.
+class AncfInertia final : public AncfElementEffect {
+ public:
+  AncfInertia(const Model& m, const EffectParams& p) : AncfElementEffect(m, p, "ancf_inertia") {}
+  std::string type() const override { return "ancf_inertia"; }
+  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
+  PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
+  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+  PetscErrorCode mass(const Model& m, const MatSink& M) const override {
+    PetscFunctionBeginUser;
+    const Beam& b = m.beam(beam_);
+    for (int e : elements_) {
+      const RowMajorEl A = ancf::mass_matrix(b.ancf_section(), b.ancf_element(e));
+      const auto d = dofs(m.dof_map(), b, e);
+      PetscCall(M.add(ancf::kElDofs, d.data(), ancf::kElDofs, d.data(), A.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+};
+
+void register_ancf_effects(EffectRegistry& r) {
+  r.add("ancf_elastic", [](const Model& m, const EffectParams& p) { return std::make_unique<AncfElastic>(m, p); });
+  r.add("ancf_inertia", [](const Model& m, const EffectParams& p) { return std::make_unique<AncfInertia>(m, p); });
+}
+
+}  // namespace slidebeam::effects
