@@ -40,11 +40,13 @@ class AncfElementEffect : public Effect {
   }
 
  protected:
-  /// Global indices of element e's 12 coordinates (nodes e, e+1; ANCF nodes have no multipliers,
-  /// so they are contiguous).
+  /// Global indices of element e's 12 coordinates: the 6 of node e, then the 6 of node e+1 (not
+  /// contiguous when extras are anchored at node e: DofMap slots).
   static std::array<PetscInt, ancf::kElDofs> dofs(const DofMap& map, const Beam& b, int e) {
     std::array<PetscInt, ancf::kElDofs> d{};
-    for (int k = 0; k < ancf::kElDofs; ++k) d[static_cast<size_t>(k)] = map.q(b.first_cp() + e, 0) + k;
+    for (int a = 0; a < 2; ++a)
+      for (int k = 0; k < ancf::kNodeDofs; ++k)
+        d[static_cast<size_t>(ancf::kNodeDofs * a + k)] = map.q(b.first_cp() + e + a, k);
     return d;
   }
   static ancf::ElVec gather(const LocalValues& x, const DofMap& map, const Beam& b, int e) {

@@ -6,12 +6,15 @@
 namespace slidebeam {
 
 DofMap::DofMap(const std::vector<int>& coordinates, const std::vector<int>& multipliers, PetscInt n_extra, int rank,
-               int size)
-    : n_q_(coordinates), n_cp_(static_cast<PetscInt>(coordinates.size())), n_extra_(n_extra), rank_(rank), size_(size) {
+               int size, const std::vector<int>& attached)
+    : n_q_(coordinates), n_lambda_(multipliers), n_cp_(static_cast<PetscInt>(coordinates.size())), n_extra_(n_extra), rank_(rank), size_(size) {
   if (multipliers.size() != coordinates.size())
     throw std::invalid_argument("DofMap: one coordinate and one multiplier count per control point");
+  if (!attached.empty() && attached.size() != coordinates.size())
+    throw std::invalid_argument("DofMap: one count of attached extras per control point");
   offset_.assign(coordinates.size() + 1, 0);
-  for (size_t c = 0; c < coordinates.size(); ++c) offset_[c + 1] = offset_[c] + coordinates[c] + multipliers[c];
+  for (size_t c = 0; c < coordinates.size(); ++c)
+    offset_[c + 1] = offset_[c] + coordinates[c] + multipliers[c] + (attached.empty() ? 0 : attached[c]);
   lo_ = offset_[static_cast<size_t>(cp_begin(rank))];
   hi_ = offset_[static_cast<size_t>(cp_begin(rank + 1))] + (rank == size - 1 ? n_extra : 0);
 }

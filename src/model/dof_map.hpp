@@ -2,14 +2,16 @@
 #pragma once
 /// @file Global numbering of unknowns and its distribution over ranks.
 ///
-/// Layout: every control point (all beams, numbered consecutively) owns a contiguous block of
-/// unknowns, its coordinates followed by the multipliers of its own constraints. The block size
-/// depends on the beam's formulation: a director control point has 12 coordinates (phi, d1, d2,
-/// d3) and 6 orthonormality multipliers (18), an ANCF node 6 coordinates (r, r') and none. Block
-/// offsets are a prefix sum over the control points. After all control points come the extra
-/// unknowns of effects (support and joint multipliers, sliding coordinates). Control points are
-/// split evenly over ranks in index order, so one long beam spans several ranks; the extra
-/// unknowns live on the last rank.
+/// Layout: every control point (all beams, numbered consecutively) owns a contiguous slot of
+/// unknowns: its coordinates, the multipliers of its own constraints, then the extra unknowns of
+/// the effects anchored at it (Effect::elimination_anchor: a joint's multipliers and sliding
+/// coordinate after its slider's points, a support's multipliers after the supported points).
+/// The block size depends on the beam's formulation: a director control point has 12
+/// coordinates (phi, d1, d2, d3) and 6 orthonormality multipliers (18), an ANCF node 6
+/// coordinates (r, r') and none. Slot offsets are a prefix sum. Extras live on the rank of the
+/// points they constrain, and the natural order eliminates them after those points; extras
+/// without an anchor come after all slots, on the last rank. Control points are split evenly
+/// over ranks in index order, so one long beam spans several ranks.
 
 #include <petscsys.h>
 
@@ -20,9 +22,10 @@ namespace slidebeam {
 class DofMap {
  public:
   DofMap() = default;
-  /// coordinates[cp] and multipliers[cp]: sizes of the two parts of every control point's block.
+  /// coordinates[cp] and multipliers[cp]: sizes of the two parts of every control point's block;
+  /// attached[cp]: extras anchored at cp (empty: none); n_extra: extras after all slots.
   DofMap(const std::vector<int>& coordinates, const std::vector<int>& multipliers, PetscInt n_extra, int rank,
-         int size);
+         int size, const std::vector<int>& attached = {});
 
   PetscInt n_cp() const { return n_cp_; }
   PetscInt n_extra() const { return n_extra_; }
@@ -33,13 +36,16 @@ class DofMap {
 
   /// Coordinates and all unknowns (coordinates + multipliers) of control point cp.
   int n_coordinates(PetscInt cp) const { return n_q_[static_cast<size_t>(cp)]; }
-  int block_size(PetscInt cp) const { return static_cast<int>(offset_[static_cast<size_t>(cp) + 1] - offset_[static_cast<size_t>(cp)]); }
+  int block_size(PetscInt cp) const { return n_q_[static_cast<size_t>(cp)] + n_lambda_[static_cast<size_t>(cp)]; }
+  /// The block plus the extras anchored at cp.
+  int slot_size(PetscInt cp) const { return static_cast<int>(offset_[static_cast<size_t>(cp) + 1] - offset_[static_cast<size_t>(cp)]); }
+  /// First extra unknown anchored at cp (right after its block).
+  PetscInt attached(PetscInt cp) const { return q(cp, block_size(cp)); }
 
   PetscInt q(PetscInt cp, int comp) const { return offset_[static_cast<size_t>(cp)] + comp; }
   PetscInt lambda(PetscInt cp, int k) const { return q(cp, n_coordinates(cp)) + k; }
+  /// i-th extra without an anchor.
   PetscInt extra(PetscInt i) const { return offset_.back() + i; }
-  /// Unknowns before the first extra: all control point blocks.
-  PetscInt n_cp_unknowns() const { return offset_.back(); }
 
   /// Rank owning control point cp.
   int cp_owner(PetscInt cp) const;
@@ -49,8 +55,9 @@ class DofMap {
 
  private:
   PetscInt cp_begin(int r) const { return (n_cp_ * r) / size_; }
-  std::vector<PetscInt> offset_{0};  // n_cp + 1 prefix sums of block sizes
+  std::vector<PetscInt> offset_{0};  // n_cp + 1 prefix sums of slot sizes
   std::vector<int> n_q_;             // coordinates per control point
+  std::vector<int> n_lambda_;        // multipliers per control point
   PetscInt n_cp_ = 0, n_extra_ = 0, lo_ = 0, hi_ = 0;
   int rank_ = 0, size_ = 1;
 };

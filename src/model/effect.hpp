@@ -163,10 +163,10 @@ class Effect {
   /// Values of extra unknowns in the initial state (e.g. a sliding coordinate from a projection).
   virtual void initial_values(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
 
-  /// Serial elimination order (Model::elimination_order): the control point right after whose
-  /// block this effect's extra unknowns are eliminated (-1: at the very end). Choose a point the
-  /// extras couple to, so that the multipliers find their pivot in the coordinates before them
-  /// and their fill stays local.
+  /// The control point whose slot holds this effect's extra unknowns (DofMap), right after its
+  /// block (-1: after all slots, on the last rank): they are then owned with that point and
+  /// eliminated after it. Choose a point the extras couple to, so that the multipliers find their
+  /// pivot in the coordinates before them and their fill stays local.
   virtual PetscInt elimination_anchor(const Model&) const { return -1; }
   /// Beams whose control points should be eliminated before another beam's, as (first, then)
   /// pairs: a slider before its carrier, so that a joint's fill lands in the carrier's band.

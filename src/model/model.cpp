@@ -71,19 +71,33 @@ void Model::finalize() {
   if (finalized_) return;
   if (beams_.empty()) throw std::invalid_argument("the model has no beams");
   std::vector<int> coordinates, multipliers;
-  PetscInt n_cp_unknowns = 0;
   for (const auto& b : beams_)
     for (int c = 0; c < b.n_cp(); ++c) {
       coordinates.push_back(b.coordinates_per_cp());
       multipliers.push_back(b.multipliers_per_cp());
-      n_cp_unknowns += b.coordinates_per_cp() + b.multipliers_per_cp();
     }
-  PetscInt n_extra = 0;
-  for (auto& e : effects_) {
-    e->set_extra_offset(n_cp_unknowns + n_extra);
-    n_extra += e->n_extra();
+  // Extras go into their anchor's slot (in effect order), the rest after all slots.
+  std::vector<int> attached(coordinates.size(), 0);
+  std::vector<PetscInt> anchor(effects_.size(), -1), slot_position(effects_.size(), 0);
+  PetscInt n_tail = 0;
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    const PetscInt n = effects_[k]->n_extra();
+    if (n == 0) continue;
+    const PetscInt a = effects_[k]->elimination_anchor(*this);
+    if (a >= 0 && a < n_cp_total_) {
+      anchor[k] = a;
+      slot_position[k] = attached[static_cast<size_t>(a)];
+      attached[static_cast<size_t>(a)] += static_cast<int>(n);
+    } else {
+      slot_position[k] = n_tail;
+      n_tail += n;
+    }
   }
-  map_ = DofMap(coordinates, multipliers, n_extra, rank_, size_);
+  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached);
+  for (size_t k = 0; k < effects_.size(); ++k)
+    if (effects_[k]->n_extra() > 0)
+      effects_[k]->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]
+                                                   : map_.extra(slot_position[k]));
   locate_points();
   for (auto& e : effects_) e->distribute(*this);
 
@@ -175,6 +189,7 @@ void Model::locate_points() {
     first[k + 1] = queries.size();
   }
   if (queries.empty()) return;
+  if (size_ > 1) MPI_Barrier(comm_);  // the event times the search, not the ranks' arrival
   PetscLogEventBegin(event("SBContactSearch"), 0, 0, 0, 0);
   const std::vector<ClosestPoint> answers = closest_points(*this, queries);
   PetscLogEventEnd(event("SBContactSearch"), 0, 0, 0, 0);
@@ -522,29 +537,18 @@ std::vector<PetscInt> Model::elimination_order() const {
     beam_order.push_back(next);
     for (int then : after[static_cast<size_t>(next)]) --indegree[static_cast<size_t>(then)];
   }
-  // Extras by anchor control point.
-  std::vector<std::vector<size_t>> anchored(static_cast<size_t>(n_cp_total_));
-  std::vector<size_t> unanchored;
-  for (size_t k = 0; k < effects_.size(); ++k) {
-    if (effects_[k]->n_extra() == 0) continue;
-    const PetscInt a = effects_[k]->elimination_anchor(*this);
-    if (a >= 0 && a < n_cp_total_) anchored[static_cast<size_t>(a)].push_back(k);
-    else unanchored.push_back(k);
-  }
+  // Each slot (a control point's block and the extras anchored at it), then the extras
+  // without an anchor.
   std::vector<PetscInt> order;
   order.reserve(static_cast<size_t>(map_.global_size()));
-  auto add_extras = [&](size_t k) {
-    for (PetscInt i = 0; i < effects_[k]->n_extra(); ++i) order.push_back(effects_[k]->extra_offset() + i);
-  };
   for (int b : beam_order) {
     const Beam& beam = beams_[static_cast<size_t>(b)];
     for (int c = 0; c < beam.n_cp(); ++c) {
       const PetscInt cp = beam.first_cp() + c;
-      for (PetscInt i = 0; i < map_.block_size(cp); ++i) order.push_back(map_.q(cp, 0) + i);
-      for (size_t k : anchored[static_cast<size_t>(cp)]) add_extras(k);
+      for (PetscInt i = 0; i < map_.slot_size(cp); ++i) order.push_back(map_.q(cp, 0) + i);
     }
   }
-  for (size_t k : unanchored) add_extras(k);
+  for (PetscInt i = map_.extra(0); i < map_.global_size(); ++i) order.push_back(i);
   return order;
 }
 

@@ -6,10 +6,18 @@
 
 namespace slidebeam {
 
-bool schwarz_requested() {
-  PetscBool flag = PETSC_FALSE;
-  PetscOptionsGetBool(nullptr, nullptr, "-sb_schwarz", &flag, nullptr);
-  return flag == PETSC_TRUE;
+bool schwarz_requested(MPI_Comm comm) {
+  PetscBool flag = PETSC_FALSE, set = PETSC_FALSE;
+  PetscOptionsGetBool(nullptr, nullptr, "-sb_schwarz", &flag, &set);
+  if (set) return flag == PETSC_TRUE;
+  // default: on more than one rank, unless the options name another solver
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  PetscBool pc = PETSC_FALSE, solver = PETSC_FALSE, ksp = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, nullptr, "-pc_type", &pc);
+  PetscOptionsHasName(nullptr, nullptr, "-pc_factor_mat_solver_type", &solver);
+  PetscOptionsHasName(nullptr, nullptr, "-ksp_type", &ksp);
+  return size > 1 && !pc && !solver && !ksp;
 }
 
 PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J) {

@@ -6,7 +6,8 @@
 /// current pattern), listed in the model's elimination order and left unsorted, so that the
 /// subdomain's LU in natural order is Model::elimination_order restricted to it: every
 /// multiplier after coordinates that give it a pivot, fill local. PETSc's sorted default
-/// subdomains would need a pivoting LU (SuperLU) and many more iterations.
+/// subdomains would need a pivoting LU (SuperLU) and many more iterations. The default on more
+/// than one rank (schwarz_requested).
 
 #include "model/model.hpp"
 
@@ -14,8 +15,10 @@
 
 namespace slidebeam {
 
-/// True when -sb_schwarz is set in the options database.
-bool schwarz_requested();
+/// Whether to use the Schwarz path: -sb_schwarz [true|false] if given; otherwise on more than
+/// one rank (where it beats MUMPS on the saddle-point systems, whose zero diagonals make MUMPS
+/// delay nearly every multiplier pivot), unless the options name a KSP, PC or factor package.
+bool schwarz_requested(MPI_Comm comm);
 /// Set snes's KSP to GMRES and its PC to ASM on the model's subdomains (before
 /// SNESSetFromOptions, so options still win), with sub-solvers PETSc LU in natural order unless
 /// the options database names others.

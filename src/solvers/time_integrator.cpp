@@ -70,7 +70,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   if (user_pc) user_solver = PETSC_TRUE;
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
-  if (schwarz_requested()) {
+  if (schwarz_requested(model.comm())) {
     SB_CHECK(configure_schwarz(snes_, model, J_));
     schwarz_ = true;
   } else if (size == 1 && !user_solver) {

@@ -65,8 +65,12 @@ def test_elimination_order_is_a_permutation_with_sliders_before_carriers(tmp_pat
         first_extra = sim.sliding_coordinate_index(k) - 3
         slider, carrier = sim.first_control_point(joint.slider), sim.first_control_point(joint.carrier)
         # the joint's extras right after the slider's three points, before any carrier point
-        assert position[first_extra] > position[18 * (slider + 2) + 17]
-        assert position[first_extra] < position[18 * carrier]
+        last_slider, _ = sim.control_point_unknowns(slider + 2)
+        first_carrier, _ = sim.control_point_unknowns(carrier)
+        assert position[first_extra] > position[last_slider + 17]
+        assert position[first_extra] < position[first_carrier]
+        # numbered in that slot too (DofMap): owned with the slider's points
+        assert first_extra == last_slider + 18
 
 
 def test_static_start_hangs_a_straight_rope_in_its_sag():
