@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/schwarz.hpp"
 
+#include "solvers/newton.hpp"
+
 #include <algorithm>
+#include <string>
 #include <vector>
 
 namespace slidebeam {
@@ -25,17 +28,19 @@ PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J) {
   const std::vector<PetscInt> order = model.elimination_order();
   std::vector<PetscInt> position(order.size());
   for (size_t k = 0; k < order.size(); ++k) position[static_cast<size_t>(order[k])] = static_cast<PetscInt>(k);
-  PetscInt lo = 0, hi = 0;
+  PetscInt lo = 0, hi = 0, overlap = 1;
   PetscCall(MatGetOwnershipRange(J, &lo, &hi));
+  PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-sb_schwarz_overlap", &overlap, nullptr));
   std::vector<PetscInt> local, overlapped;
   for (PetscInt i = lo; i < hi; ++i) {
     local.push_back(i);
+    overlapped.push_back(i);
+    if (overlap < 1) continue;
     PetscInt ncols = 0;
     const PetscInt* cols = nullptr;
     PetscCall(MatGetRow(J, i, &ncols, &cols, nullptr));
     overlapped.insert(overlapped.end(), cols, cols + ncols);
     PetscCall(MatRestoreRow(J, i, &ncols, &cols, nullptr));
-    overlapped.push_back(i);
   }
   std::sort(overlapped.begin(), overlapped.end());
   overlapped.erase(std::unique(overlapped.begin(), overlapped.end()), overlapped.end());
@@ -53,6 +58,41 @@ PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J) {
   PetscFunctionReturn(0);
 }
 
+namespace {
+PetscInt schwarz_overlap() {
+  PetscInt overlap = 0;
+  PetscOptionsGetInt(nullptr, nullptr, "-sb_schwarz_overlap", &overlap, nullptr);
+  return overlap;
+}
+}  // namespace
+
+PetscErrorCode prepare_schwarz(PC pc, const Model& model, Mat J, bool pattern_changed) {
+  PetscFunctionBeginUser;
+  PCType type = nullptr;
+  PetscCall(PCGetType(pc, &type));
+  if (!type || pattern_changed) {  // new, or PCReset dropped its set-up
+    PetscCall(PCSetType(pc, schwarz_overlap() > 0 ? PCASM : PCBJACOBI));
+    PetscCall(PCGetType(pc, &type));
+    if (std::string(type) == PCASM) PetscCall(set_schwarz_subdomains(pc, model, J));
+  }
+  if (std::string(type) != PCBJACOBI) PetscFunctionReturn(0);
+  // Block Jacobi factors each rank's diagonal block (no copy) in the model's order restricted
+  // to the rank: attach it to the block, which a new pattern may have replaced.
+  Mat A = nullptr;
+  PetscCall(MatGetDiagonalBlock(J, &A));
+  PetscObject has = nullptr;
+  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(A), "sb_elimination_order", &has));
+  if (has) PetscFunctionReturn(0);
+  PetscInt lo = 0, hi = 0;
+  PetscCall(MatGetOwnershipRange(J, &lo, &hi));
+  std::vector<PetscInt> local;
+  local.reserve(static_cast<size_t>(hi - lo));
+  for (PetscInt i : model.elimination_order())
+    if (i >= lo && i < hi) local.push_back(i - lo);
+  PetscCall(attach_elimination_order(A, local));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
@@ -63,11 +103,11 @@ PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
   // tight: Newton keeps its quadratic rate and the roundoff tests stay meaningful
   PetscCall(KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500));
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCASM));
-  PetscCall(set_schwarz_subdomains(pc, model, J));
+  PetscCall(prepare_schwarz(pc, model, J, true));
+  const bool asm_ = schwarz_overlap() > 0;
   for (const auto& [key, value] : {std::pair{"-sub_ksp_type", "preonly"}, {"-sub_pc_type", "lu"},
                                    {"-sub_pc_factor_mat_solver_type", "petsc"},
-                                   {"-sub_pc_factor_mat_ordering_type", "natural"}}) {
+                                   {"-sub_pc_factor_mat_ordering_type", asm_ ? "natural" : kModelOrdering}}) {
     PetscBool has = PETSC_FALSE;
     PetscCall(PetscOptionsHasName(nullptr, nullptr, key, &has));
     if (!has) PetscCall(PetscOptionsSetValue(nullptr, key, value));

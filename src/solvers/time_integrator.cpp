@@ -253,13 +253,12 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
   PetscCall(self->step_jacobian(x, J));
   const int seen = self->pattern_seen_;
   PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
-  if (self->schwarz_ && seen != self->pattern_seen_) {  // PCReset dropped the subdomains
+  if (self->schwarz_) {
     KSP ksp = nullptr;
     PC pc = nullptr;
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
-    PetscCall(PCSetType(pc, PCASM));
-    PetscCall(set_schwarz_subdomains(pc, self->model_, J));
+    PetscCall(prepare_schwarz(pc, self->model_, J, seen != self->pattern_seen_));
   }
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
   self->jac_solve_ = self->solve_count_;
