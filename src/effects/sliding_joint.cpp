@@ -113,8 +113,9 @@ class SlidingJoint final : public Effect {
   /// The joint couples positions only with s and mu, never positions with positions: its
   /// pattern is the columns (s, mu) of the position rows and the rows (s, mu), over the slider's
   /// points and a window of carrier curve blocks around s (the touched ones plus kWindowMargin
-  /// control points' blocks on either side; an ANCF node has two blocks, r and r'). When s leaves the window, the window moves: the Jacobian's pattern changes
-  /// and the solvers set their factorisation up anew (reset_factorization_on_pattern_change).
+  /// control points' blocks on either side; an ANCF node has two blocks, r and r'). When s
+  /// leaves the window, the window moves: the Jacobian's pattern changes and the solvers set
+  /// their factorisation up anew (reset_factorization_on_pattern_change).
   /// Rows over the whole carrier would fill the LU along the carrier for every joint.
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
@@ -138,7 +139,8 @@ class SlidingJoint final : public Effect {
     }
     const Beam& S = ctx.model.beam(slider_);
     scatter_stencil(r, ctx.map, S, stencil_, -mu);
-    g -= stencil_point(ctx.x, ctx.map, S, stencil_);
+    for (int j = 0; j < stencil_.n; ++j)  // one block at a time (the director beam's rounding as before)
+      g -= stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, S.first_cp() + stencil_.cp[j]) + stencil_.comp[j]);
     r.at(s_index()) += t.Gs.dot(mu);
     for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += g(k);
     PetscFunctionReturn(0);
