@@ -1124,10 +1124,6 @@ def _parse_sliding_joint(t: _Table, beams: tuple[Beam, ...]) -> SlidingJoint:
     carrier = _named_beam(t, "carrier", beams)
     if slider == carrier:
         raise t.error("carrier", f"a beam cannot slide on itself ('{beams[slider].name}')")
-    for key, i in (("slider", slider), ("carrier", carrier)):
-        if beams[i].formulation == "ancf":
-            raise t.error(key, f"beam '{beams[i].name}' is an ANCF cable: sliding joints on or of ANCF cables "
-                               "are not supported yet (director beams only)")
     at = _parse_at(t, beams[slider].geometry.length) if t.has("at") else 0.0
     tolerance = t.number("tolerance", check=lambda v: v > 0, requirement="> 0") if t.has("tolerance") else None
     return SlidingJoint(slider, at, carrier, t.choice("discrete_gradient", ("exact", "midpoint"), "exact"),

@@ -11,6 +11,12 @@
 ///    G_s = sum_A [N_A(s_n+1) - N_A(s_n)]/(s_n+1 - s_n) phi_A,n+1/2, so that
 ///    G_q dq + G_s ds = Phi_n+1 - Phi_n exactly, across any number of knots: the joint does no work.
 /// The knot span of s is found again at every evaluation.
+///
+/// Carrier and slider may be director beams or ANCF cables. The carrier's centre line is a
+/// sliding::Curve over coordinate 3-blocks ("curve blocks"): the phi of each control point of a
+/// director beam (quadratic B-spline), or r and r' of each node of a cable (cubic Hermite,
+/// kernels/ancf_sliding.hpp); the same formulas hold blockwise, because c(s) is linear in the
+/// blocks. The slider point is a PositionStencil (Beam::position_at) of either formulation.
 
 #include "effects/common.hpp"
 #include "kernels/sliding.hpp"
@@ -32,12 +38,11 @@ class SlidingJoint final : public Effect {
       if (beam < 0 || beam >= nb) throw std::invalid_argument("sliding_joint: no beam with index " + std::to_string(beam));
     if (slider_ == carrier_) throw std::invalid_argument("sliding_joint: a beam cannot slide on itself");
     const Beam &S = m.beam(slider_), &C = m.beam(carrier_);
-    for (const Beam* X : {&S, &C})  // ANCF carriers and sliders: not yet (issue 9)
-      if (X->is_ancf()) throw std::invalid_argument("sliding_joint: beam '" + X->name() + "' is an ANCF cable (not supported yet)");
+    curve_ = {C.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, C.n_spans(), C.length()};
     const double sigma = p.number("slider_s");
     if (sigma < -1e-12 * S.length() || sigma > S.length() * (1 + 1e-12))
       throw std::invalid_argument("sliding_joint: slider point s = " + std::to_string(sigma) + " outside beam '" + S.name() + "'");
-    slider_basis_ = S.basis_at(std::clamp(sigma, 0.0, S.length()));
+    stencil_ = S.position_at(std::clamp(sigma, 0.0, S.length()));
     const std::string form = p.string("discrete_gradient", "exact");
     if (form == "exact") exact_ = true;
     else if (form == "midpoint") exact_ = false;
@@ -45,8 +50,9 @@ class SlidingJoint final : public Effect {
 
     // initial s: the closest point of the slider point on the carrier (reference configuration),
     // found by the model's parallel search (closest_point_queries / set_closest_points)
-    for (int b = 0; b < 3; ++b)
-      for (int k = 0; k < 3; ++k) point_[k] += slider_basis_.N[b] * S.q_ref()[12 * (slider_basis_.span + b) + k];
+    for (int j = 0; j < stencil_.n; ++j)
+      for (int k = 0; k < 3; ++k)
+        point_[k] += stencil_.w[j] * S.q_ref()[static_cast<size_t>(S.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
     tolerance_ = p.number("tolerance", 1e-6 * C.length());
     label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + C.name() + "]";
   }
@@ -77,46 +83,44 @@ class SlidingJoint final : public Effect {
     vals.push_back(s0_);
   }
 
-  PetscInt elimination_anchor(const Model& m) const override { return slider_cp(m, 2); }
+  PetscInt elimination_anchor(const Model& m) const override { return slider_cp(m, stencil_.n - 1); }
   void elimination_precedence(std::vector<std::pair<int, int>>& pairs) const override {
     pairs.emplace_back(slider_, carrier_);
   }
   void distribute(const Model& m) override {
     owned_ = m.dof_map().owns_cp(slider_cp(m, 0));
-    const Beam& C = m.beam(carrier_);
-    const auto r = sliding::touched_cps(C.n_spans(), C.length(), s0_, s0_);
-    move_window(r[0], r[1], C.n_cp());
-    ghost_lo_ = std::max(0, r[0] - kGhostMargin);
-    ghost_hi_ = std::min(C.n_cp() - 1, r[1] + kGhostMargin);
+    const auto r = curve_.touched_blocks(s0_, s0_);
+    move_window(r[0], r[1]);
+    set_ghost_window(s0_, s0_);
   }
   /// The slider's points, the carrier points around s (the ghost window: the touched ones plus
   /// kGhostMargin on either side, moved by refresh_needed_dofs) and the joint's extras: the
   /// carrier points a joint reads come from whichever rank owns them, O(1) per joint.
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
-    add_cp_blocks(m.dof_map(), slider_cp(m, 0), 3, dofs);
+    add_cp_blocks(m.dof_map(), slider_cp(m, 0), stencil_.cp[stencil_.n - 1] - stencil_.cp[0] + 1, dofs);
     add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp() + ghost_lo_, ghost_hi_ - ghost_lo_ + 1, dofs);
     for (int k = 0; k < 4; ++k) dofs.push_back(extra_offset() + k);
   }
-  bool refresh_needed_dofs(const Model& m, const LocalValues& x, const LocalValues& x_old) const override {
+  bool refresh_needed_dofs(const Model&, const LocalValues& x, const LocalValues& x_old) const override {
     if (!owned_) return false;
-    const Beam& C = m.beam(carrier_);
-    const auto r = sliding::touched_cps(C.n_spans(), C.length(), x_old.at(s_index()), x.at(s_index()));
+    const double s0 = x_old.at(s_index()), s1 = x.at(s_index());
+    const auto r = curve_.touched_cps(s0, s1);
     if (r[0] >= ghost_lo_ && r[1] <= ghost_hi_) return false;
-    ghost_lo_ = std::max(0, r[0] - kGhostMargin);
-    ghost_hi_ = std::min(C.n_cp() - 1, r[1] + kGhostMargin);
+    set_ghost_window(s0, s1);
     return true;
   }
   /// The joint couples positions only with s and mu, never positions with positions: its
   /// pattern is the columns (s, mu) of the position rows and the rows (s, mu), over the slider's
-  /// points and a window of carrier points around s (the touched ones plus kWindowMargin on
-  /// either side). When s leaves the window, the window moves: the Jacobian's pattern changes
-  /// and the solvers set their factorisation up anew (reset_factorization_on_pattern_change).
+  /// points and a window of carrier curve blocks around s (the touched ones plus kWindowMargin
+  /// control points' blocks on either side; an ANCF node has two blocks, r and r'). When s
+  /// leaves the window, the window moves: the Jacobian's pattern changes and the solvers set
+  /// their factorisation up anew (reset_factorization_on_pattern_change).
   /// Rows over the whole carrier would fill the LU along the carrier for every joint.
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const int n = 9 + 3 * (win_hi_ - win_lo_ + 1) + 4;
+    const int n = 3 * stencil_.n + 3 * (win_hi_ - win_lo_ + 1) + 4;
     const std::vector<double> zero(static_cast<size_t>(4 * (n - 4) + 4 * n), 0.0);
     PetscCall(add_blocks(dofs(m, win_lo_, win_hi_ + 1), zero.data(), sink));
     PetscFunctionReturn(0);
@@ -130,15 +134,13 @@ class SlidingJoint final : public Effect {
     const Beam& C = ctx.model.beam(carrier_);
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (int A = t.lo; A <= t.hi; ++A) {
-      const PetscInt cp = C.first_cp() + A;
-      Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, cp)) += t.Wq.at(A) * mu;
-      g += t.N1.at(A) * position(ctx.x, ctx.map, cp);
+      Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, C, A)) += t.Wq.at(A) * mu;
+      g += t.N1.at(A) * position(ctx.x, ctx.map, C, A);
     }
-    for (int b = 0; b < 3; ++b) {
-      const PetscInt cp = slider_cp(ctx.model, b);
-      Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, cp)) -= slider_basis_.N[b] * mu;
-      g -= slider_basis_.N[b] * position(ctx.x, ctx.map, cp);
-    }
+    const Beam& S = ctx.model.beam(slider_);
+    scatter_stencil(r, ctx.map, S, stencil_, -mu);
+    for (int j = 0; j < stencil_.n; ++j)  // one block at a time (the director beam's rounding as before)
+      g -= stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, S.first_cp() + stencil_.cp[j]) + stencil_.comp[j]);
     r.at(s_index()) += t.Gs.dot(mu);
     for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += g(k);
     PetscFunctionReturn(0);
@@ -152,18 +154,19 @@ class SlidingJoint final : public Effect {
     const Beam& C = ctx.model.beam(carrier_);
     // The (s, mu) columns of the position rows and the (s, mu) rows over the slider and the
     // window of carrier points (see pattern()), filled directly: O(window) per joint.
-    move_window(t.lo, t.hi, C.n_cp());
-    const int nr = win_hi_ - win_lo_ + 1, n = 9 + 3 * nr + 4;
-    const int is = 9 + 3 * nr;  // local index of s; mu follows
+    move_window(t.lo, t.hi);
+    const int np = 3 * stencil_.n;  // slider coordinates first
+    const int nr = win_hi_ - win_lo_ + 1, n = np + 3 * nr + 4;
+    const int is = np + 3 * nr;  // local index of s; mu follows
     std::vector<double> blocks(static_cast<size_t>(4 * is + 4 * n), 0.0);
     auto col = [&](int row, int k) -> double& { return blocks[static_cast<size_t>(4 * row + k)]; };  // k: 0 s, 1-3 mu
     auto srow = [&](int k, int j) -> double& { return blocks[static_cast<size_t>(4 * is + n * k + j)]; };
     double ds_row_s = 0.0;
     Eigen::Vector3d dg_ds = Eigen::Vector3d::Zero();
     for (int a = t.lo; a <= t.hi; ++a) {
-      const int ia = 9 + 3 * (a - win_lo_);
-      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C.first_cp() + a);
-      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C.first_cp() + a) + (1.0 - t.blend_old) * x1;
+      const int ia = np + 3 * (a - win_lo_);
+      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C, a);
+      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C, a) + (1.0 - t.blend_old) * x1;
       for (int k = 0; k < 3; ++k) {
         col(ia + k, 1 + k) = t.Wq.at(a);           // carrier force  / d mu
         col(ia + k, 0) = t.dWq.at(a) * mu(k);      // carrier force  / d s
@@ -173,10 +176,10 @@ class SlidingJoint final : public Effect {
       ds_row_s += t.dDs.at(a) * xh.dot(mu);
       dg_ds += t.dN1.at(a) * x1;
     }
-    for (int b = 0; b < 3; ++b)
+    for (int b = 0; b < stencil_.n; ++b)
       for (int k = 0; k < 3; ++k) {
-        col(3 * b + k, 1 + k) = -slider_basis_.N[b];
-        srow(1 + k, 3 * b + k) = -slider_basis_.N[b];
+        col(3 * b + k, 1 + k) = -stencil_.w[b];
+        srow(1 + k, 3 * b + k) = -stencil_.w[b];
       }
     for (int k = 0; k < 3; ++k) {
       srow(0, is + 1 + k) = t.Gs(k);
@@ -198,7 +201,7 @@ class SlidingJoint final : public Effect {
   }
 
  private:
-  /// Coefficients of one evaluation, over carrier control points lo..hi.
+  /// Coefficients of one evaluation, over carrier curve blocks lo..hi.
   struct Terms {
     int lo = 0, hi = 0;
     sliding::Weights Wq, dWq;   // carrier force G_q^T mu = Wq mu, and d Wq / d s
@@ -211,82 +214,94 @@ class SlidingJoint final : public Effect {
 
   Terms terms(const EvalContext& ctx) const {
     const Beam& C = ctx.model.beam(carrier_);
-    const int ns = C.n_spans();
-    const double L = C.length();
+    const sliding::Curve& cv = curve_;
     const double s1 = ctx.x.at(s_index()), s0 = ctx.x_old.at(s_index());
     Terms t;
-    const auto range = sliding::touched_cps(ns, L, s0, s1);
+    const auto range = cv.touched_blocks(s0, s1);
     t.lo = range[0];
     t.hi = range[1];
     const int nr = t.hi - t.lo + 1;
     for (auto* w : {&t.Wq, &t.dWq, &t.Ds, &t.dDs, &t.cphi, &t.N1, &t.dN1}) w->reset(t.lo, nr);
-    const int e1 = sliding::span_of(ns, L, s1);
-    sliding::add_basis(ns, L, e1, s1, 0, 1.0, t.N1);
-    sliding::add_basis(ns, L, e1, s1, 1, 1.0, t.dN1);
+    const int e1 = cv.span_of(s1);
+    cv.add_basis(e1, s1, 0, 1.0, t.N1);
+    cv.add_basis(e1, s1, 1, 1.0, t.dN1);
     if (ctx.rule == StepRule::EnergyMomentum && exact_) {
-      const int e0 = sliding::span_of(ns, L, s0);
-      sliding::add_basis(ns, L, e0, s0, 0, 0.5, t.Wq);
-      sliding::add_basis(ns, L, e1, s1, 0, 0.5, t.Wq);
-      sliding::add_basis(ns, L, e1, s1, 1, 0.5, t.dWq);
-      sliding::difference_quotient(ns, L, s0, s1, t.Ds, t.dDs);
+      const int e0 = cv.span_of(s0);
+      cv.add_basis(e0, s0, 0, 0.5, t.Wq);
+      cv.add_basis(e1, s1, 0, 0.5, t.Wq);
+      cv.add_basis(e1, s1, 1, 0.5, t.dWq);
+      cv.difference_quotient(s0, s1, t.Ds, t.dDs);
       for (size_t i = 0; i < t.Ds.w.size(); ++i) t.cphi.w[i] = 0.5 * t.Ds.w[i];
       t.blend_old = 0.5;
     } else {
       // forces at x_f (Endpoint: x_f = x, theta = 1)
       const double th = ctx.theta, sf = ctx.xf.at(s_index());
-      const int ef = sliding::span_of(ns, L, sf);
-      sliding::add_basis(ns, L, ef, sf, 0, 1.0, t.Wq);
-      sliding::add_basis(ns, L, ef, sf, 1, th, t.dWq);
-      sliding::add_basis(ns, L, ef, sf, 1, 1.0, t.Ds);
-      sliding::add_basis(ns, L, ef, sf, 1, th, t.cphi);
-      sliding::add_basis(ns, L, ef, sf, 2, th, t.dDs);
+      const int ef = cv.span_of(sf);
+      cv.add_basis(ef, sf, 0, 1.0, t.Wq);
+      cv.add_basis(ef, sf, 1, th, t.dWq);
+      cv.add_basis(ef, sf, 1, 1.0, t.Ds);
+      cv.add_basis(ef, sf, 1, th, t.cphi);
+      cv.add_basis(ef, sf, 2, th, t.dDs);
       t.blend_old = 1.0 - th;
     }
     for (int a = t.lo; a <= t.hi; ++a) {
-      const PetscInt cp = C.first_cp() + a;
-      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, cp) + (1.0 - t.blend_old) * position(ctx.x, ctx.map, cp);
+      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C, a) + (1.0 - t.blend_old) * position(ctx.x, ctx.map, C, a);
       t.Gs += t.Ds.at(a) * xh;
     }
     return t;
   }
 
-  static Eigen::Vector3d position(const LocalValues& x, const DofMap& map, PetscInt cp) {
-    return Eigen::Map<const Eigen::Vector3d>(x.cp(map, cp));
+  /// Curve block A of the carrier in the state x, and a pointer to its 3 entries in r.
+  Eigen::Vector3d position(const LocalValues& x, const DofMap& map, const Beam& C, int A) const {
+    return Eigen::Map<const Eigen::Vector3d>(x.cp(map, C.first_cp() + curve_.cp_of_block(A)) + curve_.offset_of_block(A));
+  }
+  double* block(const LocalValues& r, const DofMap& map, const Beam& C, int A) const {
+    return r.cp(map, C.first_cp() + curve_.cp_of_block(A)) + curve_.offset_of_block(A);
   }
   Eigen::Vector3d multipliers(const LocalValues& x) const {
     return {x.at(extra_offset()), x.at(extra_offset() + 1), x.at(extra_offset() + 2)};
   }
   PetscInt s_index() const { return extra_offset() + 3; }
-  PetscInt slider_cp(const Model& m, int b) const { return m.beam(slider_).first_cp() + slider_basis_.span + b; }
-  /// Slider span positions (9), carrier positions of control points [c0, c1) (3 each), s, mu.
+  /// Global index of the slider stencil's control point (node) j.
+  PetscInt slider_cp(const Model& m, int j) const { return m.beam(slider_).first_cp() + stencil_.cp[j]; }
+  /// Slider stencil blocks (3 each), carrier curve blocks [c0, c1) (3 each), s, mu.
   std::vector<PetscInt> dofs(const Model& m, int c0, int c1) const {
     const DofMap& map = m.dof_map();
-    std::vector<PetscInt> d;
-    d.reserve(static_cast<size_t>(9 + 3 * (c1 - c0) + 4));
-    for (int b = 0; b < 3; ++b)
-      for (int k = 0; k < 3; ++k) d.push_back(map.q(slider_cp(m, b), k));
+    std::vector<PetscInt> d = stencil_dofs(map, m.beam(slider_), stencil_);
+    d.reserve(static_cast<size_t>(3 * stencil_.n + 3 * (c1 - c0) + 4));
+    const PetscInt first = m.beam(carrier_).first_cp();
     for (int a = c0; a < c1; ++a)
-      for (int k = 0; k < 3; ++k) d.push_back(map.q(m.beam(carrier_).first_cp() + a, k));
+      for (int k = 0; k < 3; ++k) d.push_back(map.q(first + curve_.cp_of_block(a), curve_.offset_of_block(a) + k));
     d.push_back(s_index());  // the local block's order: s, then mu
     for (int k = 0; k < 3; ++k) d.push_back(extra_offset() + k);
     return d;
   }
 
-  /// Keep carrier points [lo, hi] inside the window; re-centre it (with margin) when they leave.
-  void move_window(int lo, int hi, int n_cp) const {
+  /// Keep carrier curve blocks [lo, hi] inside the window; re-centre it (with margin) when they
+  /// leave. Touched ranges of a Hermite curve start at an r block and end at an r' block, and the
+  /// margin is whole nodes, so the window holds whole nodes.
+  void move_window(int lo, int hi) const {
     if (lo >= win_lo_ && hi <= win_hi_) return;
-    win_lo_ = std::max(0, lo - kWindowMargin);
-    win_hi_ = std::min(n_cp - 1, hi + kWindowMargin);
+    const int margin = kWindowMargin * curve_.blocks_per_cp();
+    win_lo_ = std::max(0, lo - margin);
+    win_hi_ = std::min(curve_.n_blocks() - 1, hi + margin);
   }
-  static constexpr int kWindowMargin = 2;  ///< carrier points beyond the touched ones
+  /// Ghost the carrier points touched by [s0, s1] plus kGhostMargin on either side.
+  void set_ghost_window(double s0, double s1) const {
+    const auto r = curve_.touched_cps(s0, s1);
+    ghost_lo_ = std::max(0, r[0] - kGhostMargin);
+    ghost_hi_ = std::min(curve_.n_cp() - 1, r[1] + kGhostMargin);
+  }
+  static constexpr int kWindowMargin = 2;  ///< carrier points (nodes) beyond the touched ones
   /// Ghosted carrier points beyond the touched ones: wider than the Jacobian's window, which
   /// must lie within them (its values are read), so ghosts move less often than the pattern.
   static constexpr int kGhostMargin = 4;
 
   int slider_, carrier_;
-  mutable int win_lo_ = 0, win_hi_ = -1;  ///< carrier points in the Jacobian pattern
+  mutable int win_lo_ = 0, win_hi_ = -1;  ///< carrier curve blocks in the Jacobian pattern
   mutable int ghost_lo_ = 0, ghost_hi_ = -1;  ///< carrier points ghosted
-  PointBasis slider_basis_;
+  sliding::Curve curve_;        ///< the carrier's centre-line basis
+  PositionStencil stencil_;     ///< the slider point on the slider beam
   bool exact_ = true;
   double s0_ = 0.0;
   double point_[3] = {0, 0, 0};  ///< the slider point, reference configuration

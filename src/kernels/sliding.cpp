@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "kernels/sliding.hpp"
 
+#include "kernels/ancf_sliding.hpp"
 #include "kernels/bspline.hpp"
 
 #include <algorithm>
@@ -98,6 +99,38 @@ std::array<double, 2> project(int n_spans, double L, const double* x, int stride
   double best_s = 0.0, best_d = std::numeric_limits<double>::infinity();
   for (int e = 0; e < n_spans; ++e) {
     const auto r = project_on_span(n_spans, L, x, stride, e, p);
+    if (r[1] < best_d) best_d = r[1], best_s = r[0];
+  }
+  return {best_s, best_d};
+}
+
+int Curve::span_of(double s) const {
+  return kind == Kind::Hermite ? hermite::element_of(n_spans, L, s) : sliding::span_of(n_spans, L, s);
+}
+
+void Curve::add_basis(int span, double s, int k, double f, Weights& w) const {
+  if (kind == Kind::Hermite) hermite::add_basis(n_spans, L, span, s, k, f, w);
+  else sliding::add_basis(n_spans, L, span, s, k, f, w);
+}
+
+std::array<int, 2> Curve::touched_blocks(double s0, double s1) const {
+  return kind == Kind::Hermite ? hermite::touched_blocks(n_spans, L, s0, s1) : sliding::touched_cps(n_spans, L, s0, s1);
+}
+
+void Curve::difference_quotient(double s0, double s1, Weights& D, Weights& dD) const {
+  if (kind == Kind::Hermite) hermite::difference_quotient(n_spans, L, s0, s1, D, dD);
+  else sliding::difference_quotient(n_spans, L, s0, s1, D, dD);
+}
+
+std::array<double, 2> Curve::project_on_span(const double* x, int stride, int e, const double p[3]) const {
+  return kind == Kind::Hermite ? hermite::project_on_element(n_spans, L, x, stride, e, p)
+                               : sliding::project_on_span(n_spans, L, x, stride, e, p);
+}
+
+std::array<double, 2> Curve::project(const double* x, int stride, const double p[3]) const {
+  double best_s = 0.0, best_d = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < n_spans; ++e) {
+    const auto r = project_on_span(x, stride, e, p);
     if (r[1] < best_d) best_d = r[1], best_s = r[0];
   }
   return {best_s, best_d};

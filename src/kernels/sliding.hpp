@@ -47,4 +47,42 @@ std::array<double, 2> project_on_span(int n_spans, double L, const double* x, in
 /// (c(s) - p) . c'(s) = 0 inside the span). Returns {s, distance}.
 std::array<double, 2> project(int n_spans, double L, const double* x, int stride, const double p[3]);
 
+/// Carrier centre-line basis: c(s) = sum_j N_j(s) y_j over coordinate 3-blocks y_j ("curve
+/// blocks") of the carrier's control points.
+///  - BSpline (director beam): block j = phi of control point j, 3 blocks per span (e .. e + 2),
+///    N'' constant on a span.
+///  - Hermite (ANCF cable): block 2a = r of node a, block 2a + 1 = r' of node a, 4 blocks per
+///    element (2e .. 2e + 3), N'' linear on an element.
+/// Weights are indexed by block. The exact discrete derivative and everything else follow the
+/// free functions above (B-spline) or sliding::hermite (Hermite).
+struct Curve {
+  enum class Kind { BSpline, Hermite };
+  Kind kind = Kind::BSpline;
+  int n_spans = 1;  ///< knot spans or elements
+  double L = 1.0;
+
+  int blocks_per_cp() const { return kind == Kind::Hermite ? 2 : 1; }
+  int n_blocks() const { return kind == Kind::Hermite ? 2 * (n_spans + 1) : n_spans + 2; }
+  int n_cp() const { return kind == Kind::Hermite ? n_spans + 1 : n_spans + 2; }
+  /// Control point (node) of block j and the offset of its 3-block in that point's coordinates.
+  int cp_of_block(int j) const { return j / blocks_per_cp(); }
+  int offset_of_block(int j) const { return kind == Kind::Hermite ? 3 * (j % 2) : 0; }
+
+  int span_of(double s) const;
+  /// w += f * d^k N_j / ds^k (s) over the blocks of span `span` (k = 0, 1, 2).
+  void add_basis(int span, double s, int k, double f, Weights& w) const;
+  /// First and last block touched by [min(s0,s1), max(s0,s1)].
+  std::array<int, 2> touched_blocks(double s0, double s1) const;
+  /// First and last control point (node) touched by [min(s0,s1), max(s0,s1)].
+  std::array<int, 2> touched_cps(double s0, double s1) const {
+    const auto r = touched_blocks(s0, s1);
+    return {cp_of_block(r[0]), cp_of_block(r[1])};
+  }
+  void difference_quotient(double s0, double s1, Weights& D, Weights& dD) const;
+  /// Closest point of span e; x: the control points' coordinates with the given stride
+  /// (director: phi first; ANCF: r, r'). Returns {s, distance}.
+  std::array<double, 2> project_on_span(const double* x, int stride, int e, const double p[3]) const;
+  std::array<double, 2> project(const double* x, int stride, const double p[3]) const;
+};
+
 }  // namespace slidebeam::sliding

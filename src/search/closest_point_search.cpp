@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "search/closest_point_search.hpp"
 
+#include "kernels/ancf_sliding.hpp"
 #include "kernels/sliding.hpp"
 #include "model/model.hpp"
 
@@ -33,7 +34,12 @@ struct Box {
 /// of boxes (node i has children 2i+1, 2i+2 over halves of its span range).
 class SpanTree {
  public:
-  SpanTree(const Beam& beam, int first, int n) : beam_(&beam), first_(first), n_(n) {
+  SpanTree(const Beam& beam, int first, int n)
+      : beam_(&beam),
+        curve_{beam.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, beam.n_spans(), beam.length()},
+        stride_(beam.coordinates_per_cp()),
+        first_(first),
+        n_(n) {
     if (n_ > 0) {
       boxes_.resize(static_cast<size_t>(4 * n_));
       build(0, first_, first_ + n_);
@@ -48,13 +54,19 @@ class SpanTree {
   const Box& build(size_t node, int lo, int hi) {
     Box& b = boxes_[node];
     if (hi - lo == 1) {
+      // B-spline span: the convex hull of its 3 control points; Hermite element: of its 4 Bezier
+      // points r1, r1 + Le r1'/3, r2 - Le r2'/3, r2
       const double* q = beam_->q_ref().data();
-      for (int k = 0; k < 3; ++k) b.lo[k] = b.hi[k] = q[12 * lo + k];
-      for (int a = 1; a < 3; ++a)
-        for (int k = 0; k < 3; ++k) {
-          b.lo[k] = std::min(b.lo[k], q[12 * (lo + a) + k]);
-          b.hi[k] = std::max(b.hi[k], q[12 * (lo + a) + k]);
-        }
+      std::vector<std::array<double, 3>> pts;
+      if (beam_->is_ancf()) {
+        const auto bz = sliding::hermite::bezier_points(beam_->n_spans(), beam_->length(), q, stride_, lo);
+        pts.assign(bz.begin(), bz.end());
+      } else {
+        for (int a = 0; a < 3; ++a) pts.push_back({q[12 * (lo + a)], q[12 * (lo + a) + 1], q[12 * (lo + a) + 2]});
+      }
+      b.lo = b.hi = pts[0];
+      for (const auto& pt : pts)
+        for (int k = 0; k < 3; ++k) b.lo[k] = std::min(b.lo[k], pt[k]), b.hi[k] = std::max(b.hi[k], pt[k]);
       return b;
     }
     const int mid = lo + (hi - lo) / 2;
@@ -66,7 +78,7 @@ class SpanTree {
     // strictly farther boxes cannot win; equal ones can, on the tie-break by span
     if (boxes_[node].distance(p) > best.distance) return;
     if (hi - lo == 1) {
-      const auto r = sliding::project_on_span(beam_->n_spans(), beam_->length(), beam_->q_ref().data(), 12, lo, p);
+      const auto r = curve_.project_on_span(beam_->q_ref().data(), stride_, lo, p);
       if (r[1] < best.distance || (r[1] == best.distance && lo < best_span)) {
         best = ClosestPoint{r[0], r[1]};
         best_span = lo;
@@ -86,6 +98,8 @@ class SpanTree {
   }
 
   const Beam* beam_;
+  sliding::Curve curve_;
+  int stride_;
   int first_, n_;
   std::vector<Box> boxes_;
 };
@@ -93,15 +107,16 @@ class SpanTree {
 }  // namespace
 
 std::vector<ClosestPoint> closest_points(const Model& model, const std::vector<ClosestPointQuery>& queries) {
-  // This rank's spans of each queried carrier: owns_span(e) is the owner of control point e+1,
-  // a contiguous range of spans.
+  // This rank's spans of each queried carrier: span e belongs to the owner of
+  // Beam::span_owner_cp(e) (control point e+1 of a director beam, node e of an ANCF cable), a
+  // contiguous range of spans.
   std::map<int, SpanTree> trees;
   for (const auto& q : queries) {
     if (trees.count(q.carrier)) continue;
     const Beam& b = model.beam(q.carrier);
     int first = -1, n = 0;
     for (int e = 0; e < b.n_spans(); ++e)
-      if (model.dof_map().owns_cp(b.first_cp() + e + 1)) {
+      if (model.dof_map().owns_cp(b.first_cp() + b.span_owner_cp(e))) {
         if (first < 0) first = e;
         ++n;
       }

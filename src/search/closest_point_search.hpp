@@ -3,8 +3,9 @@
 /// @file Parallel closest-point search of points on beam centre lines (the initial projection of
 /// sliders onto their carriers). Every rank answers every query for the knot spans it owns
 /// (owns_span: the distribution of assembly), visiting them through a tree of bounding boxes (a
-/// quadratic B-spline span lies in the convex hull of its three control points, so the box of
-/// those points bounds it), so a query costs O(log spans) on each rank instead of O(spans); a
+/// quadratic B-spline span lies in the convex hull of its three control points, a cubic Hermite
+/// element of an ANCF cable in that of its four Bezier points, so the box of those points
+/// bounds it), so a query costs O(log spans) on each rank instead of O(spans); a
 /// min-reduction over ranks then gives every rank every answer. Queries come from the scene,
 /// which every rank holds, so they need no exchange; the answers are O(queries) per rank.
 

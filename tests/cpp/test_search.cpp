@@ -61,3 +61,58 @@ TEST(ClosestPointSearch, MatchesTheSerialSearchOverEverySpan) {
   EXPECT_EQ(found.back().s, 0.0);
   EXPECT_LT(found.back().distance, 1e-14);
 }
+
+namespace {
+// An ANCF cable wound like the carrier above: nodes (r, r') of a helix, r' its unit tangent.
+BeamSpec wound_cable(const std::string& name, int elements) {
+  BeamSpec s;
+  s.name = name;
+  s.formulation = Formulation::Ancf;
+  s.n_spans = elements;
+  const double a = 1.0, c = 0.3;  // radius, rise per radian
+  const double turns = 2.0 * std::acos(-1.0) * 1.5, speed = std::hypot(a, c);
+  s.length = speed * turns;
+  s.section = {5e3, 0, 0, 0, 60.0, 60.0, 1.0, 0, 0};
+  for (int n = 0; n <= elements; ++n) {
+    const double t = turns * n / elements;
+    const double v[6] = {a * std::cos(t), a * std::sin(t), c * t, -a * std::sin(t) / speed, a * std::cos(t) / speed, c / speed};
+    s.q_ref.insert(s.q_ref.end(), v, v + 6);
+  }
+  return s;
+}
+}  // namespace
+
+TEST(ClosestPointSearch, AncfCarrierMatchesTheSerialSearchOverEveryElement) {
+  Model m(PETSC_COMM_WORLD);
+  m.add_beam(wound_carrier("director", 5));  // a director beam first: mixed block sizes
+  m.add_beam(wound_cable("cable", 40));
+  m.finalize();
+  const Beam& C = m.beam(1);
+  const sliding::Curve curve{sliding::Curve::Kind::Hermite, C.n_spans(), C.length()};
+  std::vector<ClosestPointQuery> queries;
+  for (int i = 0; i < 200; ++i) {
+    ClosestPointQuery q;
+    q.carrier = 1;
+    const double t = 0.05 * i, r = 0.2 + 2.0 * std::fabs(std::sin(3.1 * i));
+    q.point[0] = r * std::cos(7 * t);
+    q.point[1] = r * std::sin(5 * t);
+    q.point[2] = 3.0 * std::fmod(0.37 * i, 1.0) + 0.3 * std::sin(i);
+    queries.push_back(q);
+  }
+  ClosestPointQuery on;  // a point of the cable: distance ~0 at its s
+  on.carrier = 1;
+  const double t_on = 2.0 * std::acos(-1.0) * 1.5 * 0.6137;
+  on.point[0] = std::cos(t_on);
+  on.point[1] = std::sin(t_on);
+  on.point[2] = 0.3 * t_on;
+  queries.push_back(on);
+  const auto found = closest_points(m, queries);
+  ASSERT_EQ(found.size(), queries.size());
+  for (size_t i = 0; i < queries.size(); ++i) {
+    const auto ref = curve.project(C.q_ref().data(), 6, queries[i].point);
+    EXPECT_EQ(found[i].distance, ref[1]) << "query " << i;
+    EXPECT_EQ(found[i].s, ref[0]) << "query " << i;
+  }
+  EXPECT_NEAR(found.back().s, 0.6137 * C.length(), 1e-4);  // Hermite interpolation of the helix
+  EXPECT_LT(found.back().distance, 1e-4);
+}

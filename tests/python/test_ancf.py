@@ -59,8 +59,6 @@ def test_scene_refuses_curved_cables_moments_and_joints():
     director = {"name": "d", "start": [1.5, 0.4, 0.3], "end": [2, 0, 0], "spans": 2, "section": DIRECTOR_SECTION}
     with pytest.raises(slidebeam.SceneError, match="rigid joints weld director triads"):
         scene(beam=[cable(), director], rigid_joint=[{"beams": ["c", "d"], "at": ["end", "start"]}])
-    with pytest.raises(slidebeam.SceneError, match="not supported yet"):
-        scene(beam=[cable(), director], sliding_joint=[{"slider": "d", "carrier": "c"}])
     with pytest.raises(slidebeam.SceneError, match="is for formulation = 'ancf'"):
         scene(beam=[{**director, "section": {**DIRECTOR_SECTION, "EI": 1.0}}])
 
