@@ -2,6 +2,7 @@
 #include "kernels/ancf_sliding.hpp"
 
 #include "kernels/ancf_kernels.hpp"
+#include "kernels/sliding.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -93,30 +94,7 @@ std::array<double, 2> project_on_element(int n_elements, double L, const double*
     }
   };
   const double sa = Le * e, sb = e + 1 == n_elements ? L : Le * (e + 1);
-  constexpr int kSamples = 8;
-  double s = sa, dmin = std::numeric_limits<double>::infinity();
-  double c[3], dc[3], ddc[3];
-  for (int i = 0; i <= kSamples; ++i) {  // start from the nearest sample
-    const double si = sa + (sb - sa) * i / kSamples;
-    eval(si, c, dc, ddc);
-    const double d = std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2]);
-    if (d < dmin) dmin = d, s = si;
-  }
-  for (int it = 0; it < 50; ++it) {  // Newton on f(s) = (c - p) . c', kept inside the element
-    eval(s, c, dc, ddc);
-    double f = 0, df = 0;
-    for (int k = 0; k < 3; ++k) {
-      f += (c[k] - p[k]) * dc[k];
-      df += dc[k] * dc[k] + (c[k] - p[k]) * ddc[k];
-    }
-    if (df <= 0) break;
-    const double sn = std::clamp(s - f / df, sa, sb);
-    const bool done = std::abs(sn - s) <= 1e-15 * L;
-    s = sn;
-    if (done) break;
-  }
-  eval(s, c, dc, ddc);
-  return {s, std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2])};
+  return closest_on_piece(sa, sb, L, p, eval);
 }
 
 }  // namespace slidebeam::sliding::hermite

@@ -69,30 +69,7 @@ std::array<double, 2> project_on_span(int n_spans, double L, const double* x, in
     }
   };
   const double sa = L * e / n_spans, sb = L * (e + 1) / n_spans;
-  constexpr int kSamples = 8;
-  double s = sa, dmin = std::numeric_limits<double>::infinity();
-  double c[3], dc[3], ddc[3];
-  for (int i = 0; i <= kSamples; ++i) {  // start from the nearest sample
-    const double si = sa + (sb - sa) * i / kSamples;
-    eval(si, c, dc, ddc);
-    const double d = std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2]);
-    if (d < dmin) dmin = d, s = si;
-  }
-  for (int it = 0; it < 50; ++it) {  // Newton on f(s) = (c - p) . c', kept inside the span
-    eval(s, c, dc, ddc);
-    double f = 0, df = 0;
-    for (int k = 0; k < 3; ++k) {
-      f += (c[k] - p[k]) * dc[k];
-      df += dc[k] * dc[k] + (c[k] - p[k]) * ddc[k];
-    }
-    if (df <= 0) break;
-    const double sn = std::clamp(s - f / df, sa, sb);
-    const bool done = std::abs(sn - s) <= 1e-15 * L;
-    s = sn;
-    if (done) break;
-  }
-  eval(s, c, dc, ddc);
-  return {s, std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2])};
+  return closest_on_piece(sa, sb, L, p, eval);
 }
 
 std::array<double, 2> project(int n_spans, double L, const double* x, int stride, const double p[3]) {

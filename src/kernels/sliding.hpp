@@ -4,8 +4,11 @@
 /// coordinate, the exact discrete derivative in s across knots, and the closest-point projection.
 /// Pure functions of the carrier's knot vector (n_spans, length L; xi = s / L); no PETSc.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace slidebeam::sliding {
@@ -37,6 +40,38 @@ void difference_quotient(int n_spans, double L, double s0, double s1, Weights& D
 
 /// First and last carrier control point touched by [min(s0,s1), max(s0,s1)] (span range + 2).
 std::array<int, 2> touched_cps(int n_spans, double L, double s0, double s1);
+
+/// Closest point to p of one piece [sa, sb] of a curve of length L, given
+/// eval(s, c, dc, ddc) (position and first two derivatives): start from the nearest of 9
+/// samples, then Newton on f(s) = (c - p) . c' = 0 kept inside the piece. Returns {s, distance}.
+/// Shared by the B-spline spans and the Hermite elements.
+template <class Eval>
+std::array<double, 2> closest_on_piece(double sa, double sb, double L, const double p[3], Eval&& eval) {
+  constexpr int kSamples = 8;
+  double s = sa, dmin = std::numeric_limits<double>::infinity();
+  double c[3], dc[3], ddc[3];
+  for (int i = 0; i <= kSamples; ++i) {
+    const double si = sa + (sb - sa) * i / kSamples;
+    eval(si, c, dc, ddc);
+    const double d = std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2]);
+    if (d < dmin) dmin = d, s = si;
+  }
+  for (int it = 0; it < 50; ++it) {
+    eval(s, c, dc, ddc);
+    double f = 0, df = 0;
+    for (int k = 0; k < 3; ++k) {
+      f += (c[k] - p[k]) * dc[k];
+      df += dc[k] * dc[k] + (c[k] - p[k]) * ddc[k];
+    }
+    if (df <= 0) break;
+    const double sn = std::clamp(s - f / df, sa, sb);
+    const bool done = std::abs(sn - s) <= 1e-15 * L;
+    s = sn;
+    if (done) break;
+  }
+  eval(s, c, dc, ddc);
+  return {s, std::hypot(c[0] - p[0], c[1] - p[1], c[2] - p[2])};
+}
 
 /// Closest point of span e of the curve sum_A N_A(s) x_A to p (samples, then Newton on
 /// (c(s) - p) . c'(s) = 0 inside the span). Returns {s, distance}.

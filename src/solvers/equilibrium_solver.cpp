@@ -112,9 +112,8 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   t_ = t;
   Vec x = model_.x();
   model_.apply_prescribed(x);
-  Vec x_start = nullptr, F = nullptr;
+  Vec x_start = nullptr;
   SB_CHECK(VecDuplicate(x, &x_start));
-  SB_CHECK(VecDuplicate(x, &F));
   double r = 0.0;
   SB_CHECK(static_residual_norm(x, &r));
   res.residual0 = r;
@@ -154,7 +153,8 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
     const double ser = std::sqrt(r / std::max(r_new, 1e-300));
     h *= last.iterations <= 6 ? std::clamp(ser, 2.0, 10.0) : std::clamp(ser, 1.0, 2.0);
     const bool stagnant = r_new >= 0.5 * r;
-    SB_CHECK(PetscInfo(snes_, "continuation step %d: h %g, |F| %g, |dx| %g, |x| %g, Newton %d\n", res.pseudo_steps, h, r_new, dx, xn, (int)last.iterations));
+    SB_CHECK(PetscInfo(snes_, "continuation step %d: h %g, |F| %g, |dx| %g, |x| %g, Newton %d\n", res.pseudo_steps,
+                       h, r_new, dx, xn, static_cast<int>(last.iterations)));
     r = r_new;
     // At the residual's roundoff floor (large EA times 1e-16) it stops falling: that is the
     // equilibrium. Stop there: a mechanism (a hanger's spin about its own axis, free at a
@@ -181,7 +181,6 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   res.residual = r;
   res.converged = r <= target || res.polished || res.at_roundoff;
   SB_CHECK(VecDestroy(&x_start));
-  SB_CHECK(VecDestroy(&F));
   return res;
 }
 

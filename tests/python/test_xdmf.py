@@ -100,9 +100,10 @@ def test_two_ranks_write_the_same_series_as_one(run_cli, root, tmp_path):
             assert t1 == t2 and set(d1) == set(d2)
             for key in d1:
                 scale = max(1.0, np.abs(d1[key]).max())
-                # the reaction is the joint's multipliers: the linear solvers (PETSc LU serial,
-                # MUMPS parallel) leave them less exact than the state, ~1e-9 at Newton tolerance
-                tol = 1e-8 if key == "reaction" else 1e-9
+                # the reaction is the joint's multipliers and force/moment are C (eps - eps0):
+                # the linear solvers (PETSc LU serial, GMRES + block Jacobi parallel) leave them
+                # less exact than the state, ~1e-9 at Newton tolerance (times the stiffness)
+                tol = 1e-8 if key in ("reaction", "force", "moment") else 1e-9
                 assert np.abs(d1[key] - d2[key]).max() <= tol * scale, (series, key)
 
 
