@@ -15,7 +15,7 @@ import pytest
 import slidebeam
 from petsc4py import PETSc
 
-from checks import distributed_and_serial_records, step_jacobian_error, trial_end_state
+from checks import distributed_and_serial_records, joint_jacobian_error, step_jacobian_error, trial_end_state
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "runs" / "seed"
@@ -42,47 +42,6 @@ def seed_scene(name: str = "free_fall_inclined_1+4", cables: tuple[str, ...] = (
     data["analysis"].update(analysis or {})
     data["sliding_joint"][0].update(joint or {})
     return slidebeam.scene_from_dict(data, file=f"{name}.toml (cables {', '.join(cables)})", base_dir=str(SEED))
-
-
-def joint_jacobian_error(sim, x1: PETSc.Vec, joint_dofs: list[int], eps: float = 1e-5) -> tuple[float, float]:
-    """step_jacobian_error restricted to the joint's rows and columns (s, mu): (max |J - FD|,
-    max |J|) over the entries J[i, j] with i or j in joint_dofs. The beams' stiffness (EA ~ 5e6)
-    dominates the whole matrix's scale, so the joint's entries get their own. eps = 1e-5: the
-    position rows' residuals (~1e3) make the roundoff of a 1e-6 difference ~1e-7."""
-    integ = sim.integrator
-    J = sim.jacobian
-    integ.step_jacobian(x1, J)
-    lo, hi = x1.getOwnershipRange()
-    Fp, Fm, Jcol, e, mask = (x1.duplicate() for _ in range(5))
-    mask.zeroEntries()
-    for i in joint_dofs:
-        if lo <= i < hi:
-            mask.setValue(i, 1.0)
-    mask.assemble()
-    worst = scale = 0.0
-    for j in range(x1.getSize()):
-        e.zeroEntries()
-        if lo <= j < hi:
-            e.setValue(j, 1.0)
-        e.assemble()
-        xp = x1.copy()
-        xp.axpy(eps, e)
-        integ.step_residual(xp, Fp)
-        xp.axpy(-2 * eps, e)
-        integ.step_residual(xp, Fm)
-        xp.destroy()
-        J.mult(e, Jcol)
-        Fp.axpy(-1.0, Fm)
-        Fp.scale(1.0 / (2 * eps))
-        Fp.axpy(-1.0, Jcol)
-        if j not in joint_dofs:  # only the joint's rows of this column
-            Fp.pointwiseMult(Fp, mask)
-            Jcol.pointwiseMult(Jcol, mask)
-        scale = max(scale, Jcol.norm(PETSc.NormType.INFINITY))
-        worst = max(worst, Fp.norm(PETSc.NormType.INFINITY))
-    for v in (Fp, Fm, Jcol, e, mask):
-        v.destroy()
-    return worst, scale
 
 
 CASES = ([("AB", i, "exact", ds) for i in INTEGRATORS for ds in (0.03, 0.17, 0.71)] +
