@@ -811,12 +811,7 @@ def _parse_ancf_section(t: _Table) -> Section:
             raise t.error(key, f"not used by formulation = 'ancf' (the cable has no shear, torsion or rotary "
                                f"inertia); give {_quoted(_ANCF_EXPLICIT_KEYS)} or a shape with "
                                f"{_quoted(_ANCF_SHAPE_KEYS)}")
-    t.check_keys(_ANCF_SHAPE_KEYS + _ANCF_EXPLICIT_KEYS)
-    shape_keys = [k for k in _ANCF_SHAPE_KEYS if t.has(k)]
-    explicit_keys = [k for k in _ANCF_EXPLICIT_KEYS if t.has(k)]
-    if shape_keys and explicit_keys:
-        raise t.error(explicit_keys[0], "explicit resultants cannot be mixed with shape-based keys "
-                                        f"({', '.join(shape_keys)}); give one or the other")
+    shape_keys, explicit_keys = _shape_or_explicit(t, _ANCF_SHAPE_KEYS, _ANCF_EXPLICIT_KEYS)
     if explicit_keys:
         EA = t.number("EA", check=lambda x: x > 0, requirement="> 0")
         EI = t.number("EI", check=lambda x: x > 0, requirement="> 0")
@@ -916,16 +911,22 @@ def _parse_d2(t: _Table, geometry: Geometry) -> Vec3 | None:
 # [beam.section]
 
 
+def _shape_or_explicit(t: _Table, shapes: tuple[str, ...], explicit: tuple[str, ...]) -> tuple[list[str], list[str]]:
+    """The section's shape-based and explicit keys present (only known keys, not both kinds)."""
+    t.check_keys(shapes + explicit)
+    shape_keys = [k for k in shapes if t.has(k)]
+    explicit_keys = [k for k in explicit if t.has(k)]
+    if shape_keys and explicit_keys:
+        raise t.error(explicit_keys[0], "explicit resultants cannot be mixed with shape-based keys "
+                                        f"({', '.join(shape_keys)}); give one or the other")
+    return shape_keys, explicit_keys
+
+
 def _parse_section(t: _Table) -> Section:
     if t.has("EI"):
         raise t.error("EI", "EI (one bending stiffness) is for formulation = 'ancf'; a director beam needs "
                             "EI2 and EI3")
-    t.check_keys(_SHAPE_KEYS + _EXPLICIT_KEYS)
-    shape_keys = [k for k in _SHAPE_KEYS if t.has(k)]
-    explicit_keys = [k for k in _EXPLICIT_KEYS if t.has(k)]
-    if shape_keys and explicit_keys:
-        raise t.error(explicit_keys[0], "explicit resultants cannot be mixed with shape-based keys "
-                                        f"({', '.join(shape_keys)}); give one or the other")
+    shape_keys, explicit_keys = _shape_or_explicit(t, _SHAPE_KEYS, _EXPLICIT_KEYS)
     if explicit_keys:
         return _explicit_section(t)
     if not shape_keys:

@@ -24,49 +24,17 @@ def trial_end_state(sim, steps: int, h: float, seed: int) -> PETSc.Vec:
     return x1
 
 
-def step_jacobian_error(sim, x1: PETSc.Vec, eps: float = 1e-6) -> tuple[float, float]:
+def step_jacobian_error(sim, x1: PETSc.Vec, eps: float = 1e-6, rows: list[int] | None = None) -> tuple[float, float]:
     """(max |J e_j - central FD of the step residual|, max |J e_j|) over all columns j, with the
-    integrator's step prepared (prepare_step) and J assembled at x1."""
-    integ = sim.integrator
-    J = sim.jacobian
-    integ.step_jacobian(x1, J)
-    lo, hi = x1.getOwnershipRange()
-    Fp, Fm, Jcol, e = x1.duplicate(), x1.duplicate(), x1.duplicate(), x1.duplicate()
-    worst = scale = 0.0
-    for j in range(x1.getSize()):
-        e.zeroEntries()
-        if lo <= j < hi:
-            e.setValue(j, 1.0)
-        e.assemble()
-        xp = x1.copy()
-        xp.axpy(eps, e)
-        integ.step_residual(xp, Fp)
-        xp.axpy(-2 * eps, e)
-        integ.step_residual(xp, Fm)
-        xp.destroy()
-        J.mult(e, Jcol)
-        Fp.axpy(-1.0, Fm)
-        Fp.scale(1.0 / (2 * eps))
-        scale = max(scale, Jcol.norm(PETSc.NormType.INFINITY))
-        Fp.axpy(-1.0, Jcol)
-        worst = max(worst, Fp.norm(PETSc.NormType.INFINITY))
-    for v in (Fp, Fm, Jcol, e):
-        v.destroy()
-    return worst, scale
-
-
-def joint_jacobian_error(sim, x1: PETSc.Vec, joint_dofs: list[int], eps: float = 1e-5) -> tuple[float, float]:
-    """step_jacobian_error restricted to the joint's rows and columns (s, mu): (max |J - FD|,
-    max |J|) over the entries J[i, j] with i or j in joint_dofs. The beams' stiffness (EA ~ 5e6)
-    dominates the whole matrix's scale, so the joint's entries get their own. eps = 1e-5: the
-    position rows' residuals (~1e3) make the roundoff of a 1e-6 difference ~1e-7."""
+    integrator's step prepared (prepare_step) and J assembled at x1. With rows: only the
+    entries J[i, j] with i or j in rows (a joint's own rows and columns, on their own scale)."""
     integ = sim.integrator
     J = sim.jacobian
     integ.step_jacobian(x1, J)
     lo, hi = x1.getOwnershipRange()
     Fp, Fm, Jcol, e, mask = (x1.duplicate() for _ in range(5))
     mask.zeroEntries()
-    for i in joint_dofs:
+    for i in rows or []:
         if lo <= i < hi:
             mask.setValue(i, 1.0)
     mask.assemble()
@@ -86,7 +54,7 @@ def joint_jacobian_error(sim, x1: PETSc.Vec, joint_dofs: list[int], eps: float =
         Fp.axpy(-1.0, Fm)
         Fp.scale(1.0 / (2 * eps))
         Fp.axpy(-1.0, Jcol)
-        if j not in joint_dofs:  # only the joint's rows of this column
+        if rows is not None and j not in rows:  # only the given rows of this column
             Fp.pointwiseMult(Fp, mask)
             Jcol.pointwiseMult(Jcol, mask)
         scale = max(scale, Jcol.norm(PETSc.NormType.INFINITY))
@@ -94,6 +62,14 @@ def joint_jacobian_error(sim, x1: PETSc.Vec, joint_dofs: list[int], eps: float =
     for v in (Fp, Fm, Jcol, e, mask):
         v.destroy()
     return worst, scale
+
+
+def joint_jacobian_error(sim, x1: PETSc.Vec, joint_dofs: list[int], eps: float = 1e-5) -> tuple[float, float]:
+    """step_jacobian_error restricted to the joint's rows and columns (s, mu). The beams'
+    stiffness (EA ~ 5e6) dominates the whole matrix's scale, so the joint's entries get their
+    own. eps = 1e-5: the position rows' residuals (~1e3) make the roundoff of a 1e-6 difference
+    ~1e-7."""
+    return step_jacobian_error(sim, x1, eps, joint_dofs)
 
 
 def distributed_and_serial_records(scene) -> list[tuple]:
