@@ -819,12 +819,7 @@ def _parse_ancf_section(t: _Table) -> Section:
     else:
         if not shape_keys:
             raise t.error("shape", "section needs either 'shape' (+ E, rho) or explicit EA, EI, rhoA")
-        shape = t.choice("shape", ("rectangle", "circle"))
-        dims = ("b", "h") if shape == "rectangle" else ("r",)
-        for key in ("b", "h", "r"):
-            if key not in dims and t.has(key):
-                raise t.error(key, f"not allowed for shape '{shape}' (needs {_quoted(dims)})")
-        size = [t.number(k, check=lambda x: x > 0, requirement="> 0") for k in dims]
+        shape, size = _shape_dimensions(t)
         if shape == "rectangle" and size[0] != size[1]:
             raise t.error("h", f"the ANCF cable has one bending stiffness: a rectangle needs b == h, got "
                                f"b = {size[0]}, h = {size[1]}")
@@ -952,13 +947,18 @@ def _explicit_section(t: _Table) -> Section:
     )
 
 
-def _shape_section(t: _Table) -> Section:
+def _shape_dimensions(t: _Table) -> tuple[str, list[float]]:
+    """The section's shape and its dimensions (b, h or r), other dimensions refused."""
     shape = t.choice("shape", ("rectangle", "circle"))
     dims = ("b", "h") if shape == "rectangle" else ("r",)
     for key in ("b", "h", "r"):
         if key not in dims and t.has(key):
             raise t.error(key, f"not allowed for shape '{shape}' (needs {_quoted(dims)})")
-    size = [t.number(k, check=lambda x: x > 0, requirement="> 0") for k in dims]
+    return shape, [t.number(k, check=lambda x: x > 0, requirement="> 0") for k in dims]
+
+
+def _shape_section(t: _Table) -> Section:
+    shape, size = _shape_dimensions(t)
     area, i2, i3, j = (rectangle_properties(*size) if shape == "rectangle" else circle_properties(*size))
     E = t.number("E", check=lambda x: x > 0, requirement="> 0")
     nu = t.number("nu", check=lambda x: -1.0 < x < 0.5, requirement="in (-1, 0.5)")

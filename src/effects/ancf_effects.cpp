@@ -12,38 +12,18 @@ namespace slidebeam::effects {
 namespace ancf = kernels::ancf;
 using RowMajorEl = Eigen::Matrix<double, ancf::kElDofs, ancf::kElDofs, Eigen::RowMajor>;
 
-/// An effect integrated element by element over one ANCF cable: each rank takes the elements
-/// whose first node it owns.
-class AncfElementEffect : public Effect {
+/// An effect integrated element by element over one ANCF cable: two nodes, the 12 x 12 block
+/// of their coordinates.
+class AncfElementEffect : public ElementEffect<2, ancf::kElDofs> {
  public:
   AncfElementEffect(const Model& m, const EffectParams& p, const std::string& who)
-      : beam_(ancf_beam_param(m, p, who)), name_(m.beam(beam_).name()) {}
-  std::string label() const override { return type() + "[" + name_ + "]"; }
-
-  void distribute(const Model& m) override {
-    const Beam& b = m.beam(beam_);
-    for (int e = 0; e < b.n_spans(); ++e)
-      if (owns_span(m, b, e)) elements_.push_back(e);
-  }
-  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    const Beam& b = m.beam(beam_);
-    for (int e : elements_) add_cp_blocks(m.dof_map(), b.first_cp() + e, 2, dofs);
-  }
-  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    PetscFunctionBeginUser;
-    const RowMajorEl zero = RowMajorEl::Zero();
-    for (int e : elements_) {
-      const auto d = dofs(m.dof_map(), m.beam(beam_), e);
-      PetscCall(sink.add(ancf::kElDofs, d.data(), ancf::kElDofs, d.data(), zero.data()));
-    }
-    PetscFunctionReturn(0);
-  }
+      : ElementEffect(ancf_beam_param(m, p, who), m) {}
 
  protected:
   /// Global indices of element e's 12 coordinates: the 6 of node e, then the 6 of node e+1 (not
   /// contiguous when extras are anchored at node e: DofMap slots).
-  static std::array<PetscInt, ancf::kElDofs> dofs(const DofMap& map, const Beam& b, int e) {
-    std::array<PetscInt, ancf::kElDofs> d{};
+  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override {
+    Dofs d{};
     for (int a = 0; a < 2; ++a)
       for (int k = 0; k < ancf::kNodeDofs; ++k)
         d[static_cast<size_t>(ancf::kNodeDofs * a + k)] = map.q(b.first_cp() + e + a, k);
@@ -61,10 +41,6 @@ class AncfElementEffect : public Effect {
       Eigen::Map<Eigen::Matrix<double, ancf::kNodeDofs, 1>>(r.cp(map, b.first_cp() + e + a)) +=
           v.segment<ancf::kNodeDofs>(ancf::kNodeDofs * a);
   }
-
-  int beam_;
-  std::string name_;
-  std::vector<int> elements_;
 };
 
 /// Strain energy of one cable: Green axial strain and |r'' - r0''|^2 bending. Endpoint and Theta
@@ -93,7 +69,7 @@ class AncfElastic final : public AncfElementEffect {
       ancf::ElMat K;
       element(ctx, b, e, f, &K);
       const RowMajorEl Kr = K;
-      const auto d = dofs(ctx.map, b, e);
+      const auto d = element_dofs(ctx.map, b, e);
       PetscCall(J.add(ancf::kElDofs, d.data(), ancf::kElDofs, d.data(), Kr.data()));
     }
     PetscFunctionReturn(0);
@@ -131,7 +107,7 @@ class AncfInertia final : public AncfElementEffect {
     const Beam& b = m.beam(beam_);
     for (int e : elements_) {
       const RowMajorEl A = ancf::mass_matrix(b.ancf_section(), b.ancf_element(e));
-      const auto d = dofs(m.dof_map(), b, e);
+      const auto d = element_dofs(m.dof_map(), b, e);
       PetscCall(M.add(ancf::kElDofs, d.data(), ancf::kElDofs, d.data(), A.data()));
     }
     PetscFunctionReturn(0);

@@ -12,38 +12,15 @@ using kernels::MatEl;
 using kernels::VecEl;
 using RowMajorEl = Eigen::Matrix<double, kernels::kNqEl, kernels::kNqEl, Eigen::RowMajor>;
 
-/// An effect integrated span by span over one beam: each rank takes the spans it owns, reads
-/// their three control points and may touch the 36 x 36 block of their coordinates.
-class SpanEffect : public Effect {
+/// An effect integrated span by span over one director beam: three control points, the 36 x 36
+/// block of their coordinates.
+class SpanEffect : public ElementEffect<3, kernels::kNqEl> {
  public:
   SpanEffect(const Model& m, const EffectParams& p, const std::string& who)
-      : beam_(director_beam_param(m, p, who)), name_(m.beam(beam_).name()) {}
-  std::string label() const override { return type() + "[" + name_ + "]"; }
-
-  void distribute(const Model& m) override {
-    const Beam& b = m.beam(beam_);
-    for (int e = 0; e < b.n_spans(); ++e)
-      if (owns_span(m, b, e)) spans_.push_back(e);
-  }
-  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    const Beam& b = m.beam(beam_);
-    for (int e : spans_) add_cp_blocks(m.dof_map(), b.first_cp() + e, 3, dofs);
-  }
-  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    PetscFunctionBeginUser;
-    const Beam& b = m.beam(beam_);
-    const RowMajorEl zero = RowMajorEl::Zero();
-    for (int e : spans_) {
-      const auto d = span_q_dofs(m.dof_map(), b, e);
-      PetscCall(sink.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), zero.data()));
-    }
-    PetscFunctionReturn(0);
-  }
+      : ElementEffect(director_beam_param(m, p, who), m) {}
 
  protected:
-  int beam_;
-  std::string name_;
-  std::vector<int> spans_;
+  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
 };
 
 /// Strain energy of one beam (formulation.md section 3), integrated span by span.
@@ -55,7 +32,7 @@ class BeamElastic final : public SpanEffect {
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
     const Beam& b = ctx.model.beam(beam_);
-    for (int e : spans_) {
+    for (int e : elements_) {
       VecEl re = VecEl::Zero();
       element(ctx, b, e, re, nullptr);
       scatter_span(ctx.map, r, b, e, re);
@@ -65,7 +42,7 @@ class BeamElastic final : public SpanEffect {
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     const Beam& b = ctx.model.beam(beam_);
-    for (int e : spans_) {
+    for (int e : elements_) {
       VecEl re = VecEl::Zero();
       MatEl K = MatEl::Zero();
       element(ctx, b, e, re, &K);
@@ -78,7 +55,7 @@ class BeamElastic final : public SpanEffect {
   double energy(const EvalContext& ctx) const override {
     const Beam& b = ctx.model.beam(beam_);
     double U = 0.0;
-    for (int e : spans_) {
+    for (int e : elements_) {
       const VecEl q = gather_span(ctx.x, ctx.map, b, e);
       for (int g = 0; g < b.n_gp(); ++g)
         U += kernels::beam_gp_energy(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q);
@@ -186,7 +163,7 @@ class BeamInertia final : public SpanEffect {
     const Beam& b = m.beam(beam_);
     const Section& sec = b.section();
     const double rho[4] = {sec.rhoA, 0.0, sec.rhoI3, sec.rhoI2};  // phi, d1, d2, d3
-    for (int e : spans_) {
+    for (int e : elements_) {
       RowMajorEl A = RowMajorEl::Zero();
       for (int g = 0; g < 3; ++g) {
         const auto& gp = b.gp_full(e, g);

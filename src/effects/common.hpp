@@ -52,4 +52,42 @@ std::array<PetscInt, kernels::kNqEl> span_q_dofs(const DofMap& map, const Beam& 
 /// r(span coordinates) += v.
 void scatter_span(const DofMap& map, const LocalValues& r, const Beam& b, int e, const kernels::VecEl& v);
 
+/// An effect integrated element by element over one beam (a director beam's knot spans, an
+/// ANCF cable's elements): each rank takes the elements it owns (owns_span), reads their
+/// kPoints control points and may touch the kElDofs x kElDofs block of their coordinates, whose
+/// global indices element_dofs gives.
+template <int kPoints, int kElDofs>
+class ElementEffect : public Effect {
+ public:
+  using Dofs = std::array<PetscInt, kElDofs>;
+  ElementEffect(int beam, const Model& m) : beam_(beam), name_(m.beam(beam).name()) {}
+  std::string label() const override { return type() + "[" + name_ + "]"; }
+
+  void distribute(const Model& m) override {
+    const Beam& b = m.beam(beam_);
+    for (int e = 0; e < b.n_spans(); ++e)
+      if (owns_span(m, b, e)) elements_.push_back(e);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    const Beam& b = m.beam(beam_);
+    for (int e : elements_) add_cp_blocks(m.dof_map(), b.first_cp() + e, kPoints, dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    const Beam& b = m.beam(beam_);
+    const std::vector<double> zero(static_cast<size_t>(kElDofs * kElDofs), 0.0);
+    for (int e : elements_) {
+      const Dofs d = element_dofs(m.dof_map(), b, e);
+      PetscCall(sink.add(kElDofs, d.data(), kElDofs, d.data(), zero.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
+ protected:
+  virtual Dofs element_dofs(const DofMap& map, const Beam& b, int e) const = 0;
+  int beam_;
+  std::string name_;
+  std::vector<int> elements_;
+};
+
 }  // namespace slidebeam::effects

@@ -72,6 +72,26 @@ def joint_jacobian_error(sim, x1: PETSc.Vec, joint_dofs: list[int], eps: float =
     return step_jacobian_error(sim, x1, eps, joint_dofs)
 
 
+def check_joint_step_jacobian(sim, ds: float, label: str) -> None:
+    """A trial end state with the sliding coordinate moved by ds from the step start (across
+    knots or nodes as ds says): the step Jacobian equals central finite differences of the step
+    residual, as a whole (scale: the beams' stiffness) and on the joint's own rows and columns
+    (s, mu) on their own scale, where the whole-matrix check would hide a 10 % error."""
+    x1 = trial_end_state(sim, steps=3, h=0.01, seed=11)
+    lo, hi = x1.getOwnershipRange()
+    i_s = sim.sliding_coordinate_index()
+    s0 = sim.joint_states()[0].s
+    if lo <= i_s < hi:
+        x1.setValue(i_s, s0 + ds)
+    x1.assemble()
+    worst, scale = step_jacobian_error(sim, x1)
+    assert scale > 1.0
+    assert worst <= 1e-6 * scale, f"{label}, ds = {ds}: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
+    worst, scale = joint_jacobian_error(sim, x1, [i_s - 3, i_s - 2, i_s - 1, i_s])
+    assert scale > 0.1
+    assert worst <= 1e-6 * scale, f"{label}, ds = {ds}: joint |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
+
+
 def distributed_and_serial_records(scene) -> list[tuple]:
     """Run a dynamic scene on every rank of COMM_WORLD and alone on each rank; check that energy
     and tracked points agree to 1e-10 and return the record pairs (world, alone) for more checks.
