@@ -163,18 +163,25 @@ class BeamInertia final : public SpanEffect {
     const Beam& b = m.beam(beam_);
     const Section& sec = b.section();
     const double rho[4] = {sec.rhoA, 0.0, sec.rhoI3, sec.rhoI2};  // phi, d1, d2, d3
+    // Only the true nonzeros: M couples a coordinate with the same coordinate of the other
+    // control points (3 x 3 per field and component). Adding the whole 36 x 36 block made the
+    // mass matrix 10x denser than it is, and its product is part of every residual.
     for (int e : elements_) {
-      RowMajorEl A = RowMajorEl::Zero();
+      Eigen::Matrix3d NN = Eigen::Matrix3d::Zero();  // int N^a N^c ds over the span
       for (int g = 0; g < 3; ++g) {
         const auto& gp = b.gp_full(e, g);
         for (int a = 0; a < 3; ++a)
-          for (int c = 0; c < 3; ++c)
-            for (int blk = 0; blk < 4; ++blk)
-              for (int k = 0; k < 3; ++k)
-                A(kernels::kNq * a + 3 * blk + k, kernels::kNq * c + 3 * blk + k) += gp.w * gp.N[a] * gp.N[c] * rho[blk];
+          for (int c = 0; c < 3; ++c) NN(a, c) += gp.w * gp.N[a] * gp.N[c];
       }
       const auto d = span_q_dofs(m.dof_map(), b, e);
-      PetscCall(M.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), A.data()));
+      for (int blk = 0; blk < 4; ++blk) {
+        if (rho[blk] == 0.0) continue;
+        const Eigen::Matrix3d A = rho[blk] * NN;  // symmetric: row- and column-major alike
+        for (int k = 0; k < 3; ++k) {
+          const PetscInt idx[3] = {d[3 * blk + k], d[kernels::kNq + 3 * blk + k], d[2 * kernels::kNq + 3 * blk + k]};
+          PetscCall(M.add(3, idx, 3, idx, A.data()));
+        }
+      }
     }
     PetscFunctionReturn(0);
   }

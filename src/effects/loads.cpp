@@ -6,6 +6,8 @@
 #include "model/time_function.hpp"
 
 #include <Eigen/Dense>
+
+#include <map>
 #include <stdexcept>
 
 namespace slidebeam::effects {
@@ -113,67 +115,70 @@ class Gravity final : public Effect {
   std::string label() const override { return "gravity"; }
 
   void distribute(const Model& m) override {
+    // The load is constant in q: sum it per control point once (unit time function), so that
+    // a residual costs one lookup per control point instead of one per basis function and
+    // quadrature point.
+    std::map<PetscInt, Load6> loads;
     for (const auto& b : m.beams()) {
       if (b.section().rhoA == 0.0) continue;
-      for (int e = 0; e < b.n_spans(); ++e)
-        if (owns_span(m, b, e)) spans_.push_back({b.id(), e});
+      for (int e = 0; e < b.n_spans(); ++e) {
+        if (!owns_span(m, b, e)) continue;
+        if (b.is_ancf()) {
+          const kernels::ancf::ElVec f = kernels::ancf::gravity_load(b.ancf_section(), b.ancf_element(e), g_);
+          for (int a = 0; a < 2; ++a) entry(loads, b.first_cp() + e + a) += f.segment<6>(6 * a);
+          continue;
+        }
+        for (int q = 0; q < 3; ++q) {
+          const auto& gp = b.gp_full(e, q);
+          for (int a = 0; a < 3; ++a) entry(loads, b.first_cp() + e + a).head<3>() += gp.w * gp.N[a] * b.section().rhoA * g_;
+        }
+      }
     }
+    nodal_.assign(loads.begin(), loads.end());
     for (const auto& eff : m.effects())
       if (const auto* pm = dynamic_cast<const PointMass*>(eff.get()); pm && pm->point.owned(m)) masses_.push_back(pm);
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    for (const auto& [b, e] : spans_) add_cp_blocks(m.dof_map(), m.beam(b).first_cp() + e, m.beam(b).is_ancf() ? 2 : 3, dofs);
+    for (const auto& [cp, f] : nodal_) add_cp_blocks(m.dof_map(), cp, 1, dofs);
     for (const auto* pm : masses_) pm->point.add_stencil_blocks(m, dofs);
   }
   PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }  // constant force
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
-    const Eigen::Vector3d g = f_(ctx.t) * g_;
-    for (const auto& [bi, e] : spans_) {
-      const Beam& b = ctx.model.beam(bi);
-      if (b.is_ancf()) {
-        const kernels::ancf::ElVec f = kernels::ancf::gravity_load(b.ancf_section(), b.ancf_element(e), g);
-        for (int a = 0; a < 2; ++a)  // nodes e, e+1: 6 coordinates each, contiguous in f
-          Eigen::Map<Eigen::Matrix<double, 6, 1>>(r.cp(ctx.map, b.first_cp() + e + a)) -= f.segment<6>(6 * a);
-        continue;
-      }
-      for (int q = 0; q < 3; ++q) {
-        const auto& gp = b.gp_full(e, q);
-        for (int a = 0; a < 3; ++a)
-          Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, b.first_cp() + e + a)) -= gp.w * gp.N[a] * b.section().rhoA * g;
-      }
+    const double s = f_(ctx.t);
+    for (const auto& [cp, f] : nodal_) {
+      PetscScalar* rc = r.cp(ctx.map, cp);
+      // director control points take phi (3), ANCF nodes r and r' (6)
+      const int n = ctx.map.n_coordinates(cp) == kernels::kNq ? 3 : 6;
+      for (int k = 0; k < n; ++k) rc[k] -= s * f(k);
     }
+    const Eigen::Vector3d g = s * g_;
     for (const auto* pm : masses_) pm->point.add_force(ctx, r, -pm->kg * g);
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
   double energy(const EvalContext& ctx) const override {
-    const Eigen::Vector3d g = f_(ctx.t) * g_;
-    double V = 0.0;
-    for (const auto& [bi, e] : spans_) {
-      const Beam& b = ctx.model.beam(bi);
-      if (b.is_ancf()) {  // the load is constant, so V = -q . load
-        const kernels::ancf::ElVec f = kernels::ancf::gravity_load(b.ancf_section(), b.ancf_element(e), g);
-        for (int a = 0; a < 2; ++a)
-          V -= f.segment<6>(6 * a).dot(Eigen::Map<const Eigen::Matrix<double, 6, 1>>(ctx.x.cp(ctx.map, b.first_cp() + e + a)));
-        continue;
-      }
-      for (int q = 0; q < 3; ++q) {
-        const auto& gp = b.gp_full(e, q);
-        Eigen::Vector3d phi = Eigen::Vector3d::Zero();
-        for (int a = 0; a < 3; ++a) phi += gp.N[a] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, b.first_cp() + e + a));
-        V -= gp.w * b.section().rhoA * g.dot(phi);
-      }
+    const double s = f_(ctx.t);
+    double V = 0.0;  // the load is constant, so V = -q . load
+    for (const auto& [cp, f] : nodal_) {
+      const PetscScalar* xc = ctx.x.cp(ctx.map, cp);
+      const int n = ctx.map.n_coordinates(cp) == kernels::kNq ? 3 : 6;
+      for (int k = 0; k < n; ++k) V -= s * f(k) * xc[k];
     }
+    const Eigen::Vector3d g = s * g_;
     for (const auto* pm : masses_) V -= pm->kg * g.dot(pm->point.position(ctx, ctx.x));
     return V;
   }
 
  private:
+  using Load6 = Eigen::Matrix<double, 6, 1>;
+  static Load6& entry(std::map<PetscInt, Load6>& loads, PetscInt cp) {
+    return loads.try_emplace(cp, Load6::Zero()).first->second;
+  }
   TimeFunction f_;
   Eigen::Vector3d g_;
-  std::vector<std::pair<int, int>> spans_;
+  std::vector<std::pair<PetscInt, Load6>> nodal_;  // load per control point of g_ (unit time function)
   std::vector<const PointMass*> masses_;
 };
 

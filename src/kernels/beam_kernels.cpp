@@ -114,6 +114,19 @@ void add_Pt_K_P(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
       K.middleRows<3>(c + 3 * i) += (w * gp.N[a]) * Y.middleRows<3>(3 * i) + (w * gp.dN[a]) * Y.middleRows<3>(3 * (3 + i));
   }
 }
+// g = sum_k sigma_k d eps_k / dz at z, term by term (the 6 x 21 gradient is mostly zeros).
+VecZ weighted_gradient(const StrainTable& T, const Vec6& sigma, const VecZ& z) {
+  VecZ g = VecZ::Zero();
+  for (int k = 0; k < 6; ++k) {
+    for (int t = 0; t < T[k].n_terms; ++t) {
+      const auto& f = T[k].terms[t];
+      const double s = sigma(k) * f.c;
+      g.segment<3>(3 * f.a) += s * z.segment<3>(3 * f.b);
+      g.segment<3>(3 * f.b) += s * z.segment<3>(3 * f.a);
+    }
+  }
+  return g;
+}
 }  // namespace
 
 Vec6 strains(const StrainTable& T, const VecZ& z) {
@@ -132,11 +145,11 @@ double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0
 void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                               const VecEl& q, VecEl& r, MatEl* K) {
   const VecZ z = apply_P(gp, q);
-  Mat6Z B;
-  for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z, B.row(k));
   const Vec6 sigma = C.cwiseProduct(strains(T, z) - eps0);
-  add_Pt(gp, gp.w, B.transpose() * sigma, r);
+  add_Pt(gp, gp.w, weighted_gradient(T, sigma, z), r);
   if (K) {
+    Mat6Z B;
+    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z, B.row(k));
     MatZ Kz = B.transpose() * C.asDiagonal() * B;
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], sigma(k), Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
@@ -146,12 +159,12 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi) {
   const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
-  Mat6Z Bm;
-  for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], zm, Bm.row(k));
   // averaged strain, shifted by xi/2 (eps1 - eps0) towards the end of the step
   const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
-  add_Pt(gp, gp.w, Bm.transpose() * sigma, r);
+  add_Pt(gp, gp.w, weighted_gradient(T, sigma, zm), r);
   if (K) {
+    Mat6Z Bm;
+    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], zm, Bm.row(k));
     Mat6Z B1;
     for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z1, B1.row(k));
     MatZ Kz = 0.5 * (1.0 + xi) * (Bm.transpose() * C.asDiagonal() * B1);

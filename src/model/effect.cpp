@@ -32,12 +32,26 @@ std::string EffectParams::string(const std::string& key, const std::string& fall
   return it == str.end() ? fallback : it->second;
 }
 
-PetscInt LocalValues::index(PetscInt global) const {
-  auto it = std::lower_bound(dofs_->begin(), dofs_->end(), global);
+void GhostIndex::assign(std::vector<PetscInt> dofs) {
+  dofs_ = std::move(dofs);
+  table_.clear();
+  base_ = 0;
+  if (dofs_.empty()) return;
+  // A dense table over [first, last] unless the list is sparse in that range (a rank that reads
+  // a few unknowns far from its own): then binary search.
+  const PetscInt span = dofs_.back() - dofs_.front() + 1;
+  if (span > 8 * size() + 4096) return;
+  base_ = dofs_.front();
+  table_.assign(static_cast<size_t>(span), -1);
+  for (PetscInt i = 0; i < size(); ++i) table_[dofs_[i] - base_] = i;
+}
+
+PetscInt GhostIndex::search(PetscInt global) const {
+  auto it = std::lower_bound(dofs_.begin(), dofs_.end(), global);
   // Effects only read what they declared in needed_dofs(); anything else is a programming error.
-  if (it == dofs_->end() || *it != global)
+  if (it == dofs_.end() || *it != global)
     throw std::logic_error("unknown " + std::to_string(global) + " is not ghosted on this rank");
-  return static_cast<PetscInt>(it - dofs_->begin());
+  return static_cast<PetscInt>(it - dofs_.begin());
 }
 
 PetscErrorCode MatSink::add(PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols,

@@ -122,7 +122,7 @@ class Model {
   std::vector<PetscInt> elimination_order() const;
 
   /// Unknowns ghosted on this rank (owned ones included).
-  PetscInt ghost_count() const { return static_cast<PetscInt>(ghost_dofs_.size()); }
+  PetscInt ghost_count() const { return ghost_dofs_.size(); }
   /// How often the ghost set was rebuilt because an effect moved (sliding joints).
   int ghost_rebuilds() const { return ghost_rebuilds_; }
 
@@ -153,7 +153,7 @@ class Model {
 
   // ghosting: sorted global indices needed on this rank, scatter global -> local work vector;
   // rebuilt when a moving effect needs other unknowns (hence mutable)
-  mutable std::vector<PetscInt> ghost_dofs_;
+  mutable GhostIndex ghost_dofs_;
   mutable VecScatter scatter_ = nullptr;
   mutable Vec x_local_ = nullptr, r_local_ = nullptr;
   mutable Vec x_old_local_ = nullptr, xf_local_ = nullptr;
