@@ -112,14 +112,10 @@ class DirectorConstraints final : public Effect {
     PetscFunctionBeginUser;
     for (PetscInt cp : cps_) {
       const PetscScalar* x = ctx.x.cp(ctx.map, cp);
-      const kernels::Vec12 q = Eigen::Map<const kernels::Vec12>(x);
-      const kernels::Vec12 qf = Eigen::Map<const kernels::Vec12>(ctx.xf.cp(ctx.map, cp));
-      const kernels::Vec6 lam = Eigen::Map<const kernels::Vec6>(x + kernels::kNq);
       PetscScalar* rc = r.cp(ctx.map, cp);
       // Constraint forces at the force state (exact discrete gradient of quadratic constraints
       // at the midpoint), constraints themselves at the end of the step.
-      Eigen::Map<kernels::Vec12>(rc) += kernels::orthonormality_jacobian(qf).transpose() * lam;
-      Eigen::Map<kernels::Vec6>(rc + kernels::kNq) += kernels::orthonormality(q);
+      kernels::orthonormality_residual(x, ctx.xf.cp(ctx.map, cp), x + kernels::kNq, rc, rc + kernels::kNq);
     }
     PetscFunctionReturn(0);
   }

@@ -125,3 +125,18 @@ TEST(Kernels, OrthonormalityJacobianAndHessian) {
   ortho << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
   EXPECT_LT(orthonormality(ortho).norm(), 1e-15);
 }
+
+// The written-out residual of the constraint effect equals the form-table version: G(qf)^T lambda
+// on the coordinates (phi rows untouched), Phi(q) on the multiplier rows.
+TEST(Kernels, OrthonormalityResidualMatchesForms) {
+  Vec12 q, qf;
+  q << 0.1, 0.2, 0.3, 1.0, 0.1, 0.0, -0.1, 0.9, 0.2, 0.05, -0.1, 1.1;
+  qf << -0.3, 0.5, 0.2, 0.8, -0.2, 0.1, 0.3, 1.1, -0.2, 0.15, 0.3, 0.9;
+  Vec6 lam;
+  lam << 0.3, -1.2, 0.7, 2.0, -0.4, 0.9;
+  Vec12 r = Vec12::Constant(0.25);
+  Vec6 g = Vec6::Constant(-0.5);
+  orthonormality_residual(q.data(), qf.data(), lam.data(), r.data(), g.data());
+  EXPECT_LT((r - Vec12::Constant(0.25) - orthonormality_jacobian(qf).transpose() * lam).norm(), 1e-14);
+  EXPECT_LT((g - Vec6::Constant(-0.5) - orthonormality(q)).norm(), 1e-14);
+}
