@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """Speed benchmark (issue 3): the flexible pendulum of runs/pendulum16.toml and
-runs/pendulum64.toml, 1 s of motion. Prints, per run, the wall time of the time stepping alone
-(no output), Newton iterations, Jacobian evaluations and the energy drift
-max |H(t) - H(0)| / max T.
+runs/pendulum64.toml (director beam), and of runs/pendulum16_ancf.toml and
+runs/pendulum64_ancf.toml (the same rod as an ANCF cable), 1 s of motion. Prints, per run, the
+wall time of the time stepping alone (no output), Newton iterations, Jacobian evaluations and the
+energy drift max |H(t) - H(0)| / max T.
 
     scripts/bench_pendulum.py                     # EM at dt = 1e-3, both meshes, plus dt = 1e-2
+    scripts/bench_pendulum.py --formulation ancf  # one formulation only (director, ancf)
     scripts/bench_pendulum.py --all-integrators   # also midpoint, Newmark, HHT
     scripts/bench_pendulum.py -- -log_view        # PETSc options after --
 """
@@ -29,6 +31,8 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--all-integrators", action="store_true", help="also midpoint, Newmark and HHT")
     p.add_argument("--repeat", type=int, default=3, help="best of N timings (default 3)")
+    p.add_argument("--formulation", choices=("director", "ancf", "both"), default="both",
+                   help="beam formulation(s) to run (default both)")
     args = p.parse_args(argv)
 
     import petsc4py
@@ -40,13 +44,16 @@ def main() -> int:
     from slidebeam import Simulation, load_scene
 
     integrators = ["energy-momentum"] + (["midpoint", "newmark", "hht"] if args.all_integrators else [])
-    cases = [(n, i, 1e-3) for n in (16, 64) for i in integrators] + [(n, "energy-momentum", 1e-2) for n in (16, 64)]
-    print(f"{'spans':>5} {'integrator':>16} {'dt':>7} {'steps':>5} {'wall [s]':>9} {'us/step':>8} "
+    formulations = ["director", "ancf"] if args.formulation == "both" else [args.formulation]
+    cases = [(f, n, i, 1e-3) for f in formulations for n in (16, 64) for i in integrators]
+    cases += [(f, n, "energy-momentum", 1e-2) for f in formulations for n in (16, 64)]
+    print(f"{'beam':>8} {'spans':>5} {'integrator':>16} {'dt':>7} {'steps':>5} {'wall [s]':>9} {'us/step':>8} "
           f"{'newton':>6} {'jac':>5} {'energy drift':>12}  status")
-    for spans, integrator, dt in cases:
+    for formulation, spans, integrator, dt in cases:
         best, stats = float("inf"), None
+        suffix = "_ancf" if formulation == "ancf" else ""
         for _ in range(args.repeat):
-            scene = load_scene(ROOT / "runs" / f"pendulum{spans}.toml",
+            scene = load_scene(ROOT / "runs" / f"pendulum{spans}{suffix}.toml",
                                [f'analysis.integrator="{integrator}"', f"analysis.dt={dt}"])
             sim = Simulation(scene)
             integ = sim.integrator
@@ -72,7 +79,7 @@ def main() -> int:
             if wall < best:
                 best, stats = wall, (n_steps, newton, integ.jacobian_evaluations - jac0, drift, status)
         n_steps, newton, jacs, drift, status = stats
-        print(f"{spans:5d} {integrator:>16} {dt:7.0e} {n_steps:5d} {best:9.3f} {1e6 * best / n_steps:8.1f} "
+        print(f"{formulation:>8} {spans:5d} {integrator:>16} {dt:7.0e} {n_steps:5d} {best:9.3f} {1e6 * best / n_steps:8.1f} "
               f"{newton:6d} {jacs:5d} {drift:12.2e}  {status}")
     return 0
 

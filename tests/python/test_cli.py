@@ -129,7 +129,8 @@ def test_newton_failure_is_clean_and_marked_incomplete(run_cli, root, tmp_path):
     assert summary["final_end_positions"]["strip"]["end"] == pytest.approx([10.0, 0.0, 0.0], abs=1e-12)
 
 
-DYNAMIC_SCENES = ("flying_spaghetti_2d", "flying_spaghetti_3d", "right_angle_cantilever", "pendulum16", "pendulum64")
+DYNAMIC_SCENES = ("flying_spaghetti_2d", "flying_spaghetti_3d", "right_angle_cantilever", "pendulum16", "pendulum64",
+                  "pendulum16_ancf", "pendulum64_ancf")
 
 
 @pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint", "newmark", "hht"))
