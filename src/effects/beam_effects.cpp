@@ -98,6 +98,9 @@ class DirectorConstraints final : public Effect {
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     for (PetscInt cp : cps_) add_cp_blocks(m.dof_map(), cp, 1, dofs);
   }
+  void director_triads(const Model&, std::vector<PetscInt>& cps) const override {
+    cps.insert(cps.end(), cps_.begin(), cps_.end());
+  }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     const double zero[kBlock * kBlock] = {};

@@ -197,6 +197,11 @@ class Effect {
   /// pairs: a slider before its carrier, so that a joint's fill lands in the carrier's band.
   virtual void elimination_precedence(std::vector<std::pair<int, int>>&) const {}
 
+  /// Owned control points whose block is an orthonormality-constrained director triad: 12
+  /// coordinates (phi, d1, d2, d3), then the 6 multipliers of 1/2(d1.d1-1), 1/2(d2.d2-1),
+  /// 1/2(d3.d3-1), d1.d2, d1.d3, d2.d3, whose forces are G(x_f)^T lambda and nothing else.
+  virtual void director_triads(const Model&, std::vector<PetscInt>& /*cps*/) const {}
+
   /// Unknowns this effect prescribes (Dirichlet), with their values. Called on every rank;
   /// return only rows owned by this rank.
   virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}

@@ -513,6 +513,14 @@ std::vector<double> Model::beam_coordinates(int beam_index, Vec x) const {
   return q;
 }
 
+std::vector<PetscInt> Model::director_triads() const {
+  std::vector<PetscInt> cps;
+  for (const auto& e : effects_) e->director_triads(*this, cps);
+  std::sort(cps.begin(), cps.end());
+  cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
+  return cps;
+}
+
 std::vector<PetscInt> Model::elimination_order() const {
   // Beam order: a topological order of the precedence pairs (stable: scene order otherwise);
   // pairs that form a cycle (beams sliding on each other) are dropped.

@@ -120,6 +120,8 @@ class Model {
   /// factorisation's cost grows linearly with the scene (the natural order, with all extras at
   /// the end, fills every carrier from its joints to its last point). Same on every rank.
   std::vector<PetscInt> elimination_order() const;
+  /// Owned control points that are orthonormality-constrained director triads (sorted).
+  std::vector<PetscInt> director_triads() const;
 
   /// Unknowns ghosted on this rank (owned ones included).
   PetscInt ghost_count() const { return ghost_dofs_.size(); }

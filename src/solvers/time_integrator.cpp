@@ -84,6 +84,13 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     SB_CHECK(attach_elimination_order(J_, model.elimination_order()));
     SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
     fast_lu_ = true;
+    PetscBool condense = PETSC_TRUE;
+    SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_condense_directors", &condense, nullptr));
+    if (condense) {
+      condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order());
+      if (condensation_->empty()) condensation_.reset();
+      else SB_CHECK(condensation_->attach(snes_));
+    }
   }
   SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_jacobian_reuse", &reuse_, nullptr));
   SB_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-sb_jacobian_reuse_rate", &reuse_rate_, nullptr));
@@ -217,6 +224,7 @@ void TimeIntegrator::prepare_step(double h) {
       SB_CHECK(VecScale(f_hist_, -params_.alpha));
     }
   }
+  if (condensation_) condensation_->set_force_state(x_, step_eval().theta, scale_);
 }
 
 PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
@@ -337,6 +345,7 @@ SolveResult TimeIntegrator::step(double h) {
     else if (h_prev_ > 0) SB_CHECK(VecAXPBYPCZ(x1_, 0.5 * h * h / h_prev_, -0.5 * h * h / h_prev_, 1.0, v_, v_prev_));
     if (model_.has_sliding_state()) SB_CHECK(VecAXPY(x1_, h, sdot_));  // s: linear extrapolation
     model_.apply_prescribed(x1_);
+    if (condensation_) SB_CHECK(condensation_->project(x1_));  // Newton stays on the manifold
     SB_CHECK(SNESSolve(snes_, nullptr, x1_));
     const int its_before = r.iterations;
     r = solve_result(snes_);
@@ -395,6 +404,12 @@ void TimeIntegrator::use_pivoting_lu() {
   SB_CHECK(PCReset(pc));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(PCSetType(pc, PCLU));
+  if (condensation_) {  // the full saddle-point system and plain Newton updates from now on
+    SNESLineSearch ls = nullptr;
+    SB_CHECK(SNESGetLineSearch(snes_, &ls));
+    SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+    condensation_.reset();
+  }
   SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
   if (size == 1) SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGND));
   fast_lu_ = false;

@@ -26,9 +26,14 @@
 ///
 /// Serial steps factor with PETSc's LU in the natural order (no pivoting, multipliers after
 /// their coordinates) and switch to SuperLU for good after a failed step; see the constructor.
+/// With director beams, that LU works on the condensed system of DirectorCondensation (6
+/// unknowns per control point instead of 18; -sb_condense_directors false: the full system).
 
 #include "model/model.hpp"
+#include "solvers/director_condensation.hpp"
 #include "solvers/newton.hpp"
+
+#include <memory>
 
 #include <string>
 
@@ -134,6 +139,7 @@ class TimeIntegrator {
   PetscInt jac_iter_ = -1;
   double jac_c0_ = 0.0;
   bool last_failed_ = false;
+  std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
   bool schwarz_ = false;  // -sb_schwarz: GMRES + Schwarz on the model's subdomains
   PetscLogEvent ev_step_ = 0;

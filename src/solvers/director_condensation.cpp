@@ -1,0 +1,491 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/director_condensation.hpp"
+
+#include "kernels/beam_kernels.hpp"
+#include "util/petsc_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slidebeam {
+
+namespace {
+constexpr int kQ = 12;      // coordinates of a triad
+constexpr int kBlock = 18;  // coordinates and multipliers
+
+// -[a]x: the variation of a director a under a small rotation w is w x a = -[a]x w.
+Eigen::Matrix3d minus_skew(const double* a) {
+  Eigen::Matrix3d S;
+  S << 0.0, a[2], -a[1], -a[2], 0.0, a[0], a[1], -a[0], 0.0;
+  return S;
+}
+
+inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// The rows of G (6 x 9 on the directors, forms 1/2 d1.d1, 1/2 d2.d2, 1/2 d3.d3, d1.d2, d1.d3,
+// d2.d3) pair director slots: row r touches slots kA[r] and kB[r] with the directors d[kB[r]]
+// and d[kA[r]] (the same slot twice for the squares).
+constexpr int kA[6] = {0, 1, 2, 0, 0, 1};
+constexpr int kB[6] = {0, 1, 2, 1, 2, 2};
+
+// Multipliers that leave no force along G^T: dl = -(G G^T)^-1 G f / s, then f += s G^T dl and
+// lambda += dl. G G^T is the Gram matrix of the rows of G (SPD near an orthonormal triad);
+// solved by an unrolled Cholesky (this runs at every Newton iterate of every triad).
+void correct_multipliers(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
+  double g[6], A[6][6];
+  for (int r = 0; r < 6; ++r) {
+    const int a = kA[r], b = kB[r];
+    g[r] = a == b ? dot3(d[a], f[a]) : dot3(d[b], f[a]) + dot3(d[a], f[b]);
+  }
+  // <row r, row c> = sum over director slots of the products of their 3-blocks
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c <= r; ++c) {
+      double v = 0.0;
+      const int ra = kA[r], rb = kB[r], ca = kA[c], cb = kB[c];
+      // row r has d[rb] in slot ra and d[ra] in slot rb (once if ra == rb)
+      auto blk = [&](int slot_r, const double* vr, int slot_c, const double* vc) {
+        if (slot_r == slot_c) v += dot3(vr, vc);
+      };
+      blk(ra, d[rb], ca, d[cb]);
+      if (cb != ca) blk(ra, d[rb], cb, d[ca]);
+      if (rb != ra) {
+        blk(rb, d[ra], ca, d[cb]);
+        if (cb != ca) blk(rb, d[ra], cb, d[ca]);
+      }
+      A[r][c] = v;
+    }
+  for (int j = 0; j < 6; ++j) {  // Cholesky A = L L^T in place (lower triangle)
+    double djj = A[j][j];
+    for (int k = 0; k < j; ++k) djj -= A[j][k] * A[j][k];
+    A[j][j] = std::sqrt(djj);
+    for (int i = j + 1; i < 6; ++i) {
+      double v = A[i][j];
+      for (int k = 0; k < j; ++k) v -= A[i][k] * A[j][k];
+      A[i][j] = v / A[j][j];
+    }
+  }
+  for (int i = 0; i < 6; ++i) {  // L y = g
+    for (int k = 0; k < i; ++k) g[i] -= A[i][k] * g[k];
+    g[i] /= A[i][i];
+  }
+  for (int i = 5; i >= 0; --i) {  // L^T x = y
+    for (int k = i + 1; k < 6; ++k) g[i] -= A[k][i] * g[k];
+    g[i] /= A[i][i];
+  }
+  for (int r = 0; r < 6; ++r) {
+    const double dl = -g[r] / s;
+    lambda[r] += dl;
+    const int a = kA[r], b = kB[r];
+    for (int k = 0; k < 3; ++k) {
+      f[a][k] += s * dl * d[b][k];
+      if (b != a) f[b][k] += s * dl * d[a][k];
+    }
+  }
+}
+
+// Closest orthonormal frame to the columns of D (polar factor): Newton-Schulz iterations from a
+// nearly orthonormal D, an SVD otherwise. Leaves D alone if it is degenerate or a reflection.
+void orthonormalize(double* d) {
+  Eigen::Map<Eigen::Matrix3d> D(d);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  double err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
+  if (err < 0.1) {
+    for (int it = 0; it < 6 && err > 1e-16; ++it) {
+      D = 0.5 * D * (3.0 * I - D.transpose() * D);
+      err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
+    }
+    return;
+  }
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() > 0) D = R;
+}
+}  // namespace
+
+DirectorCondensation::DirectorCondensation(const Model& model, const std::vector<PetscInt>& order) {
+  const DofMap& map = model.dof_map();
+  n_ = map.global_size();
+  // triads with the expected block layout and no prescribed unknown
+  std::vector<char> prescribed(static_cast<size_t>(n_), 0);
+  for (PetscInt r : model.prescribed_rows()) prescribed[static_cast<size_t>(r)] = 1;
+  for (PetscInt cp : model.director_triads()) {
+    if (map.n_coordinates(cp) != kQ || map.block_size(cp) < kBlock) continue;
+    const PetscInt q0 = map.q(cp, 0);
+    bool free = true;
+    for (int k = 0; k < kBlock; ++k) free = free && !prescribed[static_cast<size_t>(q0 + k)];
+    if (free) triads_.push_back(q0);
+  }
+  if (triads_.empty()) return;
+  group_of_.assign(static_cast<size_t>(n_), -2);
+  for (size_t t = 0; t < triads_.size(); ++t) {
+    const PetscInt q0 = triads_[t];
+    for (int k = 0; k < kBlock; ++k) group_of_[static_cast<size_t>(q0 + k)] = -1;  // claimed below
+  }
+  // Groups in elimination order: a triad where its first unknown is eliminated, then one group
+  // per other unknown. Reduced unknowns are numbered in that order, so the reduced matrix is
+  // factored in its natural order.
+  std::vector<int> triad_of(static_cast<size_t>(n_), -1);
+  for (size_t t = 0; t < triads_.size(); ++t)
+    for (int k = 0; k < kBlock; ++k) triad_of[static_cast<size_t>(triads_[t] + k)] = static_cast<int>(t);
+  std::vector<char> placed(triads_.size(), 0);
+  for (PetscInt i : order) {
+    const int t = triad_of[static_cast<size_t>(i)];
+    if (t >= 0) {
+      if (placed[static_cast<size_t>(t)]) continue;
+      placed[static_cast<size_t>(t)] = 1;
+      const int g = static_cast<int>(groups_.size());
+      groups_.push_back({triads_[static_cast<size_t>(t)], kQ, t, n_red_});
+      n_red_ += 6;
+      for (int k = 0; k < kQ; ++k) group_of_[static_cast<size_t>(triads_[static_cast<size_t>(t)] + k)] = g;
+      continue;
+    }
+    const int g = static_cast<int>(groups_.size());
+    groups_.push_back({i, 1, -1, n_red_});
+    ++n_red_;
+    group_of_[static_cast<size_t>(i)] = g;
+  }
+  S_.assign(triads_.size(), Mat9x3::Zero());
+  Sp_.assign(triads_.size(), Mat9x3::Zero());
+}
+
+DirectorCondensation::~DirectorCondensation() {
+  MatDestroy(&F_);
+  MatDestroy(&Jr_);
+  VecDestroy(&rr_);
+  VecDestroy(&a_);
+}
+
+PetscErrorCode DirectorCondensation::attach(SNES snes) {
+  PetscFunctionBeginUser;
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(PCShellSetContext(pc, this));
+  PetscCall(PCShellSetSetUp(pc, &DirectorCondensation::pc_setup));
+  PetscCall(PCShellSetApply(pc, &DirectorCondensation::pc_apply));
+  PetscCall(PCShellSetName(pc, "director triads condensed to 6 unknowns per control point, then LU"));
+  SNESLineSearch ls = nullptr;
+  PetscCall(SNESGetLineSearch(snes, &ls));
+  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
+  PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::pc_setup(PC pc) {
+  PetscFunctionBeginUser;
+  void* ctx = nullptr;
+  PetscCall(PCShellGetContext(pc, &ctx));
+  Mat A = nullptr, P = nullptr;
+  PetscCall(PCGetOperators(pc, &A, &P));
+  bool ok = true;
+  PetscCall(static_cast<DirectorCondensation*>(ctx)->setup(P, &ok));
+  // A zero pivot or a triad whose constraint Jacobian is not of the expected form fails the
+  // linear solve; the time integrator then retries the step with a pivoting LU.
+  if (!ok) {
+    PetscCall(PetscInfo(pc, "Director condensation failed (zero pivot or a triad block of unexpected form)\n"));
+    PetscCall(PCSetFailedReason(pc, PC_FACTOR_NUMERIC_ZEROPIVOT));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::pc_apply(PC pc, Vec b, Vec y) {
+  PetscFunctionBeginUser;
+  void* ctx = nullptr;
+  PetscCall(PCShellGetContext(pc, &ctx));
+  PetscCall(static_cast<DirectorCondensation*>(ctx)->apply(b, y));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::line_search(SNESLineSearch ls, void* ctx) {
+  return static_cast<DirectorCondensation*>(ctx)->search(ls);
+}
+
+PetscErrorCode DirectorCondensation::build_pattern(Mat J) {
+  PetscFunctionBeginUser;
+  PetscInt n = 0;
+  const PetscInt *ia = nullptr, *ja = nullptr;
+  PetscBool done = PETSC_FALSE;
+  PetscCall(MatGetRowIJ(J, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
+  PetscCheck(done && n == n_, PETSC_COMM_SELF, PETSC_ERR_SUP, "director condensation needs a serial AIJ Jacobian");
+  const size_t ng = groups_.size();
+  adj_.assign(ng, {});
+  col_offset_.assign(ng, {});
+  std::vector<int> mark(ng, -1);
+  for (size_t g = 0; g < ng; ++g) {
+    const Group& G = groups_[g];
+    for (int r = 0; r < G.size; ++r) {
+      const PetscInt i = G.first + r;
+      for (PetscInt p = ia[i]; p < ia[i + 1]; ++p) {
+        const int h = group_of_[static_cast<size_t>(ja[p])];
+        if (h < 0 || mark[static_cast<size_t>(h)] == static_cast<int>(g)) continue;
+        mark[static_cast<size_t>(h)] = static_cast<int>(g);
+        adj_[g].push_back(h);
+      }
+    }
+    std::sort(adj_[g].begin(), adj_[g].end(),
+              [&](int a, int b) { return groups_[static_cast<size_t>(a)].base < groups_[static_cast<size_t>(b)].base; });
+  }
+  PetscCall(MatRestoreRowIJ(J, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
+  // CSR of the reduced matrix: every reduced row of a group has the same columns
+  row_ptr_.assign(static_cast<size_t>(n_red_) + 1, 0);
+  std::vector<PetscInt> cols;
+  for (size_t g = 0; g < ng; ++g) {
+    PetscInt len = 0;
+    for (int h : adj_[g]) {
+      col_offset_[g].push_back(len);
+      len += red_size(groups_[static_cast<size_t>(h)]);
+    }
+    for (int r = 0; r < red_size(groups_[g]); ++r) {
+      const PetscInt row = groups_[g].base + r;
+      row_ptr_[static_cast<size_t>(row) + 1] = len;
+    }
+  }
+  for (PetscInt r = 0; r < n_red_; ++r) row_ptr_[static_cast<size_t>(r) + 1] += row_ptr_[static_cast<size_t>(r)];
+  cols.resize(static_cast<size_t>(row_ptr_.back()));
+  for (size_t g = 0; g < ng; ++g)
+    for (int r = 0; r < red_size(groups_[g]); ++r) {
+      PetscInt p = row_ptr_[static_cast<size_t>(groups_[g].base + r)];
+      for (int h : adj_[g])
+        for (int c = 0; c < red_size(groups_[static_cast<size_t>(h)]); ++c)
+          cols[static_cast<size_t>(p++)] = groups_[static_cast<size_t>(h)].base + c;
+    }
+  PetscCall(MatDestroy(&F_));
+  PetscCall(MatDestroy(&Jr_));
+  PetscCall(MatCreate(PETSC_COMM_SELF, &Jr_));
+  PetscCall(MatSetSizes(Jr_, n_red_, n_red_, n_red_, n_red_));
+  PetscCall(MatSetType(Jr_, MATSEQAIJ));
+  PetscCall(MatSeqAIJSetPreallocationCSR(Jr_, row_ptr_.data(), cols.data(), nullptr));
+  if (!rr_) {
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, n_red_, &rr_));
+    PetscCall(VecDuplicate(rr_, &a_));
+  }
+  symbolic_done_ = false;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
+  PetscFunctionBeginUser;
+  *ok = true;
+  PetscObjectState state = 0;
+  PetscCall(MatGetNonzeroState(J, &state));
+  if (!Jr_ || state != pattern_state_) {
+    PetscCall(build_pattern(J));
+    pattern_state_ = state;
+  }
+  PetscInt n = 0;
+  const PetscInt *ia = nullptr, *ja = nullptr;
+  PetscBool done = PETSC_FALSE;
+  const PetscScalar* v = nullptr;
+  PetscCall(MatGetRowIJ(J, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
+  PetscCall(MatSeqAIJGetArrayRead(J, &v));
+  // J(i, j0 .. j0 + len - 1) into out (0 where not stored); rows are sorted
+  auto row_segment = [&](PetscInt i, PetscInt j0, int len, double* dst) {
+    for (int k = 0; k < len; ++k) dst[k] = 0.0;
+    const PetscInt* e = ja + ia[i + 1];
+    for (const PetscInt* it = std::lower_bound(ja + ia[i], e, j0); it != e && *it < j0 + len; ++it)
+      dst[*it - j0] = v[it - ja];
+  };
+  // Null-space bases from the multiplier columns (G(x_f)^T: force state) and the constraint
+  // rows (C(x): end state). Column k < 3 of G^T holds d_k on its own director: 1/2 d.d - 1/2.
+  for (size_t t = 0; t < triads_.size(); ++t) {
+    const PetscInt q0 = triads_[t];
+    Eigen::Matrix<double, kQ, 6, Eigen::RowMajor> Gt;
+    Eigen::Matrix<double, 6, kQ, Eigen::RowMajor> C;
+    for (int r = 0; r < kQ; ++r) row_segment(q0 + r, q0 + kQ, 6, Gt.row(r).data());
+    for (int l = 0; l < 6; ++l) row_segment(q0 + kQ + l, q0, kQ, C.row(l).data());
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d a = Gt.block<3, 1>(3 + 3 * i, i), c = C.block<1, 3>(i, 3 + 3 * i).transpose();
+      S_[t].block<3, 3>(3 * i, 0) = minus_skew(a.data());
+      Sp_[t].block<3, 3>(3 * i, 0) = minus_skew(c.data());
+    }
+    // N^T G^T = 0 and C N' = 0 must hold to roundoff, or this is not an orthonormal triad's block
+    const double gn = Gt.cwiseAbs().maxCoeff() + 1e-300, cn = C.cwiseAbs().maxCoeff() + 1e-300;
+    const double e1 = (S_[t].transpose() * Gt.bottomRows<9>()).cwiseAbs().maxCoeff() / gn;
+    const double e2 = (C.rightCols<9>() * Sp_[t]).cwiseAbs().maxCoeff() / cn;
+    if (!(e1 < 1e-10 && e2 < 1e-10) || Gt.topRows<3>().cwiseAbs().maxCoeff() != 0.0 ||
+        C.leftCols<3>().cwiseAbs().maxCoeff() != 0.0)
+      *ok = false;
+  }
+  // Reduced matrix, group by group: gather each coupled 12 x 12 (or 12 x 1, 1 x 12, 1 x 1)
+  // block of J, then N_g^T J_gh N'_h.
+  PetscScalar* out = nullptr;
+  PetscCall(MatSeqAIJGetArrayWrite(Jr_, &out));
+  const size_t ng = groups_.size();
+  std::vector<int> slot(ng, -1);
+  std::vector<double> buf;
+  std::vector<size_t> buf_off;
+  for (size_t g = 0; g < ng && *ok; ++g) {
+    const Group& G = groups_[g];
+    buf_off.assign(adj_[g].size() + 1, 0);
+    for (size_t k = 0; k < adj_[g].size(); ++k) {
+      slot[static_cast<size_t>(adj_[g][k])] = static_cast<int>(k);
+      buf_off[k + 1] = buf_off[k] + static_cast<size_t>(G.size * groups_[static_cast<size_t>(adj_[g][k])].size);
+    }
+    buf.assign(buf_off.back(), 0.0);
+    for (int r = 0; r < G.size; ++r) {
+      const PetscInt i = G.first + r;
+      for (PetscInt p = ia[i]; p < ia[i + 1];) {
+        const int h = group_of_[static_cast<size_t>(ja[p])];
+        if (h < 0) {  // a multiplier of a triad: cancelled by N^T
+          ++p;
+          continue;
+        }
+        const Group& H = groups_[static_cast<size_t>(h)];
+        double* dst = buf.data() + buf_off[static_cast<size_t>(slot[static_cast<size_t>(h)])] + static_cast<size_t>(r * H.size);
+        // a run of stored columns of group h (usually all of its 12 in a row)
+        for (; p < ia[i + 1] && ja[p] >= H.first && ja[p] < H.first + H.size; ++p) dst[ja[p] - H.first] = v[p];
+      }
+    }
+    for (size_t k = 0; k < adj_[g].size(); ++k) {
+      const Group& H = groups_[static_cast<size_t>(adj_[g][k])];
+      const double* B = buf.data() + buf_off[k];  // row-major G.size x H.size
+      Eigen::Matrix<double, 6, 6> R6;
+      int rows = 1, cols = 1;
+      if (G.triad >= 0 && H.triad >= 0) {
+        const Eigen::Map<const Eigen::Matrix<double, kQ, kQ, Eigen::RowMajor>> Jb(B);
+        const Mat9x3& Sg = S_[static_cast<size_t>(G.triad)];
+        const Mat9x3& Sh = Sp_[static_cast<size_t>(H.triad)];
+        R6.topLeftCorner<3, 3>() = Jb.topLeftCorner<3, 3>();
+        R6.topRightCorner<3, 3>() = Jb.topRightCorner<3, 9>() * Sh;
+        R6.bottomLeftCorner<3, 3>() = Sg.transpose() * Jb.bottomLeftCorner<9, 3>();
+        R6.bottomRightCorner<3, 3>() = Sg.transpose() * (Jb.bottomRightCorner<9, 9>() * Sh);
+        rows = cols = 6;
+      } else if (G.triad >= 0) {
+        const Eigen::Map<const Eigen::Matrix<double, kQ, 1>> Jb(B);
+        R6.block<3, 1>(0, 0) = Jb.head<3>();
+        R6.block<3, 1>(3, 0) = S_[static_cast<size_t>(G.triad)].transpose() * Jb.tail<9>();
+        rows = 6;
+      } else if (H.triad >= 0) {
+        const Eigen::Map<const Eigen::Matrix<double, 1, kQ>> Jb(B);
+        R6.block<1, 3>(0, 0) = Jb.head<3>();
+        R6.block<1, 3>(0, 3) = Jb.tail<9>() * Sp_[static_cast<size_t>(H.triad)];
+        cols = 6;
+      } else {
+        R6(0, 0) = B[0];
+      }
+      for (int r = 0; r < rows; ++r) {
+        PetscScalar* dst = out + row_ptr_[static_cast<size_t>(G.base + r)] + col_offset_[g][k];
+        for (int c = 0; c < cols; ++c) dst[c] = R6(r, c);
+      }
+    }
+    for (int h : adj_[g]) slot[static_cast<size_t>(h)] = -1;
+  }
+  PetscCall(MatSeqAIJRestoreArrayWrite(Jr_, &out));
+  PetscCall(MatSeqAIJRestoreArrayRead(J, &v));
+  PetscCall(MatRestoreRowIJ(J, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
+  if (!*ok) PetscFunctionReturn(0);
+  PetscCall(MatAssemblyBegin(Jr_, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(Jr_, MAT_FINAL_ASSEMBLY));
+  MatFactorInfo info;
+  PetscCall(MatFactorInfoInitialize(&info));
+  info.fill = 3.0;
+  info.zeropivot = 100.0 * PETSC_MACHINE_EPSILON;  // PCLU's default: report, do not divide by ~0
+  if (!symbolic_done_) {
+    PetscCall(MatDestroy(&F_));
+    PetscCall(MatGetFactor(Jr_, MATSOLVERPETSC, MAT_FACTOR_LU, &F_));
+    IS perm = nullptr;
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, n_red_, 0, 1, &perm));
+    PetscCall(ISSetPermutation(perm));
+    PetscCall(MatLUFactorSymbolic(F_, Jr_, perm, perm, &info));
+    PetscCall(ISDestroy(&perm));
+    symbolic_done_ = true;
+  }
+  PetscCall(MatLUFactorNumeric(F_, Jr_, &info));
+  MatFactorError err = MAT_FACTOR_NOERROR;
+  PetscCall(MatFactorGetError(F_, &err));
+  if (err != MAT_FACTOR_NOERROR) *ok = false;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
+  PetscFunctionBeginUser;
+  const PetscScalar* bb = nullptr;
+  PetscScalar *r = nullptr, *yy = nullptr;
+  PetscCall(VecGetArrayRead(b, &bb));
+  PetscCall(VecGetArrayWrite(rr_, &r));
+  // reduced right-hand side N^T b (the constraint rows are at roundoff on the manifold)
+  for (const Group& G : groups_) {
+    if (G.triad < 0) {
+      r[G.base] = bb[G.first];
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) r[G.base + k] = bb[G.first + k];
+    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> bd(bb + G.first + 3);
+    Eigen::Map<Eigen::Vector3d>(r + G.base + 3) = S_[static_cast<size_t>(G.triad)].transpose() * bd;
+  }
+  PetscCall(VecRestoreArrayWrite(rr_, &r));
+  PetscCall(MatSolve(F_, rr_, a_));
+  const PetscScalar* a = nullptr;
+  PetscCall(VecGetArrayRead(a_, &a));
+  PetscCall(VecGetArrayWrite(y, &yy));
+  for (const Group& G : groups_) {
+    if (G.triad < 0) {
+      yy[G.first] = a[G.base];
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) yy[G.first + k] = a[G.base + k];
+    Eigen::Map<Eigen::Matrix<double, 9, 1>>(yy + G.first + 3) =
+        Sp_[static_cast<size_t>(G.triad)] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3);
+    for (int l = 0; l < 6; ++l) yy[G.first + kQ + l] = 0.0;  // set by the line search
+  }
+  PetscCall(VecRestoreArrayWrite(y, &yy));
+  PetscCall(VecRestoreArrayRead(a_, &a));
+  PetscCall(VecRestoreArrayRead(b, &bb));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::project(Vec x) const {
+  PetscFunctionBeginUser;
+  PetscScalar* xa = nullptr;
+  PetscCall(VecGetArray(x, &xa));
+  for (PetscInt q0 : triads_) orthonormalize(xa + q0 + 3);
+  PetscCall(VecRestoreArray(x, &xa));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
+  PetscFunctionBeginUser;
+  SNES snes = nullptr;
+  Vec X = nullptr, F = nullptr, Y = nullptr, W = nullptr, G = nullptr;
+  PetscCall(SNESLineSearchGetSNES(ls, &snes));
+  PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
+  PetscCall(VecWAXPY(W, -1.0, Y, X));
+  PetscCall(project(W));
+  PetscCall(SNESComputeFunction(snes, W, F));
+  // Multipliers: the residual is linear in them (forces s G(x_f)^T lambda), so the choice that
+  // leaves no force along G^T is a 6 x 6 least-squares problem per triad.
+  {
+    PetscScalar *w = nullptr, *f = nullptr;
+    const PetscScalar* xo = nullptr;
+    PetscCall(VecGetArray(W, &w));
+    PetscCall(VecGetArray(F, &f));
+    if (theta_ != 1.0) PetscCall(VecGetArrayRead(x_old_, &xo));
+    for (PetscInt q0 : triads_) {
+      double d[3][3];  // directors at the force state
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+          const PetscInt j = q0 + 3 + 3 * i + k;
+          d[i][k] = theta_ == 1.0 ? w[j] : theta_ * w[j] + (1.0 - theta_) * xo[j];
+        }
+      double* fd[3] = {f + q0 + 3, f + q0 + 6, f + q0 + 9};
+      correct_multipliers(d, fd, w + q0 + kQ, scale_);
+    }
+    if (theta_ != 1.0) PetscCall(VecRestoreArrayRead(x_old_, &xo));
+    PetscCall(VecRestoreArray(F, &f));
+    PetscCall(VecRestoreArray(W, &w));
+  }
+  PetscReal fnorm = 0, xnorm = 0, ynorm = 0;
+  PetscCall(VecNorm(F, NORM_2, &fnorm));
+  PetscCall(VecNorm(W, NORM_2, &xnorm));
+  PetscCall(VecWAXPY(G, -1.0, X, W));  // the step actually taken
+  PetscCall(VecNorm(G, NORM_2, &ynorm));
+  PetscCall(VecCopy(W, X));
+  PetscCall(SNESLineSearchSetNorms(ls, xnorm, fnorm, ynorm));
+  if (!std::isfinite(fnorm)) PetscCall(SNESLineSearchSetReason(ls, SNES_LINESEARCH_FAILED_DOMAIN));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace slidebeam
