@@ -111,8 +111,10 @@ DirectorCondensation::DirectorCondensation(const Model& model, const std::vector
   for (PetscInt cp : model.director_triads()) {
     if (map.n_coordinates(cp) != kQ || map.block_size(cp) < kBlock) continue;
     const PetscInt q0 = map.q(cp, 0);
+    // A prescribed position (a spherical support at an end) keeps its identity rows through
+    // N; prescribed directors or multipliers (a clamp) leave the triad to the full system.
     bool free = true;
-    for (int k = 0; k < kBlock; ++k) free = free && !prescribed[static_cast<size_t>(q0 + k)];
+    for (int k = 3; k < kBlock; ++k) free = free && !prescribed[static_cast<size_t>(q0 + k)];
     if (free) triads_.push_back(q0);
   }
   if (triads_.empty()) return;
@@ -306,8 +308,11 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
     const double e1 = (S_[t].transpose() * Gt.bottomRows<9>()).cwiseAbs().maxCoeff() / gn;
     const double e2 = (C.rightCols<9>() * Sp_[t]).cwiseAbs().maxCoeff() / cn;
     if (!(e1 < 1e-10 && e2 < 1e-10) || Gt.topRows<3>().cwiseAbs().maxCoeff() != 0.0 ||
-        C.leftCols<3>().cwiseAbs().maxCoeff() != 0.0)
+        C.leftCols<3>().cwiseAbs().maxCoeff() != 0.0) {
+      PetscCall(PetscInfo(J, "Triad at unknown %" PetscInt_FMT ": not an orthonormality block (|N^T G^T| %g, |C N'| %g)\n",
+                          q0, e1, e2));
       *ok = false;
+    }
   }
   // Reduced matrix, group by group: gather each coupled 12 x 12 (or 12 x 1, 1 x 12, 1 x 1)
   // block of J, then N_g^T J_gh N'_h.
@@ -396,7 +401,10 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   PetscCall(MatLUFactorNumeric(F_, Jr_, &info));
   MatFactorError err = MAT_FACTOR_NOERROR;
   PetscCall(MatFactorGetError(F_, &err));
-  if (err != MAT_FACTOR_NOERROR) *ok = false;
+  if (err != MAT_FACTOR_NOERROR) {
+    PetscCall(PetscInfo(J, "Condensed LU: zero pivot (error %d)\n", static_cast<int>(err)));
+    *ok = false;
+  }
   PetscFunctionReturn(0);
 }
 

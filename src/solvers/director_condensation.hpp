@@ -19,7 +19,7 @@
 /// converged solution is that of the full system; only the path to it changes.
 ///
 /// Used for serial steps (the fast LU path of TimeIntegrator) when the model has triads;
-/// control points with prescribed unknowns and all other unknowns (ANCF nodes, supports', joints'
+/// control points with prescribed directors (a clamp) and all other unknowns (ANCF nodes, supports', joints'
 /// and sliders' extras) pass through unchanged. -sb_condense_directors false turns it off.
 
 #include "model/model.hpp"
