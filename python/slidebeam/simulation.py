@@ -50,10 +50,19 @@ def options_file_of(scene: Scene) -> Path | None:
     return None
 
 
+# Options the last scene put into the database (not the user's): the next Simulation removes
+# them first, so that one scene's [petsc] table does not leak into the next scene of a script.
+_scene_option_keys: set[str] = set()
+
+
 def _apply_petsc_options(scene: Scene) -> None:
     """Scene options (file first, then [petsc]) fill the options database; anything already set,
-    i.e. given on the command line, wins."""
+    i.e. given on the command line, wins. They stay in place for the life of the Simulation
+    (solvers read some only at their first solve) until the next Simulation is built."""
     opts = PETSc.Options()
+    for key in _scene_option_keys:
+        opts.delValue(key)
+    _scene_option_keys.clear()
     pairs: list[tuple[str, str]] = []
     options_file = options_file_of(scene)
     if options_file:
@@ -75,6 +84,7 @@ def _apply_petsc_options(scene: Scene) -> None:
     for key, value in pairs:
         if not opts.hasName(key):
             opts.setValue(key, value)
+            _scene_option_keys.add(key)
 
 
 def _is_number(text: str) -> bool:

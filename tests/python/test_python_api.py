@@ -84,3 +84,19 @@ def test_scripting_example_runs(root, np_):
     out = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
     assert out.returncode == 0, out.stderr
     assert "load step 4" in out.stdout and "strain energy" in out.stdout
+
+
+def test_scene_options_do_not_leak_into_the_next_scene(root):
+    """A scene's [petsc] table fills the options database for its Simulation; the next
+    Simulation of a script must not inherit it (options set by the user stay)."""
+    opts = PETSc.Options()
+    assert not opts.hasName("sb_jacobian_reuse")
+    opts.setValue("sb_user_marker", "1")
+    try:
+        slidebeam.Simulation(slidebeam.load_scene(root / "runs" / "pendulum16.toml"))  # [petsc] sb_jacobian_reuse
+        assert opts.getBool("sb_jacobian_reuse")
+        slidebeam.Simulation(slidebeam.load_scene(root / "runs" / "flying_spaghetti_2d.toml"))
+        assert not opts.hasName("sb_jacobian_reuse")
+        assert opts.hasName("sb_user_marker")
+    finally:
+        opts.delValue("sb_user_marker")
