@@ -340,8 +340,14 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
         }
         const Group& H = groups_[static_cast<size_t>(h)];
         double* dst = buf.data() + buf_off[static_cast<size_t>(slot[static_cast<size_t>(h)])] + static_cast<size_t>(r * H.size);
-        // a run of stored columns of group h (usually all of its 12 in a row)
-        for (; p < ia[i + 1] && ja[p] >= H.first && ja[p] < H.first + H.size; ++p) dst[ja[p] - H.first] = v[p];
+        // a run of stored columns of group h: usually all of them (a copy), else entry by entry
+        const PetscInt end = ia[i + 1], last = H.first + H.size - 1;
+        if (ja[p] == H.first && p + H.size - 1 < end && ja[p + H.size - 1] == last) {
+          std::copy(v + p, v + p + H.size, dst);
+          p += H.size;
+          continue;
+        }
+        for (; p < end && ja[p] >= H.first && ja[p] <= last; ++p) dst[ja[p] - H.first] = v[p];
       }
     }
     for (size_t k = 0; k < adj_[g].size(); ++k) {
