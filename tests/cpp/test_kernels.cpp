@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <vector>
 #include <tuple>
 
 using namespace slidebeam;
@@ -31,18 +32,13 @@ VecEl deformed_state(unsigned seed) {
   for (int i = 0; i < kNqEl; ++i) q(i) += u(gen);
   return q;
 }
-}  // namespace
 
-class KernelFD : public ::testing::TestWithParam<std::tuple<StrainMeasure, Quadrature>> {};
-
-TEST_P(KernelFD, ResidualIsEnergyGradientAndTangentIsResidualDerivative) {
-  const auto [measure, quad] = GetParam();
-  const StrainTable& T = strain_table(measure);
-  Stiffness C;
-  C << 3.0e3, 1.1e3, 0.9e3, 7.0, 11.0, 13.0;
+// Quadrature points (with weights) of the second of four uniform spans, 2.5 long in arc length.
+std::vector<GaussPoint> span_points(Quadrature quad) {
   std::array<double, 3> x{}, w{};
   const int ng = gauss_rule(quad, x, w);
-  const double L = 2.5;  // span length in arc length
+  const double L = 2.5;
+  std::vector<GaussPoint> pts;
   for (int g = 0; g < ng; ++g) {
     const auto b = bspline::basis_on_span(4, 1, (1 + x[g]) / 4.0);
     GaussPoint gp{};
@@ -51,9 +47,35 @@ TEST_P(KernelFD, ResidualIsEnergyGradientAndTangentIsResidualDerivative) {
       gp.dN[a] = b.dN[a] / L;
     }
     gp.w = w[g] * L / 4.0;
-    Vec6 eps0;
-    eps0 << 0.5, 0.01, -0.02, 0.03, 0.01, -0.01;
-    const VecEl q = deformed_state(17 + g);
+    pts.push_back(gp);
+  }
+  return pts;
+}
+
+// A section stiffness with distinct entries and a reference strain off zero.
+Stiffness test_stiffness() {
+  Stiffness C;
+  C << 3.0e3, 1.1e3, 0.9e3, 7.0, 11.0, 13.0;
+  return C;
+}
+Vec6 test_eps0() {
+  Vec6 eps0;
+  eps0 << 0.5, 0.01, -0.02, 0.03, 0.01, -0.01;
+  return eps0;
+}
+}  // namespace
+
+class KernelFD : public ::testing::TestWithParam<std::tuple<StrainMeasure, Quadrature>> {};
+
+TEST_P(KernelFD, ResidualIsEnergyGradientAndTangentIsResidualDerivative) {
+  const auto [measure, quad] = GetParam();
+  const StrainTable& T = strain_table(measure);
+  const Stiffness C = test_stiffness();
+  const Vec6 eps0 = test_eps0();
+  const auto pts = span_points(quad);
+  for (size_t g = 0; g < pts.size(); ++g) {
+    const GaussPoint& gp = pts[g];
+    const VecEl q = deformed_state(17 + static_cast<int>(g));
     VecEl r = VecEl::Zero();
     MatEl K = MatEl::Zero();
     beam_gp_residual_tangent(T, C, eps0, gp, q, r, &K);
@@ -79,22 +101,12 @@ TEST_P(KernelFD, ResidualIsEnergyGradientAndTangentIsResidualDerivative) {
 TEST_P(KernelFD, EnergyMomentumTangentAndDiscreteGradient) {
   const auto [measure, quad] = GetParam();
   const StrainTable& T = strain_table(measure);
-  Stiffness C;
-  C << 3.0e3, 1.1e3, 0.9e3, 7.0, 11.0, 13.0;
-  std::array<double, 3> x{}, w{};
-  const int ng = gauss_rule(quad, x, w);
-  const double L = 2.5;
-  for (int g = 0; g < ng; ++g) {
-    const auto b = bspline::basis_on_span(4, 1, (1 + x[g]) / 4.0);
-    GaussPoint gp{};
-    for (int a = 0; a < 3; ++a) {
-      gp.N[a] = b.N[a];
-      gp.dN[a] = b.dN[a] / L;
-    }
-    gp.w = w[g] * L / 4.0;
-    Vec6 eps0;
-    eps0 << 0.5, 0.01, -0.02, 0.03, 0.01, -0.01;
-    const VecEl q0 = deformed_state(5 + g), q1 = deformed_state(29 + g);
+  const Stiffness C = test_stiffness();
+  const Vec6 eps0 = test_eps0();
+  const auto pts = span_points(quad);
+  for (size_t g = 0; g < pts.size(); ++g) {
+    const GaussPoint& gp = pts[g];
+    const VecEl q0 = deformed_state(5 + static_cast<int>(g)), q1 = deformed_state(29 + static_cast<int>(g));
     for (const double xi : {0.0, 0.3}) {
       VecEl r = VecEl::Zero();
       MatEl K = MatEl::Zero();
