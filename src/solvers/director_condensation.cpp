@@ -102,22 +102,35 @@ void orthonormalize(double* d) {
 }
 }  // namespace
 
-DirectorCondensation::DirectorCondensation(const Model& model, const std::vector<PetscInt>& order) {
+DirectorCondensation::DirectorCondensation(const Model& model, const std::vector<PetscInt>& order)
+    : DirectorCondensation(model, order, Mode::Manifold) {}
+
+DirectorCondensation::DirectorCondensation(const Model& model, const std::vector<PetscInt>& elimination_order,
+                                           Mode mode)
+    : mode_(mode) {
   const DofMap& map = model.dof_map();
-  n_ = map.global_size();
+  // Manifold mode works on the whole (serial) system, Exact mode on this rank's diagonal block:
+  // unknowns are numbered from the first owned one.
+  const PetscInt lo = mode == Mode::Manifold ? 0 : map.owned_lo();
+  n_ = mode == Mode::Manifold ? map.global_size() : map.local_size();
+  std::vector<PetscInt> order;
+  for (PetscInt i : elimination_order)
+    if (i >= lo && i < lo + n_) order.push_back(i - lo);
   // triads with the expected block layout and no prescribed unknown
   std::vector<char> prescribed(static_cast<size_t>(n_), 0);
-  for (PetscInt r : model.prescribed_rows()) prescribed[static_cast<size_t>(r)] = 1;
+  for (PetscInt r : model.prescribed_rows())
+    if (r >= lo && r < lo + n_) prescribed[static_cast<size_t>(r - lo)] = 1;
   for (PetscInt cp : model.director_triads()) {
     if (map.n_coordinates(cp) != kQ || map.block_size(cp) < kBlock) continue;
-    const PetscInt q0 = map.q(cp, 0);
+    const PetscInt q0 = map.q(cp, 0) - lo;
+    if (q0 < 0 || q0 + kBlock > n_) continue;
     // A prescribed position (a spherical support at an end) keeps its identity rows through
     // N; prescribed directors or multipliers (a clamp) leave the triad to the full system.
     bool free = true;
     for (int k = 3; k < kBlock; ++k) free = free && !prescribed[static_cast<size_t>(q0 + k)];
     if (free) triads_.push_back(q0);
   }
-  if (triads_.empty()) return;
+  if (triads_.empty() && mode_ == Mode::Manifold) return;  // Exact: still the block's solver (plain LU)
   group_of_.assign(static_cast<size_t>(n_), -2);
   for (size_t t = 0; t < triads_.size(); ++t) {
     const PetscInt q0 = triads_[t];
@@ -148,6 +161,10 @@ DirectorCondensation::DirectorCondensation(const Model& model, const std::vector
   }
   S_.assign(triads_.size(), Mat9x3::Zero());
   Sp_.assign(triads_.size(), Mat9x3::Zero());
+  if (mode_ == Mode::Exact) {
+    Cpinv_.assign(triads_.size(), Eigen::Matrix<double, 9, 6>::Zero());
+    Gpinv_.assign(triads_.size(), Eigen::Matrix<double, 6, 9>::Zero());
+  }
 }
 
 DirectorCondensation::~DirectorCondensation() {
@@ -155,6 +172,8 @@ DirectorCondensation::~DirectorCondensation() {
   MatDestroy(&Jr_);
   VecDestroy(&rr_);
   VecDestroy(&a_);
+  VecDestroy(&p_);
+  VecDestroy(&t_);
 }
 
 PetscErrorCode DirectorCondensation::attach(SNES snes) {
@@ -173,6 +192,16 @@ PetscErrorCode DirectorCondensation::attach(SNES snes) {
   PetscCall(SNESGetLineSearch(snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
   PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::attach_to_block(PC pc) {
+  PetscFunctionBeginUser;
+  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(PCShellSetContext(pc, this));
+  PetscCall(PCShellSetSetUp(pc, &DirectorCondensation::pc_setup));
+  PetscCall(PCShellSetApply(pc, &DirectorCondensation::pc_apply));
+  PetscCall(PCShellSetName(pc, "exact block solve, director triads condensed to 6 unknowns per control point"));
   PetscFunctionReturn(0);
 }
 
@@ -197,7 +226,9 @@ PetscErrorCode DirectorCondensation::pc_apply(PC pc, Vec b, Vec y) {
   PetscFunctionBeginUser;
   void* ctx = nullptr;
   PetscCall(PCShellGetContext(pc, &ctx));
-  PetscCall(static_cast<DirectorCondensation*>(ctx)->apply(b, y));
+  auto* self = static_cast<DirectorCondensation*>(ctx);
+  if (self->mode_ == Mode::Exact) PetscCall(self->apply_exact(self->block_, b, y));
+  else PetscCall(self->apply(b, y));
   PetscFunctionReturn(0);
 }
 
@@ -271,6 +302,7 @@ PetscErrorCode DirectorCondensation::build_pattern(Mat J) {
 PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   PetscFunctionBeginUser;
   *ok = true;
+  block_ = J;
   PetscObjectState state = 0;
   PetscCall(MatGetNonzeroState(J, &state));
   if (!Jr_ || state != pattern_state_) {
@@ -298,6 +330,11 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
     Eigen::Matrix<double, 6, kQ, Eigen::RowMajor> C;
     for (int r = 0; r < kQ; ++r) row_segment(q0 + r, q0 + kQ, 6, Gt.row(r).data());
     for (int l = 0; l < 6; ++l) row_segment(q0 + kQ + l, q0, kQ, C.row(l).data());
+    if (mode_ == Mode::Exact) {
+      const Eigen::Matrix<double, 6, 9> Cd = C.rightCols<9>(), Gd = Gt.bottomRows<9>().transpose();
+      Cpinv_[t] = Cd.transpose() * (Cd * Cd.transpose()).ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
+      Gpinv_[t] = (Gd * Gd.transpose()).ldlt().solve(Gd);
+    }
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector3d a = Gt.block<3, 1>(3 + 3 * i, i), c = C.block<1, 3>(i, 3 + 3 * i).transpose();
       S_[t].block<3, 3>(3 * i, 0) = minus_skew(a.data());
@@ -448,6 +485,52 @@ PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
   PetscCall(VecRestoreArrayWrite(y, &yy));
   PetscCall(VecRestoreArrayRead(a_, &a));
   PetscCall(VecRestoreArrayRead(b, &bb));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::apply_exact(Mat A, Vec b, Vec y) {
+  PetscFunctionBeginUser;
+  if (!p_) {
+    PetscCall(VecDuplicate(b, &p_));
+    PetscCall(VecDuplicate(b, &t_));
+  }
+  // particular solution of the constraint rows on the triads' directors, t = b - A p
+  {
+    const PetscScalar* bb = nullptr;
+    PetscScalar* pp = nullptr;
+    PetscCall(VecGetArrayRead(b, &bb));
+    PetscCall(VecGetArrayWrite(p_, &pp));
+    std::fill(pp, pp + n_, 0.0);
+    for (size_t t = 0; t < triads_.size(); ++t) {
+      const PetscInt q0 = triads_[t];
+      Eigen::Map<Eigen::Matrix<double, 9, 1>>(pp + q0 + 3) = Cpinv_[t] * Eigen::Map<const kernels::Vec6>(bb + q0 + kQ);
+    }
+    PetscCall(VecRestoreArrayWrite(p_, &pp));
+    PetscCall(VecRestoreArrayRead(b, &bb));
+  }
+  PetscCall(MatMult(A, p_, t_));
+  PetscCall(VecAYPX(t_, -1.0, b));
+  // reduced solve: y = N' a on the triads' coordinates, a elsewhere, 0 on their multipliers
+  PetscCall(apply(t_, y));
+  PetscCall(VecAXPY(y, 1.0, p_));
+  // multipliers: G^T dlambda = b_q - (A y)_q on each triad's force rows
+  PetscCall(MatMult(A, y, t_));
+  {
+    const PetscScalar *bb = nullptr, *tt = nullptr;
+    PetscScalar* yy = nullptr;
+    PetscCall(VecGetArrayRead(b, &bb));
+    PetscCall(VecGetArrayRead(t_, &tt));
+    PetscCall(VecGetArray(y, &yy));
+    for (size_t t = 0; t < triads_.size(); ++t) {
+      const PetscInt q0 = triads_[t];
+      Eigen::Matrix<double, 9, 1> r;
+      for (int k = 0; k < 9; ++k) r(k) = bb[q0 + 3 + k] - tt[q0 + 3 + k];
+      Eigen::Map<kernels::Vec6>(yy + q0 + kQ) = Gpinv_[t] * r;
+    }
+    PetscCall(VecRestoreArray(y, &yy));
+    PetscCall(VecRestoreArrayRead(t_, &tt));
+    PetscCall(VecRestoreArrayRead(b, &bb));
+  }
   PetscFunctionReturn(0);
 }
 

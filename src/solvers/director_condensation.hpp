@@ -18,7 +18,15 @@
 /// component along G(x_f)^T (least squares, exact because the residual is linear in them). The
 /// converged solution is that of the full system; only the path to it changes.
 ///
-/// Used for serial steps (the fast LU path of TimeIntegrator) when the model has triads;
+/// Two modes. Manifold (serial steps, the fast LU path of TimeIntegrator): the preconditioner
+/// is the condensed LU alone and the line search keeps the iterates on the manifold, as above.
+/// Exact (parallel steps: the subdomain solve of block Jacobi inside GMRES on the full system):
+/// an exact solve of the rank's diagonal block for any right-hand side, with a particular
+/// solution for the constraint rows (dq = N' a + C^T (C C^T)^-1 b_lambda) and the multipliers
+/// recovered from the force rows, G lambda = (G G^T)^-1 G (b_q - J dq); two products with the
+/// block on top of the reduced triangular solves.
+///
+/// Used when the model has triads;
 /// control points with prescribed directors (a clamp) and all other unknowns (ANCF nodes, supports', joints'
 /// and sliders' extras) pass through unchanged. -sb_condense_directors false turns it off.
 
@@ -34,15 +42,21 @@ namespace slidebeam {
 
 class DirectorCondensation {
  public:
+  enum class Mode { Manifold, Exact };
+  /// Manifold mode on the whole system (serial).
   DirectorCondensation(const Model& model, const std::vector<PetscInt>& elimination_order);
+  /// Either mode; Exact works on this rank's diagonal block (local numbering).
+  DirectorCondensation(const Model& model, const std::vector<PetscInt>& elimination_order, Mode mode);
   ~DirectorCondensation();
   DirectorCondensation(const DirectorCondensation&) = delete;
   DirectorCondensation& operator=(const DirectorCondensation&) = delete;
 
   bool empty() const { return triads_.empty(); }
   /// Install on snes: KSP preonly with this preconditioner (the reduced LU), and the line
-  /// search that keeps iterates on the manifold.
+  /// search that keeps iterates on the manifold (Manifold mode).
   PetscErrorCode attach(SNES snes);
+  /// Make pc (a block's sub-preconditioner) this object's exact block solve (Exact mode).
+  PetscErrorCode attach_to_block(PC pc);
   /// Constraint forces of the step act at x_f = (1 - theta) x_old + theta x and the residual is
   /// scaled by s (HHT): needed to set the multipliers in the line search.
   void set_force_state(Vec x_old, double theta, double scale) {
@@ -70,6 +84,7 @@ class DirectorCondensation {
   PetscErrorCode setup(Mat J, bool* ok);
   PetscErrorCode build_pattern(Mat J);
   PetscErrorCode apply(Vec b, Vec y);
+  PetscErrorCode apply_exact(Mat A, Vec b, Vec y);
   PetscErrorCode search(SNESLineSearch ls);
   int red_size(const Group& g) const { return g.triad >= 0 ? 6 : 1; }
 
@@ -87,6 +102,12 @@ class DirectorCondensation {
   bool symbolic_done_ = false;
   Vec rr_ = nullptr, a_ = nullptr;     // reduced right-hand side and solution
   std::vector<Mat9x3> S_, Sp_;         // rotation columns of N (force state) and N' (end state)
+  Mode mode_ = Mode::Manifold;
+  // Exact mode: per triad C^T (C C^T)^-1 and (G G^T)^-1 G on the directors, and work vectors
+  std::vector<Eigen::Matrix<double, 9, 6>> Cpinv_;
+  std::vector<Eigen::Matrix<double, 6, 9>> Gpinv_;
+  Mat block_ = nullptr;                // the block of the last set-up (not owned)
+  Vec p_ = nullptr, t_ = nullptr;
   // line search state
   Vec x_old_ = nullptr;
   double theta_ = 1.0, scale_ = 1.0;

@@ -93,6 +93,21 @@ PetscErrorCode prepare_schwarz(PC pc, const Model& model, Mat J, bool pattern_ch
   PetscFunctionReturn(0);
 }
 
+namespace {
+// Sub-solver options configure_schwarz put into the database itself (not the user's).
+std::vector<std::string>& default_keys() {
+  static std::vector<std::string> keys;
+  return keys;
+}
+}  // namespace
+
+bool user_sets_schwarz_option(const char* key) {
+  PetscBool has = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, nullptr, key, &has);
+  const auto& d = default_keys();
+  return has && std::find(d.begin(), d.end(), std::string(key)) == d.end();
+}
+
 PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
@@ -110,7 +125,10 @@ PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
                                    {"-sub_pc_factor_mat_ordering_type", asm_ ? "natural" : kModelOrdering}}) {
     PetscBool has = PETSC_FALSE;
     PetscCall(PetscOptionsHasName(nullptr, nullptr, key, &has));
-    if (!has) PetscCall(PetscOptionsSetValue(nullptr, key, value));
+    if (!has) {
+      PetscCall(PetscOptionsSetValue(nullptr, key, value));
+      default_keys().emplace_back(key);
+    }
   }
   PetscFunctionReturn(0);
 }

@@ -18,6 +18,9 @@
 
 namespace slidebeam {
 
+/// True if the options database holds key and configure_schwarz did not put it there.
+bool user_sets_schwarz_option(const char* key);
+
 /// Whether to use the Schwarz path: -sb_schwarz [true|false] if given; otherwise on more than
 /// one rank (where it beats MUMPS on the saddle-point systems, whose zero diagonals make MUMPS
 /// delay nearly every multiplier pivot), unless the options name a KSP, PC or factor package.

@@ -70,9 +70,21 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   if (user_pc) user_solver = PETSC_TRUE;
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
+  PetscBool condense = PETSC_TRUE;
+  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_condense_directors", &condense, nullptr));
   if (schwarz_requested(model.comm())) {
     SB_CHECK(configure_schwarz(snes_, model, J_));
+    const bool user_sub = user_sets_schwarz_option("-sub_pc_type");
     schwarz_ = true;
+    PetscInt overlap = 0;
+    SB_CHECK(PetscOptionsGetInt(nullptr, nullptr, "-sb_schwarz_overlap", &overlap, nullptr));
+    if (condense && overlap == 0 && !user_sub) {  // block Jacobi: each rank's block solved condensed, exactly
+      block_condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order(),
+                                                                   DirectorCondensation::Mode::Exact);
+      int any = block_condensation_->empty() ? 0 : 1;
+      MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, model.comm());
+      if (!any) block_condensation_.reset();
+    }
   } else if (size == 1 && !user_solver) {
     KSP ksp = nullptr;
     PC pc = nullptr;
@@ -84,8 +96,6 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     SB_CHECK(attach_elimination_order(J_, model.elimination_order()));
     SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
     fast_lu_ = true;
-    PetscBool condense = PETSC_TRUE;
-    SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_condense_directors", &condense, nullptr));
     if (condense) {
       condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order());
       if (condensation_->empty()) condensation_.reset();
@@ -267,11 +277,38 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(prepare_schwarz(pc, self->model_, J, seen != self->pattern_seen_));
+    if (self->block_condensation_) PetscCall(self->condense_schwarz_blocks(J));
   }
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
   self->jac_solve_ = self->solve_count_;
   self->jac_c0_ = self->c0_;
   ++self->jac_evals_;
+  PetscFunctionReturn(0);
+}
+
+/// Block Jacobi's block solver becomes the exact condensed solve: set the outer preconditioner up
+/// (which creates the block's KSP, not yet factored), then replace the block's PC, unless the
+/// user named one (-sub_pc_type) or it is in place already.
+PetscErrorCode TimeIntegrator::condense_schwarz_blocks(Mat J) {
+  PetscFunctionBeginUser;
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  PetscCall(SNESGetKSP(snes_, &ksp));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscBool bjacobi = PETSC_FALSE;
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCBJACOBI, &bjacobi));
+  if (!bjacobi) PetscFunctionReturn(0);
+  PetscCall(KSPSetOperators(ksp, J, J));
+  PetscCall(KSPSetUp(ksp));
+  PetscInt n = 0, first = 0;
+  KSP* sub = nullptr;
+  PetscCall(PCBJacobiGetSubKSP(pc, &n, &first, &sub));
+  if (n != 1) PetscFunctionReturn(0);
+  PC subpc = nullptr;
+  PetscCall(KSPGetPC(sub[0], &subpc));
+  PetscBool shell = PETSC_FALSE;
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(subpc), PCSHELL, &shell));
+  if (!shell) PetscCall(block_condensation_->attach_to_block(subpc));
   PetscFunctionReturn(0);
 }
 
@@ -414,6 +451,7 @@ void TimeIntegrator::use_pivoting_lu() {
   if (size == 1) SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGND));
   fast_lu_ = false;
   schwarz_ = false;
+  block_condensation_.reset();
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 

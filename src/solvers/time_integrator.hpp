@@ -140,6 +140,8 @@ class TimeIntegrator {
   double jac_c0_ = 0.0;
   bool last_failed_ = false;
   std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
+  std::unique_ptr<DirectorCondensation> block_condensation_;  // Schwarz: exact condensed block solves
+  PetscErrorCode condense_schwarz_blocks(Mat J);
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
   bool schwarz_ = false;  // -sb_schwarz: GMRES + Schwarz on the model's subdomains
   PetscLogEvent ev_step_ = 0;
