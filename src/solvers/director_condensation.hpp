@@ -23,12 +23,12 @@
 /// Exact (parallel steps: the subdomain solve of block Jacobi inside GMRES on the full system):
 /// an exact solve of the rank's diagonal block for any right-hand side, with a particular
 /// solution for the constraint rows (dq = N' a + C^T (C C^T)^-1 b_lambda) and the multipliers
-/// recovered from the force rows, G lambda = (G G^T)^-1 G (b_q - J dq); two products with the
+/// recovered from the force rows, dlambda = (G G^T)^-1 G (b_q - J dq); two products with the
 /// block on top of the reduced triangular solves.
 ///
-/// Used when the model has triads;
-/// control points with prescribed directors (a clamp) and all other unknowns (ANCF nodes, supports', joints'
-/// and sliders' extras) pass through unchanged. -sb_condense_directors false turns it off.
+/// Used when the model has triads. Control points with prescribed directors (a clamp) and all
+/// other unknowns (ANCF nodes, supports', joints' and sliders' extras) pass through unchanged.
+/// -sb_condense_directors false turns it off.
 
 #include "model/model.hpp"
 
