@@ -116,7 +116,7 @@ DirectorCondensation::DirectorCondensation(const Model& model, const std::vector
   std::vector<PetscInt> order;
   for (PetscInt i : elimination_order)
     if (i >= lo && i < lo + n_) order.push_back(i - lo);
-  // triads with the expected block layout and no prescribed unknown
+  // triads with the expected block layout and no prescribed director or multiplier
   std::vector<char> prescribed(static_cast<size_t>(n_), 0);
   for (PetscInt r : model.prescribed_rows())
     if (r >= lo && r < lo + n_) prescribed[static_cast<size_t>(r - lo)] = 1;
@@ -131,14 +131,10 @@ DirectorCondensation::DirectorCondensation(const Model& model, const std::vector
     if (free) triads_.push_back(q0);
   }
   if (triads_.empty() && mode_ == Mode::Manifold) return;  // Exact: still the block's solver (plain LU)
-  group_of_.assign(static_cast<size_t>(n_), -2);
-  for (size_t t = 0; t < triads_.size(); ++t) {
-    const PetscInt q0 = triads_[t];
-    for (int k = 0; k < kBlock; ++k) group_of_[static_cast<size_t>(q0 + k)] = -1;  // claimed below
-  }
   // Groups in elimination order: a triad where its first unknown is eliminated, then one group
   // per other unknown. Reduced unknowns are numbered in that order, so the reduced matrix is
-  // factored in its natural order.
+  // factored in its natural order. A triad's multipliers belong to no group (-1).
+  group_of_.assign(static_cast<size_t>(n_), -1);
   std::vector<int> triad_of(static_cast<size_t>(n_), -1);
   for (size_t t = 0; t < triads_.size(); ++t)
     for (int k = 0; k < kBlock; ++k) triad_of[static_cast<size_t>(triads_[t] + k)] = static_cast<int>(t);
