@@ -193,4 +193,75 @@ Mat12 orthonormality_hessian(const Vec6& lambda) {
   return H;
 }
 
+// Gram matrix of the rows of G solved by an unrolled Cholesky: this runs at every Newton iterate
+// of every triad.
+void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
+  auto dot3 = [](const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  double g[6], A[6][6];
+  for (int r = 0; r < 6; ++r) {
+    const int a = kTriadPairA[r], b = kTriadPairB[r];
+    g[r] = a == b ? dot3(d[a], f[a]) : dot3(d[b], f[a]) + dot3(d[a], f[b]);
+  }
+  // <row r, row c> = sum over director slots of the products of their 3-blocks
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c <= r; ++c) {
+      double v = 0.0;
+      const int ra = kTriadPairA[r], rb = kTriadPairB[r], ca = kTriadPairA[c], cb = kTriadPairB[c];
+      // row r has d[rb] in slot ra and d[ra] in slot rb (once if ra == rb)
+      auto blk = [&](int slot_r, const double* vr, int slot_c, const double* vc) {
+        if (slot_r == slot_c) v += dot3(vr, vc);
+      };
+      blk(ra, d[rb], ca, d[cb]);
+      if (cb != ca) blk(ra, d[rb], cb, d[ca]);
+      if (rb != ra) {
+        blk(rb, d[ra], ca, d[cb]);
+        if (cb != ca) blk(rb, d[ra], cb, d[ca]);
+      }
+      A[r][c] = v;
+    }
+  for (int j = 0; j < 6; ++j) {  // Cholesky A = L L^T in place (lower triangle)
+    double djj = A[j][j];
+    for (int k = 0; k < j; ++k) djj -= A[j][k] * A[j][k];
+    A[j][j] = std::sqrt(djj);
+    for (int i = j + 1; i < 6; ++i) {
+      double v = A[i][j];
+      for (int k = 0; k < j; ++k) v -= A[i][k] * A[j][k];
+      A[i][j] = v / A[j][j];
+    }
+  }
+  for (int i = 0; i < 6; ++i) {  // L y = g
+    for (int k = 0; k < i; ++k) g[i] -= A[i][k] * g[k];
+    g[i] /= A[i][i];
+  }
+  for (int i = 5; i >= 0; --i) {  // L^T x = y
+    for (int k = i + 1; k < 6; ++k) g[i] -= A[k][i] * g[k];
+    g[i] /= A[i][i];
+  }
+  for (int r = 0; r < 6; ++r) {
+    const double dl = -g[r] / s;
+    lambda[r] += dl;
+    const int a = kTriadPairA[r], b = kTriadPairB[r];
+    for (int k = 0; k < 3; ++k) {
+      f[a][k] += s * dl * d[b][k];
+      if (b != a) f[b][k] += s * dl * d[a][k];
+    }
+  }
+}
+
+void closest_orthonormal_frame(double* d) {
+  Eigen::Map<Eigen::Matrix3d> D(d);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  double err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
+  if (err < 0.1) {
+    for (int it = 0; it < 6 && err > 1e-16; ++it) {
+      D = 0.5 * D * (3.0 * I - D.transpose() * D);
+      err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
+    }
+    return;
+  }
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() > 0) D = R;
+}
+
 }  // namespace slidebeam::kernels

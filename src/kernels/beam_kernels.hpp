@@ -124,7 +124,6 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0);
 
-
 /// Orthonormality constraints of one control point (seed eq. 2), as quadratic forms in the
 /// control point's 12 coordinates (blocks phi, d1, d2, d3).
 const std::array<QuadraticForm, 6>& orthonormality_forms();
@@ -132,22 +131,38 @@ Vec6 orthonormality(const Vec12& q);
 Mat6x12 orthonormality_jacobian(const Vec12& q);
 /// sum_k lambda_k d^2 Phi_k / dq^2
 Mat12 orthonormality_hessian(const Vec6& lambda);
+/// The six orthonormality forms pair the director slots (d1, d2, d3): form r is
+/// c d_{kA[r]} . d_{kB[r]}, in the order 1/2 d1.d1, 1/2 d2.d2, 1/2 d3.d3, d1.d2, d1.d3, d2.d3.
+/// Its gradient puts d_{kB[r]} in slot kA[r] and d_{kA[r]} in slot kB[r] (once for a square).
+constexpr int kTriadPairA[6] = {0, 1, 2, 0, 0, 1};
+constexpr int kTriadPairB[6] = {0, 1, 2, 1, 2, 2};
+
 /// The residual rows of one control point's constraints, written out (they are in every Newton
 /// iteration): r += G(qf)^T lambda on the coordinates, g += Phi(q) on the multiplier rows.
 inline void orthonormality_residual(const double* q, const double* qf, const double* lambda, double* r, double* g) {
-  const double* d[3] = {q + 3, q + 6, q + 9};
-  const double* f[3] = {qf + 3, qf + 6, qf + 9};
   auto dot = [](const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  // forms in the order 1/2(d1.d1-1), 1/2(d2.d2-1), 1/2(d3.d3-1), d1.d2, d1.d3, d2.d3
-  const double l[3][3] = {{lambda[0], lambda[3], lambda[4]}, {lambda[3], lambda[1], lambda[5]}, {lambda[4], lambda[5], lambda[2]}};
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) r[3 + 3 * i + k] += l[i][0] * f[0][k] + l[i][1] * f[1][k] + l[i][2] * f[2][k];
-  g[0] += 0.5 * (dot(d[0], d[0]) - 1.0);
-  g[1] += 0.5 * (dot(d[1], d[1]) - 1.0);
-  g[2] += 0.5 * (dot(d[2], d[2]) - 1.0);
-  g[3] += dot(d[0], d[1]);
-  g[4] += dot(d[0], d[2]);
-  g[5] += dot(d[1], d[2]);
+  for (int k = 0; k < 6; ++k) {
+    const int a = kTriadPairA[k], b = kTriadPairB[k];
+    const double* da = q + 3 + 3 * a;
+    const double* db = q + 3 + 3 * b;
+    g[k] += a == b ? 0.5 * (dot(da, da) - 1.0) : dot(da, db);
+    for (int c = 0; c < 3; ++c) {
+      r[3 + 3 * a + c] += lambda[k] * qf[3 + 3 * b + c];
+      if (b != a) r[3 + 3 * b + c] += lambda[k] * qf[3 + 3 * a + c];
+    }
+  }
 }
+
+/// Multipliers of one triad that leave its force rows no component along G^T, where the forces
+/// are s G^T lambda + (terms free of lambda) and G is the constraint Jacobian at the directors d
+/// (rows d1, d2, d3): dlambda = -(G G^T)^-1 G f / s, then f += s G^T dlambda and lambda +=
+/// dlambda. f points to the three director blocks of the force rows. Exact, since the residual
+/// is linear in lambda; G G^T is SPD near an orthonormal triad.
+void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s);
+
+/// Replace the three columns of d (d1, d2, d3, contiguous) by the closest orthonormal frame,
+/// the polar factor: Newton-Schulz iterations from a nearly orthonormal frame, an SVD otherwise.
+/// A degenerate frame or a reflection is left alone.
+void closest_orthonormal_frame(double* d);
 
 }  // namespace slidebeam::kernels

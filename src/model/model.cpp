@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "model/model.hpp"
 
+#include "kernels/beam_kernels.hpp"
+
 #include "util/petsc_check.hpp"
 
 #include <Eigen/Dense>
@@ -325,10 +327,8 @@ void Model::project_directors(Vec x) const {
     if (b.multipliers_per_cp() == 0) continue;  // no director triads (ANCF nodes)
     for (PetscInt cp = b.first_cp(); cp < b.first_cp() + b.n_cp(); ++cp) {
       if (!map_.owns_cp(cp)) continue;
-      Eigen::Map<Eigen::Matrix3d> D(a + map_.q(cp, 3) - map_.owned_lo());  // columns d1, d2, d3
-      Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
-      Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
-      if (R.determinant() > 0) D = R;  // a reflection means the extrapolation was useless: keep it
+      // columns d1, d2, d3; a reflection means the extrapolation was useless: kept as it is
+      kernels::closest_orthonormal_frame(a + map_.q(cp, 3) - map_.owned_lo());
     }
   }
   SB_CHECK(VecRestoreArray(x, &a));

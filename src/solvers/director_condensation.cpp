@@ -20,86 +20,6 @@ Eigen::Matrix3d minus_skew(const double* a) {
   return S;
 }
 
-inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-// The rows of G (6 x 9 on the directors, forms 1/2 d1.d1, 1/2 d2.d2, 1/2 d3.d3, d1.d2, d1.d3,
-// d2.d3) pair director slots: row r touches slots kA[r] and kB[r] with the directors d[kB[r]]
-// and d[kA[r]] (the same slot twice for the squares).
-constexpr int kA[6] = {0, 1, 2, 0, 0, 1};
-constexpr int kB[6] = {0, 1, 2, 1, 2, 2};
-
-// Multipliers that leave no force along G^T: dl = -(G G^T)^-1 G f / s, then f += s G^T dl and
-// lambda += dl. G G^T is the Gram matrix of the rows of G (SPD near an orthonormal triad);
-// solved by an unrolled Cholesky (this runs at every Newton iterate of every triad).
-void correct_multipliers(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
-  double g[6], A[6][6];
-  for (int r = 0; r < 6; ++r) {
-    const int a = kA[r], b = kB[r];
-    g[r] = a == b ? dot3(d[a], f[a]) : dot3(d[b], f[a]) + dot3(d[a], f[b]);
-  }
-  // <row r, row c> = sum over director slots of the products of their 3-blocks
-  for (int r = 0; r < 6; ++r)
-    for (int c = 0; c <= r; ++c) {
-      double v = 0.0;
-      const int ra = kA[r], rb = kB[r], ca = kA[c], cb = kB[c];
-      // row r has d[rb] in slot ra and d[ra] in slot rb (once if ra == rb)
-      auto blk = [&](int slot_r, const double* vr, int slot_c, const double* vc) {
-        if (slot_r == slot_c) v += dot3(vr, vc);
-      };
-      blk(ra, d[rb], ca, d[cb]);
-      if (cb != ca) blk(ra, d[rb], cb, d[ca]);
-      if (rb != ra) {
-        blk(rb, d[ra], ca, d[cb]);
-        if (cb != ca) blk(rb, d[ra], cb, d[ca]);
-      }
-      A[r][c] = v;
-    }
-  for (int j = 0; j < 6; ++j) {  // Cholesky A = L L^T in place (lower triangle)
-    double djj = A[j][j];
-    for (int k = 0; k < j; ++k) djj -= A[j][k] * A[j][k];
-    A[j][j] = std::sqrt(djj);
-    for (int i = j + 1; i < 6; ++i) {
-      double v = A[i][j];
-      for (int k = 0; k < j; ++k) v -= A[i][k] * A[j][k];
-      A[i][j] = v / A[j][j];
-    }
-  }
-  for (int i = 0; i < 6; ++i) {  // L y = g
-    for (int k = 0; k < i; ++k) g[i] -= A[i][k] * g[k];
-    g[i] /= A[i][i];
-  }
-  for (int i = 5; i >= 0; --i) {  // L^T x = y
-    for (int k = i + 1; k < 6; ++k) g[i] -= A[k][i] * g[k];
-    g[i] /= A[i][i];
-  }
-  for (int r = 0; r < 6; ++r) {
-    const double dl = -g[r] / s;
-    lambda[r] += dl;
-    const int a = kA[r], b = kB[r];
-    for (int k = 0; k < 3; ++k) {
-      f[a][k] += s * dl * d[b][k];
-      if (b != a) f[b][k] += s * dl * d[a][k];
-    }
-  }
-}
-
-// Closest orthonormal frame to the columns of D (polar factor): Newton-Schulz iterations from a
-// nearly orthonormal D, an SVD otherwise. Leaves D alone if it is degenerate or a reflection.
-void orthonormalize(double* d) {
-  Eigen::Map<Eigen::Matrix3d> D(d);
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  double err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
-  if (err < 0.1) {
-    for (int it = 0; it < 6 && err > 1e-16; ++it) {
-      D = 0.5 * D * (3.0 * I - D.transpose() * D);
-      err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
-    }
-    return;
-  }
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
-  if (R.determinant() > 0) D = R;
-}
 }  // namespace
 
 DirectorCondensation::DirectorCondensation(const Model& model, const std::vector<PetscInt>& order)
@@ -534,7 +454,7 @@ PetscErrorCode DirectorCondensation::project(Vec x) const {
   PetscFunctionBeginUser;
   PetscScalar* xa = nullptr;
   PetscCall(VecGetArray(x, &xa));
-  for (PetscInt q0 : triads_) orthonormalize(xa + q0 + 3);
+  for (PetscInt q0 : triads_) kernels::closest_orthonormal_frame(xa + q0 + 3);
   PetscCall(VecRestoreArray(x, &xa));
   PetscFunctionReturn(0);
 }
@@ -564,7 +484,7 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
           d[i][k] = theta_ == 1.0 ? w[j] : theta_ * w[j] + (1.0 - theta_) * xo[j];
         }
       double* fd[3] = {f + q0 + 3, f + q0 + 6, f + q0 + 9};
-      correct_multipliers(d, fd, w + q0 + kQ, scale_);
+      kernels::orthonormality_multiplier_update(d, fd, w + q0 + kQ, scale_);
     }
     if (theta_ != 1.0) PetscCall(VecRestoreArrayRead(x_old_, &xo));
     PetscCall(VecRestoreArray(F, &f));

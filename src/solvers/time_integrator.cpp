@@ -93,11 +93,12 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     SB_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
     // The model's elimination order: the natural order with every multiplier next to the
     // coordinates it constrains, sliders before their carriers (Model::elimination_order).
-    SB_CHECK(attach_elimination_order(J_, model.elimination_order()));
+    const std::vector<PetscInt> order = model.elimination_order();
+    SB_CHECK(attach_elimination_order(J_, order));
     SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
     fast_lu_ = true;
     if (condense) {
-      condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order());
+      condensation_ = std::make_unique<DirectorCondensation>(model, order);
       if (condensation_->empty()) condensation_.reset();
       else SB_CHECK(condensation_->attach(snes_));
     }

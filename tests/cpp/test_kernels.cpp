@@ -96,6 +96,47 @@ TEST_P(KernelFD, ResidualIsEnergyGradientAndTangentIsResidualDerivative) {
   }
 }
 
+// The multiplier update of the condensed Newton iterate: equal to the dense least-squares
+// formula with G = orthonormality_jacobian, and it leaves G f = 0.
+TEST(Kernels, OrthonormalityMultiplierUpdateIsLeastSquares) {
+  Vec12 q, f;
+  q << 0.1, 0.2, 0.3, 1.0, 0.1, 0.0, -0.1, 0.9, 0.2, 0.05, -0.1, 1.1;
+  f << 0.4, -0.3, 0.2, 1.5, -0.7, 0.3, 0.2, 0.9, -1.1, 0.6, 0.1, -0.4;
+  Vec6 lam;
+  lam << 0.3, -1.2, 0.7, 2.0, -0.4, 0.9;
+  const double s = 0.9;  // HHT's 1 + alpha
+  double d[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) d[i][k] = q(3 + 3 * i + k);
+  Vec12 f2 = f;
+  Vec6 l2 = lam;
+  double* const fd[3] = {f2.data() + 3, f2.data() + 6, f2.data() + 9};
+  orthonormality_multiplier_update(d, fd, l2.data(), s);
+  const Mat6x12 G = orthonormality_jacobian(q);
+  const Vec6 dl = -(G * G.transpose()).ldlt().solve(G * f) / s;
+  EXPECT_LT((l2 - lam - dl).norm(), 1e-13);
+  EXPECT_LT((f2 - f - s * G.transpose() * dl).norm(), 1e-13);
+  EXPECT_LT((G * f2).norm(), 1e-13);
+}
+
+// The closest orthonormal frame is the polar factor R = D (D^T D)^-1/2: orthonormal, proper,
+// and unchanged by a second application; near and far from orthonormal.
+TEST(Kernels, ClosestOrthonormalFrameIsThePolarFactor) {
+  for (const double eps : {1e-3, 0.3}) {
+    Eigen::Matrix3d D = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized()).toRotationMatrix();
+    D += eps * Eigen::Matrix3d::Random();
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(D, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d polar = svd.matrixU() * svd.matrixV().transpose();
+    Eigen::Matrix3d R = D;
+    closest_orthonormal_frame(R.data());
+    EXPECT_LT((R - polar).cwiseAbs().maxCoeff(), 1e-14) << eps;
+    EXPECT_LT((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-14);
+    const Eigen::Matrix3d R1 = R;
+    closest_orthonormal_frame(R.data());
+    EXPECT_LT((R - R1).cwiseAbs().maxCoeff(), 1e-14);
+  }
+}
+
 // Energy-momentum kernel: the tangent is d r / d q1 (q0 fixed), for the conserving scheme and
 // its energy-decaying variant; and the discrete-gradient property U(q1) - U(q0) = r . (q1 - q0).
 TEST_P(KernelFD, EnergyMomentumTangentAndDiscreteGradient) {
