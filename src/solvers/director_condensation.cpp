@@ -19,7 +19,6 @@ Eigen::Matrix3d minus_skew(const double* a) {
   S << 0.0, a[2], -a[1], -a[2], 0.0, a[0], a[1], -a[0], 0.0;
   return S;
 }
-
 }  // namespace
 
 DirectorCondensation::DirectorCondensation(const Model& model, const std::vector<PetscInt>& order)
