@@ -219,10 +219,13 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   *ok = true;
   block_ = J;
   PetscObjectState state = 0;
+  PetscObjectId id = 0;
   PetscCall(MatGetNonzeroState(J, &state));
-  if (!Jr_ || state != pattern_state_) {
+  PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(J), &id));
+  if (!Jr_ || state != pattern_state_ || id != pattern_id_) {
     PetscCall(build_pattern(J));
     pattern_state_ = state;
+    pattern_id_ = id;
   }
   PetscInt n = 0;
   const PetscInt *ia = nullptr, *ja = nullptr;
@@ -290,6 +293,8 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
           ++p;
           continue;
         }
+        PetscCheck(slot[static_cast<size_t>(h)] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                   "director condensation: row %" PetscInt_FMT " has a column outside the cached pattern", i);
         const Group& H = groups_[static_cast<size_t>(h)];
         double* dst = buf.data() + buf_off[static_cast<size_t>(slot[static_cast<size_t>(h)])] + static_cast<size_t>(r * H.size);
         // a run of stored columns of group h: usually all of them (a copy), else entry by entry

@@ -97,6 +97,10 @@ class DirectorCondensation {
   std::vector<std::vector<int>> adj_;
   std::vector<std::vector<PetscInt>> col_offset_;
   std::vector<PetscInt> row_ptr_;      // CSR row pointers of the reduced matrix
+  // The cached pattern belongs to one matrix object in one nonzero state. Block Jacobi makes a
+  // new block matrix when the Jacobian's pattern changes, and a new object's state counter can
+  // equal the old one's, so the object's id is part of the key.
+  PetscObjectId pattern_id_ = 0;
   PetscObjectState pattern_state_ = -1;
   Mat Jr_ = nullptr, F_ = nullptr;
   bool symbolic_done_ = false;
