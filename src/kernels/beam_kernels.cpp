@@ -202,43 +202,46 @@ void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f
     const int a = kTriadPairA[r], b = kTriadPairB[r];
     g[r] = a == b ? dot3(d[a], f[a]) : dot3(d[b], f[a]) + dot3(d[a], f[b]);
   }
-  // <row r, row c> = sum over director slots of the products of their 3-blocks
+  // <row r, row c> = sum over director slots of the products of their 3-blocks; every such
+  // product is an entry of the directors' Gram matrix
+  double gram[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j <= i; ++j) gram[i][j] = gram[j][i] = dot3(d[i], d[j]);
   for (int r = 0; r < 6; ++r)
     for (int c = 0; c <= r; ++c) {
-      double v = 0.0;
-      const int ra = kTriadPairA[r], rb = kTriadPairB[r], ca = kTriadPairA[c], cb = kTriadPairB[c];
       // row r has d[rb] in slot ra and d[ra] in slot rb (once if ra == rb)
-      auto blk = [&](int slot_r, const double* vr, int slot_c, const double* vc) {
-        if (slot_r == slot_c) v += dot3(vr, vc);
-      };
-      blk(ra, d[rb], ca, d[cb]);
-      if (cb != ca) blk(ra, d[rb], cb, d[ca]);
+      const int ra = kTriadPairA[r], rb = kTriadPairB[r], ca = kTriadPairA[c], cb = kTriadPairB[c];
+      double v = 0.0;
+      if (ra == ca) v += gram[rb][cb];
+      if (cb != ca && ra == cb) v += gram[rb][ca];
       if (rb != ra) {
-        blk(rb, d[ra], ca, d[cb]);
-        if (cb != ca) blk(rb, d[ra], cb, d[ca]);
+        if (rb == ca) v += gram[ra][cb];
+        if (cb != ca && rb == cb) v += gram[ra][ca];
       }
       A[r][c] = v;
     }
+  double inv[6];  // 1 / L_jj: multiplications instead of a division per entry
   for (int j = 0; j < 6; ++j) {  // Cholesky A = L L^T in place (lower triangle)
     double djj = A[j][j];
     for (int k = 0; k < j; ++k) djj -= A[j][k] * A[j][k];
-    A[j][j] = std::sqrt(djj);
+    inv[j] = 1.0 / std::sqrt(djj);
     for (int i = j + 1; i < 6; ++i) {
       double v = A[i][j];
       for (int k = 0; k < j; ++k) v -= A[i][k] * A[j][k];
-      A[i][j] = v / A[j][j];
+      A[i][j] = v * inv[j];
     }
   }
   for (int i = 0; i < 6; ++i) {  // L y = g
     for (int k = 0; k < i; ++k) g[i] -= A[i][k] * g[k];
-    g[i] /= A[i][i];
+    g[i] *= inv[i];
   }
   for (int i = 5; i >= 0; --i) {  // L^T x = y
     for (int k = i + 1; k < 6; ++k) g[i] -= A[k][i] * g[k];
-    g[i] /= A[i][i];
+    g[i] *= inv[i];
   }
+  const double inv_s = 1.0 / s;
   for (int r = 0; r < 6; ++r) {
-    const double dl = -g[r] / s;
+    const double dl = -g[r] * inv_s;
     lambda[r] += dl;
     const int a = kTriadPairA[r], b = kTriadPairB[r];
     for (int k = 0; k < 3; ++k) {
@@ -253,7 +256,9 @@ void closest_orthonormal_frame(double* d) {
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
   double err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
   if (err < 0.1) {
-    for (int it = 0; it < 6 && err > 1e-16; ++it) {
+    // Newton-Schulz converges quadratically: from a Newton update's O(|w|^2) error, two
+    // iterations reach roundoff (a few ulp; asking for less only spins to the cap)
+    for (int it = 0; it < 6 && err > 4e-16; ++it) {
       D = 0.5 * D * (3.0 * I - D.transpose() * D);
       err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
     }
