@@ -315,7 +315,8 @@ PetscErrorCode TimeIntegrator::condense_schwarz_blocks(Mat J) {
 
 /// The roundoff-aware test of static solves, plus modified-Newton control: an iteration made
 /// with an old Jacobian that reduced |F| by less than the reuse rate asks SNES for a fresh
-/// Jacobian at the next iteration; stagnation counts as convergence below 1e-6 of the initial
+/// Jacobian at the next iteration, unless |F| is already below 1e-8 of the initial residual
+/// (the roundoff floor's zone); stagnation counts as convergence below 1e-6 of the initial
 /// residual with a fresh Jacobian, below 1e-8 with an old one.
 PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                          SNESConvergedReason* reason, void* ctx) {
