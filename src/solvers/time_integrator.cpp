@@ -336,12 +336,14 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
     // Small steps scale the residual by c0 M ~ 1/h^2, which lifts its roundoff floor above any
     // fixed fraction of the initial residual: a Newton step at 1e-9 of the state is roundoff too.
     const bool stagnates = it > 1 && rate >= 0.5;
-    if (stagnates && ((fnorm <= (fresh ? 1e-6 : 1e-8) * rt.fnorm0 && snorm <= 1e-7 * xnorm) || snorm <= 1e-9 * xnorm)) {
+    // below this fraction of the initial residual an old Jacobian's iterate may be at roundoff
+    constexpr double kOldJacobianFloor = 1e-8;
+    if (stagnates && ((fnorm <= (fresh ? 1e-6 : kOldJacobianFloor) * rt.fnorm0 && snorm <= 1e-7 * xnorm) || snorm <= 1e-9 * xnorm)) {
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
-    } else if (!fresh && rate > self->reuse_rate_ && fnorm > 1e-8 * rt.fnorm0) {
-      // (Below 1e-8 of the initial residual a weak contraction is mostly the roundoff floor:
+    } else if (!fresh && rate > self->reuse_rate_ && fnorm > kOldJacobianFloor * rt.fnorm0) {
+      // (Below that fraction of the initial residual a weak contraction is mostly the roundoff floor:
       // the old Jacobian goes on, and the stagnation test above ends the step. Rebuilding there
       // was half of all rebuilds on the stiff pendulum, each only confirming the floor.)
       PetscCall(PetscInfo(snes, "Old Jacobian reduced |F| by only %g: rebuilding it%s\n", rate,
