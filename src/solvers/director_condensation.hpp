@@ -106,6 +106,12 @@ class DirectorCondensation {
   bool symbolic_done_ = false;
   Vec rr_ = nullptr, a_ = nullptr;     // reduced right-hand side and solution
   std::vector<Mat9x3> S_, Sp_;         // rotation columns of N (force state) and N' (end state)
+  // Co-rotated reuse (Manifold mode): the triads (columns d1, d2, d3, end state) of the
+  // factored Jacobian, and the SNES whose current iterate the solve rotates the factors to.
+  std::vector<Eigen::Matrix3d> triad_at_setup_;
+  SNES snes_ = nullptr;
+  PetscBool corotate_ = PETSC_TRUE;
+  std::vector<Eigen::Matrix3d> rotation_;  // work: R per triad in apply()
   Mode mode_ = Mode::Manifold;
   // Exact mode: per triad C^T (C C^T)^-1 and (G G^T)^-1 G on the directors, and work vectors
   std::vector<Eigen::Matrix<double, 9, 6>> Cpinv_;
