@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "kernels/beam_kernels.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace slidebeam::kernels {
@@ -9,7 +10,7 @@ namespace {
 // Betsch & Steinmann (2002) objective director strains:
 //   Gamma_i = d_i . phi' (- delta_i1), K_1 = 1/2 (d3.d2' - d2.d3'), K_2 = 1/2 (d1.d3' - d3.d1'),
 //   K_3 = 1/2 (d2.d1' - d1.d2').
-const StrainTable kSimoReissner = {{
+constexpr StrainTable kSimoReissner = {{
     {1, {{{kD1, kPhiS, 1.0}, {0, 0, 0.0}}}},
     {1, {{{kD2, kPhiS, 1.0}, {0, 0, 0.0}}}},
     {1, {{{kD3, kPhiS, 1.0}, {0, 0, 0.0}}}},
@@ -20,7 +21,7 @@ const StrainTable kSimoReissner = {{
 // The seed's small-strain Green-Lagrange measure, corrected (formulation.md section 3):
 //   eps = 1/2 phi'.phi' (- 1/2), gamma_a = phi'.d_a, kappa1 = 1/2 (d2'.d3 - d3'.d2),
 //   kappa2 = phi'.d3', kappa3 = phi'.d2'.
-const StrainTable kSeed = {{
+constexpr StrainTable kSeed = {{
     {1, {{{kPhiS, kPhiS, 0.5}, {0, 0, 0.0}}}},
     {1, {{{kPhiS, kD2, 1.0}, {0, 0, 0.0}}}},
     {1, {{{kPhiS, kD3, 1.0}, {0, 0, 0.0}}}},
@@ -173,6 +174,80 @@ void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const
   }
 }
 
+namespace {
+// The field map and its transpose on raw arrays, unrolled (z blocks: phi', d1..d3, d1'..d3').
+inline void field(const GaussPoint& gp, const double* q, double* z) {
+  for (int c = 0; c < 3; ++c) z[c] = gp.dN[0] * q[c] + gp.dN[1] * q[kNq + c] + gp.dN[2] * q[2 * kNq + c];
+  for (int k = 3; k < kNq; ++k) {
+    const double a = q[k], b = q[kNq + k], d = q[2 * kNq + k];
+    z[k] = gp.N[0] * a + gp.N[1] * b + gp.N[2] * d;
+    z[9 + k] = gp.dN[0] * a + gp.dN[1] * b + gp.dN[2] * d;
+  }
+}
+inline void add_field_transpose(const GaussPoint& gp, const double* g, double* r) {
+  for (int a = 0; a < 3; ++a) {
+    const double N = gp.w * gp.N[a], dN = gp.w * gp.dN[a];
+    double* ra = r + kNq * a;
+    for (int c = 0; c < 3; ++c) ra[c] += dN * g[c];
+    for (int k = 3; k < kNq; ++k) ra[k] += N * g[k] + dN * g[9 + k];
+  }
+}
+inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+// Strains and the weighted gradient with the table known at compile time: the loops unroll to
+// straight dot products.
+template <const StrainTable& T>
+inline void strains_of(const double* z, double* eps) {
+  for (int k = 0; k < 6; ++k) {
+    double v = 0.0;
+    for (int t = 0; t < T[k].n_terms; ++t) v += T[k].terms[t].c * dot3(z + 3 * T[k].terms[t].a, z + 3 * T[k].terms[t].b);
+    eps[k] = v;
+  }
+}
+template <const StrainTable& T>
+inline void gradient_of(const double* sigma, const double* z, double* g) {
+  for (int k = 0; k < kNz; ++k) g[k] = 0.0;
+  for (int k = 0; k < 6; ++k)
+    for (int t = 0; t < T[k].n_terms; ++t) {
+      const auto& f = T[k].terms[t];
+      const double s = sigma[k] * f.c;
+      for (int c = 0; c < 3; ++c) {
+        g[3 * f.a + c] += s * z[3 * f.b + c];
+        g[3 * f.b + c] += s * z[3 * f.a + c];
+      }
+    }
+}
+template <const StrainTable& T>
+void residual_em(const Stiffness& C, const Vec6& eps0, const GaussPoint& gp, const GpState& s0, const VecEl& q1,
+                 VecEl& r, double xi) {
+  double z1[kNz], zm[kNz], e1[6], sigma[6], g[kNz];
+  field(gp, q1.data(), z1);
+  strains_of<T>(z1, e1);
+  const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
+  for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * s0.eps(k) + a1 * e1[k] - eps0(k));
+  for (int k = 0; k < kNz; ++k) zm[k] = 0.5 * (s0.z(k) + z1[k]);
+  gradient_of<T>(sigma, zm, g);
+  add_field_transpose(gp, g, r.data());
+}
+}  // namespace
+
+GpState gp_state(const StrainTable& T, const GaussPoint& gp, const VecEl& q) {
+  GpState s;
+  s.z = apply_P(gp, q);
+  s.eps = strains(T, s.z);
+  return s;
+}
+
+void beam_gp_residual_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                         const GpState& s0, const VecEl& q1, VecEl& r, double xi) {
+  if (&T == &kSimoReissner) residual_em<kSimoReissner>(C, eps0, gp, s0, q1, r, xi);
+  else if (&T == &kSeed) residual_em<kSeed>(C, eps0, gp, s0, q1, r, xi);
+  else {  // a table known only at run time
+    const VecZ z1 = apply_P(gp, q1);
+    const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * s0.eps + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
+    add_Pt(gp, gp.w, weighted_gradient(T, sigma, 0.5 * (s0.z + z1)), r);
+  }
+}
+
 const std::array<QuadraticForm, 6>& orthonormality_forms() { return kOrthonormality; }
 
 Vec6 orthonormality(const Vec12& q) {
@@ -193,9 +268,10 @@ Mat12 orthonormality_hessian(const Vec6& lambda) {
   return H;
 }
 
-// Gram matrix of the rows of G solved by an unrolled Cholesky: this runs at every Newton iterate
-// of every triad.
-void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
+namespace {
+// The 6 x 6 normal equations (G G^T) dlambda = -G f / s by an unrolled Cholesky: for triads far
+// from orthonormal.
+void multiplier_update_cholesky(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
   auto dot3 = [](const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
   double g[6], A[6][6];
   for (int r = 0; r < 6; ++r) {
@@ -250,17 +326,69 @@ void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f
     }
   }
 }
+}  // namespace
+
+// In matrix form the constraint forces are s D Lambda (D = [d1 d2 d3], Lambda symmetric: its
+// diagonal the multipliers of 1/2 d_a.d_a, its off-diagonal those of d_a.d_b), and G f is the
+// symmetric part of D^T f. The update is the Lyapunov equation S dLambda + dLambda S = -B with
+// S = D^T D, B = (D^T f + f^T D) / s. A nearly orthonormal triad (S = I + E; the midpoint triad of
+// energy-momentum has |E| ~ rotation^2 / 4) solves it by the sweeps dLambda = -(B + E dLambda +
+// dLambda E) / 2, each gaining -log10|E| digits: two or three 3 x 3 products instead of the
+// Cholesky's chain of square roots and divisions. This runs at every Newton iterate of every
+// triad.
+void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
+  double E[3][3], B[3][3], L[3][3], X[3][3];
+  double emax = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      X[a][b] = dot3(d[a], f[b]);
+      E[a][b] = dot3(d[a], d[b]) - (a == b ? 1.0 : 0.0);
+      emax = std::max(emax, std::abs(E[a][b]));
+    }
+  if (!(emax < 0.05)) {
+    multiplier_update_cholesky(d, f, lambda, s);
+    return;
+  }
+  const double inv_s = 1.0 / s;
+  double lmax = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      B[a][b] = (X[a][b] + X[b][a]) * inv_s;
+      L[a][b] = -0.5 * B[a][b];
+      lmax = std::max(lmax, std::abs(L[a][b]));
+    }
+  // each sweep multiplies the error by at most 3 emax (< 0.15)
+  for (int it = 0; it < 40 && emax * lmax > 0.0; ++it) {
+    double P[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) P[a][b] = E[a][0] * L[0][b] + E[a][1] * L[1][b] + E[a][2] * L[2][b];
+    double change = 0.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = a; b < 3; ++b) {
+        const double v = -0.5 * (B[a][b] + P[a][b] + P[b][a]);
+        change = std::max(change, std::abs(v - L[a][b]));
+        L[a][b] = L[b][a] = v;
+      }
+    if (change <= 1e-17 * lmax) break;
+  }
+  for (int r = 0; r < 6; ++r) lambda[r] += L[kTriadPairA[r]][kTriadPairB[r]];
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < 3; ++k) f[a][k] += s * (L[a][0] * d[0][k] + L[a][1] * d[1][k] + L[a][2] * d[2][k]);
+}
 
 void closest_orthonormal_frame(double* d) {
   Eigen::Map<Eigen::Matrix3d> D(d);
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  double err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
+  Eigen::Matrix3d A = D.transpose() * D;
+  double err = (A - I).cwiseAbs().maxCoeff();
   if (err < 0.1) {
     // Newton-Schulz converges quadratically: from a Newton update's O(|w|^2) error, two
-    // iterations reach roundoff (a few ulp; asking for less only spins to the cap)
+    // iterations reach roundoff (a few ulp; asking for less only spins to the cap). One
+    // product D^T D per iteration serves both the test and the update.
     for (int it = 0; it < 6 && err > 4e-16; ++it) {
-      D = 0.5 * D * (3.0 * I - D.transpose() * D);
-      err = (D.transpose() * D - I).cwiseAbs().maxCoeff();
+      D = 0.5 * D * (3.0 * I - A);
+      A.noalias() = D.transpose() * D;
+      err = (A - I).cwiseAbs().maxCoeff();
     }
     return;
   }

@@ -124,6 +124,20 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0);
 
+/// What an energy-momentum step needs of q_n at one quadrature point: the field vector z(q_n)
+/// and the strains eps(q_n). Constant during a step: residual evaluations compute them once.
+struct GpState {
+  VecZ z;
+  Vec6 eps;
+};
+GpState gp_state(const StrainTable& T, const GaussPoint& gp, const VecEl& q);
+
+/// The internal force of beam_gp_residual_tangent_em (without the tangent) from the cached
+/// state of q0, with the strain tables unrolled at compile time: this runs in every Newton
+/// iteration of every span.
+void beam_gp_residual_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                         const GpState& s0, const VecEl& q1, VecEl& r, double xi = 0.0);
+
 /// Orthonormality constraints of one control point (seed eq. 2), as quadratic forms in the
 /// control point's 12 coordinates (blocks phi, d1, d2, d3).
 const std::array<QuadraticForm, 6>& orthonormality_forms();

@@ -93,6 +93,9 @@ struct EvalContext {
   StepRule rule = StepRule::Endpoint;
   double theta = 1.0;       ///< d xf / d x
   double dissipation = 0.0; ///< EnergyMomentum: xi of the energy-decaying variant (0: conserving)
+  /// Changes whenever x_old does (each set_step_start): effects may cache what they compute
+  /// from x_old for the whole step under this key.
+  unsigned long step_start = 0;
 };
 
 /// Fast repeated assembly of one matrix in PETSc's coordinate (COO) format: the first assembly

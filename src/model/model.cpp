@@ -265,6 +265,7 @@ PetscErrorCode Model::set_step_start(Vec x_old) {
     x_old_ = x_old;
   }
   PetscCall(update_ghosts(x_old, x_old_local_));
+  ++step_starts_;
   PetscFunctionReturn(0);
 }
 
@@ -379,7 +380,8 @@ PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const
   {
     LocalValues xv(ghost_dofs_, xa);
     LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
-    const EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0, ev.dissipation};
+    const EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0, ev.dissipation,
+                           step_starts_};
     PetscCall(body(ctx));
   }
   if (two_states) {

@@ -160,6 +160,7 @@ class Model {
   mutable Vec x_local_ = nullptr, r_local_ = nullptr;
   mutable Vec x_old_local_ = nullptr, xf_local_ = nullptr;
   Vec x_old_ = nullptr;  // the step start last given to set_step_start (not owned)
+  unsigned long step_starts_ = 0;  // set_step_start calls: EvalContext::step_start
   mutable int ghost_rebuilds_ = 0;
   Vec q_mask_ = nullptr, s_mask_ = nullptr;
   bool has_sliding_state_ = false;

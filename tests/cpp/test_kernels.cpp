@@ -97,26 +97,40 @@ TEST_P(KernelFD, ResidualIsEnergyGradientAndTangentIsResidualDerivative) {
 }
 
 // The multiplier update of the condensed Newton iterate: equal to the dense least-squares
-// formula with G = orthonormality_jacobian, and it leaves G f = 0.
+// formula with G = orthonormality_jacobian, and it leaves G f = 0. Far from orthonormal (the
+// Cholesky path), and for energy-momentum's midpoint triads of orthonormal frames a small and a
+// large rotation apart (the Lyapunov sweeps: a few, and many).
 TEST(Kernels, OrthonormalityMultiplierUpdateIsLeastSquares) {
-  Vec12 q, f;
-  q << 0.1, 0.2, 0.3, 1.0, 0.1, 0.0, -0.1, 0.9, 0.2, 0.05, -0.1, 1.1;
-  f << 0.4, -0.3, 0.2, 1.5, -0.7, 0.3, 0.2, 0.9, -1.1, 0.6, 0.1, -0.4;
-  Vec6 lam;
-  lam << 0.3, -1.2, 0.7, 2.0, -0.4, 0.9;
-  const double s = 0.9;  // HHT's 1 + alpha
-  double d[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) d[i][k] = q(3 + 3 * i + k);
-  Vec12 f2 = f;
-  Vec6 l2 = lam;
-  double* const fd[3] = {f2.data() + 3, f2.data() + 6, f2.data() + 9};
-  orthonormality_multiplier_update(d, fd, l2.data(), s);
-  const Mat6x12 G = orthonormality_jacobian(q);
-  const Vec6 dl = -(G * G.transpose()).ldlt().solve(G * f) / s;
-  EXPECT_LT((l2 - lam - dl).norm(), 1e-13);
-  EXPECT_LT((f2 - f - s * G.transpose() * dl).norm(), 1e-13);
-  EXPECT_LT((G * f2).norm(), 1e-13);
+  Vec12 far_from_orthonormal;
+  far_from_orthonormal << 0.1, 0.2, 0.3, 1.0, 0.1, 0.0, -0.1, 0.9, 0.2, 0.05, -0.1, 1.1;
+  std::vector<Vec12> triads{far_from_orthonormal};
+  for (const double angle : {1e-3, 0.3}) {
+    const Eigen::Matrix3d R0 = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d R1 = R0 * Eigen::AngleAxisd(angle, Eigen::Vector3d(-0.3, 1, 2).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d Dm = 0.5 * (R0 + R1);
+    Vec12 q = Vec12::Zero();
+    for (int i = 0; i < 3; ++i) q.segment<3>(3 + 3 * i) = Dm.col(i);
+    triads.push_back(q);
+  }
+  for (const Vec12& q : triads) {
+    Vec12 f;
+    f << 0.4, -0.3, 0.2, 1.5, -0.7, 0.3, 0.2, 0.9, -1.1, 0.6, 0.1, -0.4;
+    Vec6 lam;
+    lam << 0.3, -1.2, 0.7, 2.0, -0.4, 0.9;
+    const double s = 0.9;  // HHT's 1 + alpha
+    double d[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) d[i][k] = q(3 + 3 * i + k);
+    Vec12 f2 = f;
+    Vec6 l2 = lam;
+    double* const fd[3] = {f2.data() + 3, f2.data() + 6, f2.data() + 9};
+    orthonormality_multiplier_update(d, fd, l2.data(), s);
+    const Mat6x12 G = orthonormality_jacobian(q);
+    const Vec6 dl = -(G * G.transpose()).ldlt().solve(G * f) / s;
+    EXPECT_LT((l2 - lam - dl).norm(), 1e-13) << q.transpose();
+    EXPECT_LT((f2 - f - s * G.transpose() * dl).norm(), 1e-13) << q.transpose();
+    EXPECT_LT((G * f2).norm(), 1e-13) << q.transpose();
+  }
 }
 
 // The closest orthonormal frame is the polar factor R = D (D^T D)^-1/2: orthonormal, proper,
@@ -138,7 +152,8 @@ TEST(Kernels, ClosestOrthonormalFrameIsThePolarFactor) {
 }
 
 // Energy-momentum kernel: the tangent is d r / d q1 (q0 fixed), for the conserving scheme and
-// its energy-decaying variant; and the discrete-gradient property U(q1) - U(q0) = r . (q1 - q0).
+// its energy-decaying variant; the discrete-gradient property U(q1) - U(q0) = r . (q1 - q0); and
+// the cached-state residual of time steps is the same force.
 TEST_P(KernelFD, EnergyMomentumTangentAndDiscreteGradient) {
   const auto [measure, quad] = GetParam();
   const StrainTable& T = strain_table(measure);
@@ -152,6 +167,10 @@ TEST_P(KernelFD, EnergyMomentumTangentAndDiscreteGradient) {
       VecEl r = VecEl::Zero();
       MatEl K = MatEl::Zero();
       beam_gp_residual_tangent_em(T, C, eps0, gp, q0, q1, r, &K, xi);
+      // the residual path of time steps (q0's state cached, tables unrolled) is the same force
+      VecEl r_cached = VecEl::Zero();
+      beam_gp_residual_em(T, C, eps0, gp, gp_state(T, gp, q0), q1, r_cached, xi);
+      EXPECT_LT((r_cached - r).norm(), 1e-13 * r.norm()) << "xi " << xi;
       if (xi == 0.0) {
         const double dU = beam_gp_energy(T, C, eps0, gp, q1) - beam_gp_energy(T, C, eps0, gp, q0);
         EXPECT_NEAR(r.dot(q1 - q0), dU, 1e-12 * (1 + std::abs(dU)));
