@@ -193,39 +193,68 @@ inline void add_field_transpose(const GaussPoint& gp, const double* g, double* r
   }
 }
 inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-// Strains and the weighted gradient with the table known at compile time: the loops unroll to
-// straight dot products.
-template <const StrainTable& T>
-inline void strains_of(const double* z, double* eps) {
-  for (int k = 0; k < 6; ++k) {
-    double v = 0.0;
-    for (int t = 0; t < T[k].n_terms; ++t) v += T[k].terms[t].c * dot3(z + 3 * T[k].terms[t].a, z + 3 * T[k].terms[t].b);
-    eps[k] = v;
+// The two measures' strains and weighted gradients g = sum_k sigma_k d eps_k / dz written out
+// (the tables above, term by term): the generic table loops kept their indices in memory.
+// z blocks: 0 phi', 1-3 d1..d3, 4-6 d1'..d3'.
+inline const double* blk(const double* z, int b) { return z + 3 * b; }
+struct SimoReissnerForms {
+  static void strains(const double* z, double* e) {
+    e[0] = dot3(blk(z, kD1), blk(z, kPhiS));
+    e[1] = dot3(blk(z, kD2), blk(z, kPhiS));
+    e[2] = dot3(blk(z, kD3), blk(z, kPhiS));
+    e[3] = 0.5 * (dot3(blk(z, kD3), blk(z, kD2S)) - dot3(blk(z, kD2), blk(z, kD3S)));
+    e[4] = 0.5 * (dot3(blk(z, kD1), blk(z, kD3S)) - dot3(blk(z, kD3), blk(z, kD1S)));
+    e[5] = 0.5 * (dot3(blk(z, kD2), blk(z, kD1S)) - dot3(blk(z, kD1), blk(z, kD2S)));
   }
-}
-template <const StrainTable& T>
-inline void gradient_of(const double* sigma, const double* z, double* g) {
-  for (int k = 0; k < kNz; ++k) g[k] = 0.0;
-  for (int k = 0; k < 6; ++k)
-    for (int t = 0; t < T[k].n_terms; ++t) {
-      const auto& f = T[k].terms[t];
-      const double s = sigma[k] * f.c;
-      for (int c = 0; c < 3; ++c) {
-        g[3 * f.a + c] += s * z[3 * f.b + c];
-        g[3 * f.b + c] += s * z[3 * f.a + c];
-      }
+  static void gradient(const double* s, const double* z, double* g) {
+    const double h3 = 0.5 * s[3], h4 = 0.5 * s[4], h5 = 0.5 * s[5];
+    const double *p = blk(z, kPhiS), *d1 = blk(z, kD1), *d2 = blk(z, kD2), *d3 = blk(z, kD3);
+    const double *e1 = blk(z, kD1S), *e2 = blk(z, kD2S), *e3 = blk(z, kD3S);
+    for (int c = 0; c < 3; ++c) {
+      g[3 * kPhiS + c] = s[0] * d1[c] + s[1] * d2[c] + s[2] * d3[c];
+      g[3 * kD1 + c] = s[0] * p[c] + h4 * e3[c] - h5 * e2[c];
+      g[3 * kD2 + c] = s[1] * p[c] - h3 * e3[c] + h5 * e1[c];
+      g[3 * kD3 + c] = s[2] * p[c] + h3 * e2[c] - h4 * e1[c];
+      g[3 * kD1S + c] = h5 * d2[c] - h4 * d3[c];
+      g[3 * kD2S + c] = h3 * d3[c] - h5 * d1[c];
+      g[3 * kD3S + c] = h4 * d1[c] - h3 * d2[c];
     }
-}
-template <const StrainTable& T>
+  }
+};
+struct SeedForms {
+  static void strains(const double* z, double* e) {
+    e[0] = 0.5 * dot3(blk(z, kPhiS), blk(z, kPhiS));
+    e[1] = dot3(blk(z, kPhiS), blk(z, kD2));
+    e[2] = dot3(blk(z, kPhiS), blk(z, kD3));
+    e[3] = 0.5 * (dot3(blk(z, kD2S), blk(z, kD3)) - dot3(blk(z, kD3S), blk(z, kD2)));
+    e[4] = dot3(blk(z, kPhiS), blk(z, kD3S));
+    e[5] = dot3(blk(z, kPhiS), blk(z, kD2S));
+  }
+  static void gradient(const double* s, const double* z, double* g) {
+    const double h3 = 0.5 * s[3];
+    const double *p = blk(z, kPhiS), *d2 = blk(z, kD2), *d3 = blk(z, kD3);
+    const double *e2 = blk(z, kD2S), *e3 = blk(z, kD3S);
+    for (int c = 0; c < 3; ++c) {
+      g[3 * kPhiS + c] = s[0] * p[c] + s[1] * d2[c] + s[2] * d3[c] + s[4] * e3[c] + s[5] * e2[c];
+      g[3 * kD1 + c] = 0.0;
+      g[3 * kD2 + c] = s[1] * p[c] - h3 * e3[c];
+      g[3 * kD3 + c] = s[2] * p[c] + h3 * e2[c];
+      g[3 * kD1S + c] = 0.0;
+      g[3 * kD2S + c] = h3 * d3[c] + s[5] * p[c];
+      g[3 * kD3S + c] = s[4] * p[c] - h3 * d2[c];
+    }
+  }
+};
+template <class Forms>
 void residual_em(const Stiffness& C, const Vec6& eps0, const GaussPoint& gp, const GpState& s0, const VecEl& q1,
                  VecEl& r, double xi) {
   double z1[kNz], zm[kNz], e1[6], sigma[6], g[kNz];
   field(gp, q1.data(), z1);
-  strains_of<T>(z1, e1);
+  Forms::strains(z1, e1);
   const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
   for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * s0.eps(k) + a1 * e1[k] - eps0(k));
   for (int k = 0; k < kNz; ++k) zm[k] = 0.5 * (s0.z(k) + z1[k]);
-  gradient_of<T>(sigma, zm, g);
+  Forms::gradient(sigma, zm, g);
   add_field_transpose(gp, g, r.data());
 }
 }  // namespace
@@ -239,8 +268,8 @@ GpState gp_state(const StrainTable& T, const GaussPoint& gp, const VecEl& q) {
 
 void beam_gp_residual_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                          const GpState& s0, const VecEl& q1, VecEl& r, double xi) {
-  if (&T == &kSimoReissner) residual_em<kSimoReissner>(C, eps0, gp, s0, q1, r, xi);
-  else if (&T == &kSeed) residual_em<kSeed>(C, eps0, gp, s0, q1, r, xi);
+  if (&T == &kSimoReissner) residual_em<SimoReissnerForms>(C, eps0, gp, s0, q1, r, xi);
+  else if (&T == &kSeed) residual_em<SeedForms>(C, eps0, gp, s0, q1, r, xi);
   else {  // a table known only at run time
     const VecZ z1 = apply_P(gp, q1);
     const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * s0.eps + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
