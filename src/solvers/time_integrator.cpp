@@ -106,6 +106,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_jacobian_reuse", &reuse_, nullptr));
   SB_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-sb_jacobian_reuse_rate", &reuse_rate_, nullptr));
   SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_full_newton_after_rebuild", &full_newton_after_rebuild_, nullptr));
+  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_floor_stop", &floor_stop_, nullptr));
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(SNESSetFromOptions(snes_));
 }
@@ -318,6 +319,17 @@ PetscErrorCode TimeIntegrator::condense_schwarz_blocks(Mat J) {
 /// Jacobian at the next iteration, unless |F| is already below 1e-8 of the initial residual
 /// (the roundoff floor's zone); stagnation counts as convergence below 1e-6 of the initial
 /// residual with a fresh Jacobian, below 1e-8 with an old one.
+namespace {
+// |F| within this factor of the floor measured on earlier steps counts as converged (the floor
+// wanders by about 1.5x from step to step; 2x let the drift of the pendulum's energy grow 20x).
+constexpr double kFloorMargin = 3.0;
+// ... if the part of |F| that is not roundoff, estimated from the contraction so far, is below this
+// share of the floor
+constexpr double kFloorShare = 0.1;
+// Steps between measurements of the floor (such a step runs on to stagnation).
+constexpr int kFloorRemeasure = 8;
+}  // namespace
+
 PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                          SNESConvergedReason* reason, void* ctx) {
   PetscFunctionBeginUser;
@@ -326,6 +338,7 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
   if (it == 0) {
     rt.fnorm0 = rt.fnorm_prev = fnorm;
+    self->rate_prev_ = 1.0;
     PetscFunctionReturn(0);
   }
   if (*reason == SNES_CONVERGED_ITERATING) {
@@ -342,6 +355,14 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
+      self->floor_sample_ = fnorm;
+    } else if (self->use_floor_ && fnorm <= kFloorMargin * self->floor_ && snorm <= 1e-7 * xnorm &&
+               rt.fnorm_prev * self->rate_prev_ <= kFloorShare * self->floor_) {
+      // (|F| at the floor is mostly roundoff; what the iterate still lacks is about the previous
+      // |F| times the previous contraction, and that must be well below the floor too)
+      PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g within %g of the floor %g measured before\n",
+                          (double)fnorm, kFloorMargin, self->floor_));
+      *reason = SNES_CONVERGED_FNORM_RELATIVE;
     } else if (!fresh && rate > self->reuse_rate_ && fnorm > kOldJacobianFloor * rt.fnorm0) {
       // (Below that fraction of the initial residual a weak contraction is mostly the roundoff floor:
       // the old Jacobian goes on, and the stagnation test above ends the step. Rebuilding there
@@ -356,6 +377,7 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
       PetscCall(SNESSetLagJacobian(snes, 1));
     }
   }
+  self->rate_prev_ = fnorm / std::max(rt.fnorm_prev, 1e-300);
   rt.fnorm_prev = fnorm;
   PetscFunctionReturn(0);
 }
@@ -364,6 +386,10 @@ SolveResult TimeIntegrator::step(double h) {
   SB_CHECK(PetscLogEventBegin(ev_step_, 0, 0, 0, 0));
   prepare_step(h);
   ++solve_count_;
+  // The floor scales with the step size (c0 M ~ 1/h^2 in F): a measurement holds for one size.
+  if (h != floor_h_) floor_ = 0.0, floor_count_ = 0;
+  use_floor_ = floor_stop_ && floor_ > 0.0 && ++floor_age_ % kFloorRemeasure != 0;
+  floor_sample_ = 0.0;
   // Reuse the last Jacobian (lag -1) unless the step size changed (c0 M is part of it) or the
   // last step failed; then build a fresh one first (lag -2).
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, (jac_solve_ < 0 || c0_ != jac_c0_ || last_failed_) ? -2 : -1));
@@ -400,6 +426,14 @@ SolveResult TimeIntegrator::step(double h) {
     if (r.converged()) break;
   }
   last_failed_ = !r.converged();
+  if (r.converged() && floor_sample_ > 0.0) {
+    floor_samples_[floor_count_++ % kFloorSamples] = floor_sample_;
+    const int n = std::min(floor_count_, kFloorSamples);
+    floor_ = 0.0;
+    for (int k = 0; k < n; ++k) floor_ += floor_samples_[k] / n;
+    floor_h_ = h;
+    floor_age_ = 0;
+  }
   if (r.converged()) {
     Vec mask = model_.coordinate_mask();
     SB_CHECK(VecCopy(v_, v_prev_));

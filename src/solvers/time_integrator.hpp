@@ -139,6 +139,17 @@ class TimeIntegrator {
   PetscInt jac_iter_ = -1;
   double jac_c0_ = 0.0;
   bool last_failed_ = false;
+  // Roundoff floor of |F|: the least of the last kFloorSamples final |F| of steps that ended in
+  // stagnation (0: none yet). Later steps of the same size stop once |F| is within kFloorMargin
+  // of it, which saves the iteration that only confirms the floor; every kFloorRemeasure-th
+  // step measures it again.
+  static constexpr int kFloorSamples = 4;
+  double floor_samples_[kFloorSamples] = {};
+  double floor_ = 0.0, floor_h_ = 0.0, floor_sample_ = 0.0;
+  int floor_age_ = 0, floor_count_ = 0;
+  double rate_prev_ = 1.0;  // contraction of the previous Newton iteration
+  bool use_floor_ = false;
+  PetscBool floor_stop_ = PETSC_FALSE;  // -sb_floor_stop
   std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
   std::unique_ptr<DirectorCondensation> block_condensation_;  // Schwarz: exact condensed block solves
   PetscErrorCode condense_schwarz_blocks(Mat J);
