@@ -207,8 +207,21 @@ PetscErrorCode DirectorCondensation::build_pattern(Mat J) {
   PetscCall(MatDestroy(&Jr_));
   PetscCall(MatCreate(PETSC_COMM_SELF, &Jr_));
   PetscCall(MatSetSizes(Jr_, n_red_, n_red_, n_red_, n_red_));
-  PetscCall(MatSetType(Jr_, MATSEQAIJ));
-  PetscCall(MatSeqAIJSetPreallocationCSR(Jr_, row_ptr_.data(), cols.data(), nullptr));
+  // Only triads (a beam's points, no extras): 6 x 6 blocks, whose LU and triangular solves
+  // PETSc has unrolled (BAIJ, bs 6; about twice as fast as AIJ here)
+  blocked_ = std::all_of(groups_.begin(), groups_.end(), [](const Group& G) { return G.triad >= 0; });
+  if (blocked_) {
+    std::vector<PetscInt> bptr(ng + 1, 0), bcols;
+    for (size_t g = 0; g < ng; ++g) {
+      for (int h : adj_[g]) bcols.push_back(groups_[static_cast<size_t>(h)].base / 6);
+      bptr[g + 1] = static_cast<PetscInt>(bcols.size());
+    }
+    PetscCall(MatSetType(Jr_, MATSEQBAIJ));
+    PetscCall(MatSeqBAIJSetPreallocationCSR(Jr_, 6, bptr.data(), bcols.data(), nullptr));
+  } else {
+    PetscCall(MatSetType(Jr_, MATSEQAIJ));
+    PetscCall(MatSeqAIJSetPreallocationCSR(Jr_, row_ptr_.data(), cols.data(), nullptr));
+  }
   if (!rr_) {
     PetscCall(VecCreateSeq(PETSC_COMM_SELF, n_red_, &rr_));
     PetscCall(VecDuplicate(rr_, &a_));
@@ -276,7 +289,7 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   // Reduced matrix, group by group: gather each coupled 12 x 12 (or 12 x 1, 1 x 12, 1 x 1)
   // block of J, then N_g^T J_gh N'_h.
   PetscScalar* out = nullptr;
-  PetscCall(MatSeqAIJGetArrayWrite(Jr_, &out));
+  if (!blocked_) PetscCall(MatSeqAIJGetArrayWrite(Jr_, &out));
   const size_t ng = groups_.size();
   std::vector<int> slot(ng, -1);
   std::vector<double> buf;
@@ -338,6 +351,12 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
       } else {
         R6(0, 0) = B[0];
       }
+      if (blocked_) {
+        const Eigen::Matrix<double, 6, 6, Eigen::RowMajor> B6 = R6;
+        const PetscInt bi = G.base / 6, bj = H.base / 6;
+        PetscCall(MatSetValuesBlocked(Jr_, 1, &bi, 1, &bj, B6.data(), INSERT_VALUES));
+        continue;
+      }
       for (int r = 0; r < rows; ++r) {
         PetscScalar* dst = out + row_ptr_[static_cast<size_t>(G.base + r)] + col_offset_[g][k];
         for (int c = 0; c < cols; ++c) dst[c] = R6(r, c);
@@ -345,7 +364,7 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
     }
     for (int h : adj_[g]) slot[static_cast<size_t>(h)] = -1;
   }
-  PetscCall(MatSeqAIJRestoreArrayWrite(Jr_, &out));
+  if (!blocked_) PetscCall(MatSeqAIJRestoreArrayWrite(Jr_, &out));
   PetscCall(MatSeqAIJRestoreArrayRead(J, &v));
   PetscCall(MatRestoreRowIJ(J, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia, &ja, &done));
   if (!*ok) PetscFunctionReturn(0);
@@ -359,7 +378,8 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
     PetscCall(MatDestroy(&F_));
     PetscCall(MatGetFactor(Jr_, MATSOLVERPETSC, MAT_FACTOR_LU, &F_));
     IS perm = nullptr;
-    PetscCall(ISCreateStride(PETSC_COMM_SELF, n_red_, 0, 1, &perm));
+    // (BAIJ orders block rows)
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, blocked_ ? n_red_ / 6 : n_red_, 0, 1, &perm));
     PetscCall(ISSetPermutation(perm));
     PetscCall(MatLUFactorSymbolic(F_, Jr_, perm, perm, &info));
     PetscCall(ISDestroy(&perm));

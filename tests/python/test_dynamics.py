@@ -297,16 +297,40 @@ def test_rotation_center_gives_welded_beams_one_rigid_motion():
 
 @pytest.mark.skipif(MPI.COMM_WORLD.Get_size() > 1,
                     reason="serial exact linear solves; in parallel GMRES's tolerance sets the contraction")
-def test_modified_newton_does_not_rebuild_the_jacobian_at_the_roundoff_floor(root):
-    """runs/pendulum16.toml (modified Newton on a stiff rod): about half of the weak contractions
-    of an old Jacobian happen at the residual's roundoff floor, where a rebuild only confirms
-    the floor. 300 steps take fewer than 0.4 Jacobians per step (0.31; 0.51 when the floor
-    triggered rebuilds), and the energy stays at the Newton tolerance."""
-    scene = slidebeam.load_scene(root / "runs" / "pendulum16.toml", ["analysis.t_end=0.3"])
-    sim = slidebeam.Simulation(scene)
-    run = sim.run_dynamic()
+def pendulum_run(root, **petsc: str) -> tuple[slidebeam.Simulation, int, int]:
+    """300 steps of runs/pendulum16.toml (modified Newton on a stiff rod) under extra PETSc
+    options; energy at the Newton tolerance. Returns the simulation, steps, Newton iterations."""
+    scene = slidebeam.load_scene(root / "runs" / "pendulum16.toml", ["analysis.t_end=0.3", "output.every=1"])
+    for k, v in petsc.items():
+        PETSc.Options().setValue(k, v)
+    try:
+        sim = slidebeam.Simulation(scene)
+        run = sim.run_dynamic()
+    finally:
+        for k in petsc:
+            PETSc.Options().delValue(k)
     assert run.complete, run.message
-    steps = round(0.3 / scene.analysis.dt)
-    assert sim.integrator.jacobian_evaluations < 0.4 * steps
     H = np.array([r.total_energy for r in run.records])
     assert np.abs(H - H[0]).max() / max(r.kinetic_energy for r in run.records) <= 10 * NEWTON_ATOL
+    return sim, round(0.3 / scene.analysis.dt), sum(r.newton_iterations for r in run.records)
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.Get_size() > 1,
+                    reason="serial exact linear solves; in parallel GMRES's tolerance sets the contraction")
+def test_modified_newton_does_not_rebuild_the_jacobian_at_the_roundoff_floor(root):
+    """Without the co-rotation of the old Jacobian (the path of parallel and ANCF steps), about
+    half of its weak contractions happen at the residual's roundoff floor, where a rebuild only
+    confirms the floor. 300 steps take fewer than 0.4 Jacobians per step (0.31; 0.51 when the
+    floor triggered rebuilds)."""
+    sim, steps, _ = pendulum_run(root, sb_corotate_jacobian="false")
+    assert sim.integrator.jacobian_evaluations < 0.4 * steps
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.Get_size() > 1, reason="the condensed solve is the serial fast path")
+def test_corotated_jacobian_is_reused_through_the_swing(root):
+    """The condensed LU rotated to each iterate's triads (R = D_now D_then^T) loses nothing to
+    the rod's rotation: 300 pendulum steps run on the first Jacobian (without the rotation: 0.31
+    per step) in fewer than 6 Newton iterations per step (5.6; 6.3 without)."""
+    sim, steps, newton = pendulum_run(root)
+    assert sim.integrator.jacobian_evaluations <= 2
+    assert newton < 6 * steps
