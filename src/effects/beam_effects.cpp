@@ -34,14 +34,12 @@ class BeamElastic final : public SpanEffect {
     const Beam& b = ctx.model.beam(beam_);
     if (ctx.rule == StepRule::EnergyMomentum) {
       // z(q_n) and eps(q_n) are constant during the step: computed at its first residual
-      const int ng = b.n_gp();
       if (start_key_ != ctx.step_start || !has_start_) {
-        start_.resize(elements_.size() * static_cast<size_t>(ng));
+        start_.resize(elements_.size());
         for (size_t k = 0; k < elements_.size(); ++k) {
-          const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, elements_[k]);
-          for (int g = 0; g < ng; ++g)
-            start_[k * static_cast<size_t>(ng) + static_cast<size_t>(g)] =
-                kernels::gp_state(b.strain_table(), b.gp(elements_[k], g), q0);
+          const int e = elements_[k];
+          start_[k] = kernels::span_em_state(b.strain_table(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
+                                             gather_span(ctx.x_old, ctx.map, b, e));
         }
         start_key_ = ctx.step_start;
         has_start_ = true;
@@ -49,11 +47,8 @@ class BeamElastic final : public SpanEffect {
       for (size_t k = 0; k < elements_.size(); ++k) {
         const int e = elements_[k];
         VecEl re = VecEl::Zero();
-        const VecEl q1 = gather_span(ctx.x, ctx.map, b, e);
-        for (int g = 0; g < ng; ++g)
-          kernels::beam_gp_residual_em(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g),
-                                       start_[k * static_cast<size_t>(ng) + static_cast<size_t>(g)], q1, re,
-                                       ctx.dissipation);
+        kernels::span_residual_em(b.strain_table(), b.stiffness(), start_[k], gather_span(ctx.x, ctx.map, b, e), re,
+                                  ctx.dissipation);
         scatter_span(ctx.map, r, b, e, re);
       }
       PetscFunctionReturn(0);
@@ -104,8 +99,8 @@ class BeamElastic final : public SpanEffect {
       kernels::beam_gp_residual_tangent(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q, re, K);
     if (K && ctx.theta != 1.0) *K *= ctx.theta;
   }
-  // energy-momentum: the quadrature points' state at the step start, per owned span and point
-  mutable std::vector<kernels::GpState> start_;
+  // energy-momentum: the state of every owned span at the step start
+  mutable std::vector<kernels::SpanEmState> start_;
   mutable unsigned long start_key_ = 0;
   mutable bool has_start_ = false;
 };

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "kernels/beam_kernels.hpp"
+#include "kernels/hot.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace slidebeam::kernels {
 
@@ -175,41 +177,32 @@ void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const
 }
 
 namespace {
-// The field map and its transpose on raw arrays, unrolled (z blocks: phi', d1..d3, d1'..d3').
-inline void field(const GaussPoint& gp, const double* q, double* z) {
-  for (int c = 0; c < 3; ++c) z[c] = gp.dN[0] * q[c] + gp.dN[1] * q[kNq + c] + gp.dN[2] * q[2 * kNq + c];
-  for (int k = 3; k < kNq; ++k) {
-    const double a = q[k], b = q[kNq + k], d = q[2 * kNq + k];
-    z[k] = gp.N[0] * a + gp.N[1] * b + gp.N[2] * d;
-    z[9 + k] = gp.dN[0] * a + gp.dN[1] * b + gp.dN[2] * d;
-  }
-}
-inline void add_field_transpose(const GaussPoint& gp, const double* g, double* r) {
-  for (int a = 0; a < 3; ++a) {
-    const double N = gp.w * gp.N[a], dN = gp.w * gp.dN[a];
-    double* ra = r + kNq * a;
-    for (int c = 0; c < 3; ++c) ra[c] += dN * g[c];
-    for (int k = 3; k < kNq; ++k) ra[k] += N * g[k] + dN * g[9 + k];
-  }
-}
 inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
 // The two measures' strains and weighted gradients g = sum_k sigma_k d eps_k / dz written out
-// (the tables above, term by term): the generic table loops kept their indices in memory.
-// z blocks: 0 phi', 1-3 d1..d3, 4-6 d1'..d3'.
-inline const double* blk(const double* z, int b) { return z + 3 * b; }
+// (the tables above, term by term), for any arithmetic type: doubles, or SIMD lanes that hold
+// several quadrature points. z blocks: 0 phi', 1-3 d1..d3, 4-6 d1'..d3'.
+template <class T>
+inline T dot3v(const T* a, const T* b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 struct SimoReissnerForms {
-  static void strains(const double* z, double* e) {
-    e[0] = dot3(blk(z, kD1), blk(z, kPhiS));
-    e[1] = dot3(blk(z, kD2), blk(z, kPhiS));
-    e[2] = dot3(blk(z, kD3), blk(z, kPhiS));
-    e[3] = 0.5 * (dot3(blk(z, kD3), blk(z, kD2S)) - dot3(blk(z, kD2), blk(z, kD3S)));
-    e[4] = 0.5 * (dot3(blk(z, kD1), blk(z, kD3S)) - dot3(blk(z, kD3), blk(z, kD1S)));
-    e[5] = 0.5 * (dot3(blk(z, kD2), blk(z, kD1S)) - dot3(blk(z, kD1), blk(z, kD2S)));
+  template <class T>
+  static void strains(const T* z, T* e) {
+    const T *p = z + 3 * kPhiS, *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
+    const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
+    e[0] = dot3v(d1, p);
+    e[1] = dot3v(d2, p);
+    e[2] = dot3v(d3, p);
+    e[3] = 0.5 * (dot3v(d3, e2) - dot3v(d2, e3));
+    e[4] = 0.5 * (dot3v(d1, e3) - dot3v(d3, e1));
+    e[5] = 0.5 * (dot3v(d2, e1) - dot3v(d1, e2));
   }
-  static void gradient(const double* s, const double* z, double* g) {
-    const double h3 = 0.5 * s[3], h4 = 0.5 * s[4], h5 = 0.5 * s[5];
-    const double *p = blk(z, kPhiS), *d1 = blk(z, kD1), *d2 = blk(z, kD2), *d3 = blk(z, kD3);
-    const double *e1 = blk(z, kD1S), *e2 = blk(z, kD2S), *e3 = blk(z, kD3S);
+  template <class T>
+  static void gradient(const T* s, const T* z, T* g) {
+    const T h3 = 0.5 * s[3], h4 = 0.5 * s[4], h5 = 0.5 * s[5];
+    const T *p = z + 3 * kPhiS, *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
+    const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
     for (int c = 0; c < 3; ++c) {
       g[3 * kPhiS + c] = s[0] * d1[c] + s[1] * d2[c] + s[2] * d3[c];
       g[3 * kD1 + c] = s[0] * p[c] + h4 * e3[c] - h5 * e2[c];
@@ -222,58 +215,128 @@ struct SimoReissnerForms {
   }
 };
 struct SeedForms {
-  static void strains(const double* z, double* e) {
-    e[0] = 0.5 * dot3(blk(z, kPhiS), blk(z, kPhiS));
-    e[1] = dot3(blk(z, kPhiS), blk(z, kD2));
-    e[2] = dot3(blk(z, kPhiS), blk(z, kD3));
-    e[3] = 0.5 * (dot3(blk(z, kD2S), blk(z, kD3)) - dot3(blk(z, kD3S), blk(z, kD2)));
-    e[4] = dot3(blk(z, kPhiS), blk(z, kD3S));
-    e[5] = dot3(blk(z, kPhiS), blk(z, kD2S));
+  template <class T>
+  static void strains(const T* z, T* e) {
+    const T *p = z + 3 * kPhiS, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
+    const T *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
+    e[0] = 0.5 * dot3v(p, p);
+    e[1] = dot3v(p, d2);
+    e[2] = dot3v(p, d3);
+    e[3] = 0.5 * (dot3v(e2, d3) - dot3v(e3, d2));
+    e[4] = dot3v(p, e3);
+    e[5] = dot3v(p, e2);
   }
-  static void gradient(const double* s, const double* z, double* g) {
-    const double h3 = 0.5 * s[3];
-    const double *p = blk(z, kPhiS), *d2 = blk(z, kD2), *d3 = blk(z, kD3);
-    const double *e2 = blk(z, kD2S), *e3 = blk(z, kD3S);
+  template <class T>
+  static void gradient(const T* s, const T* z, T* g) {
+    const T h3 = 0.5 * s[3];
+    const T *p = z + 3 * kPhiS, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
+    const T *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
     for (int c = 0; c < 3; ++c) {
       g[3 * kPhiS + c] = s[0] * p[c] + s[1] * d2[c] + s[2] * d3[c] + s[4] * e3[c] + s[5] * e2[c];
-      g[3 * kD1 + c] = 0.0;
+      g[3 * kD1 + c] = 0.0 * p[c];
       g[3 * kD2 + c] = s[1] * p[c] - h3 * e3[c];
       g[3 * kD3 + c] = s[2] * p[c] + h3 * e2[c];
-      g[3 * kD1S + c] = 0.0;
+      g[3 * kD1S + c] = 0.0 * p[c];
       g[3 * kD2S + c] = h3 * d3[c] + s[5] * p[c];
       g[3 * kD3S + c] = s[4] * p[c] - h3 * d2[c];
     }
   }
 };
-template <class Forms>
-void residual_em(const Stiffness& C, const Vec6& eps0, const GaussPoint& gp, const GpState& s0, const VecEl& q1,
-                 VecEl& r, double xi) {
-  double z1[kNz], zm[kNz], e1[6], sigma[6], g[kNz];
-  field(gp, q1.data(), z1);
-  Forms::strains(z1, e1);
-  const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
-  for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * s0.eps(k) + a1 * e1[k] - eps0(k));
-  for (int k = 0; k < kNz; ++k) zm[k] = 0.5 * (s0.z(k) + z1[k]);
-  Forms::gradient(sigma, zm, g);
-  add_field_transpose(gp, g, r.data());
-}
-}  // namespace
 
-GpState gp_state(const StrainTable& T, const GaussPoint& gp, const VecEl& q) {
-  GpState s;
-  s.z = apply_P(gp, q);
-  s.eps = strains(T, s.z);
+// A span's quadrature points side by side in the lanes of one SIMD register (GCC vector
+// extension: AVX2 in the x86-64-v3 clone, SSE2 pairs otherwise).
+typedef double Lanes __attribute__((vector_size(sizeof(double) * kSpanLanes)));
+inline Lanes load(const double* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store(Lanes v, double* p) { std::memcpy(p, &v, sizeof v); }
+inline double lane_sum(Lanes v) {
+  double s = 0.0;
+  for (int l = 0; l < kSpanLanes; ++l) s += v[l];
   return s;
 }
 
-void beam_gp_residual_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                         const GpState& s0, const VecEl& q1, VecEl& r, double xi) {
-  if (&T == &kSimoReissner) residual_em<SimoReissnerForms>(C, eps0, gp, s0, q1, r, xi);
-  else if (&T == &kSeed) residual_em<SeedForms>(C, eps0, gp, s0, q1, r, xi);
-  else {  // a table known only at run time
-    const VecZ z1 = apply_P(gp, q1);
-    const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * s0.eps + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
-    add_Pt(gp, gp.w, weighted_gradient(T, sigma, 0.5 * (s0.z + z1)), r);
+// (always inlined: it must be compiled into each clone of span_residual_em)
+template <class Forms>
+__attribute__((always_inline)) inline void span_residual(const Stiffness& C, const SpanEmState& st, const VecEl& q1, VecEl& r, double xi) {
+  Lanes N[3], dN[3], z1[kNz], zm[kNz], e1[6], sigma[6], g[kNz];
+  for (int a = 0; a < 3; ++a) {
+    N[a] = load(st.N[a]);
+    dN[a] = load(st.dN[a]);
+  }
+  const double* q = q1.data();
+  for (int c = 0; c < 3; ++c) z1[c] = dN[0] * q[c] + dN[1] * q[kNq + c] + dN[2] * q[2 * kNq + c];
+  for (int k = 3; k < kNq; ++k) {
+    const double qa = q[k], qb = q[kNq + k], qc = q[2 * kNq + k];
+    z1[k] = N[0] * qa + N[1] * qb + N[2] * qc;
+    z1[9 + k] = dN[0] * qa + dN[1] * qb + dN[2] * qc;
+  }
+  Forms::strains(z1, e1);
+  const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
+  for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * load(st.e0[k]) + a1 * e1[k] - load(st.eps0[k]));
+  for (int k = 0; k < kNz; ++k) zm[k] = 0.5 * (load(st.z0[k]) + z1[k]);
+  Forms::gradient(sigma, zm, g);
+  const Lanes w = load(st.w);
+  for (int a = 0; a < 3; ++a) {
+    const Lanes wN = w * N[a], wdN = w * dN[a];
+    double* ra = r.data() + kNq * a;
+    for (int c = 0; c < 3; ++c) ra[c] += lane_sum(wdN * g[c]);
+    for (int k = 3; k < kNq; ++k) ra[k] += lane_sum(wN * g[k] + wdN * g[9 + k]);
+  }
+}
+}  // namespace
+
+SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp, const VecEl& q0) {
+  SpanEmState st{};
+  for (int g = 0; g < n_gp; ++g) {
+    const GaussPoint& gp = gps[g];
+    for (int a = 0; a < 3; ++a) {
+      st.N[a][g] = gp.N[a];
+      st.dN[a][g] = gp.dN[a];
+    }
+    st.w[g] = gp.w;
+    const VecZ z = apply_P(gp, q0);
+    const Vec6 e = strains(T, z);
+    for (int k = 0; k < kNz; ++k) st.z0[k][g] = z(k);
+    for (int k = 0; k < 6; ++k) {
+      st.e0[k][g] = e(k);
+      st.eps0[k][g] = eps0[g](k);
+    }
+  }
+  return st;
+}
+
+SB_HOT_KERNEL
+void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmState& st, const VecEl& q1, VecEl& r,
+                      double xi) {
+  if (&T == &kSimoReissner) {
+    span_residual<SimoReissnerForms>(C, st, q1, r, xi);
+    return;
+  }
+  if (&T == &kSeed) {
+    span_residual<SeedForms>(C, st, q1, r, xi);
+    return;
+  }
+  // a table known only at run time: point by point
+  for (int g = 0; g < kSpanLanes && st.w[g] != 0.0; ++g) {
+    VecZ z0, z1;
+    Vec6 e0, ref;
+    GaussPoint gp{};
+    for (int a = 0; a < 3; ++a) {
+      gp.N[a] = st.N[a][g];
+      gp.dN[a] = st.dN[a][g];
+    }
+    gp.w = st.w[g];
+    for (int k = 0; k < kNz; ++k) z0(k) = st.z0[k][g];
+    for (int k = 0; k < 6; ++k) {
+      e0(k) = st.e0[k][g];
+      ref(k) = st.eps0[k][g];
+    }
+    z1 = apply_P(gp, q1);
+    const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * strains(T, z1) - ref);
+    add_Pt(gp, gp.w, weighted_gradient(T, sigma, 0.5 * (z0 + z1)), r);
   }
 }
 
@@ -365,6 +428,7 @@ void multiplier_update_cholesky(const double (&d)[3][3], double* const (&f)[3], 
 // dLambda E) / 2, each gaining -log10|E| digits: two or three 3 x 3 products instead of the
 // Cholesky's chain of square roots and divisions. This runs at every Newton iterate of every
 // triad.
+SB_HOT_KERNEL
 void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
   double E[3][3], B[3][3], L[3][3], X[3][3];
   double emax = 0.0;
@@ -405,6 +469,7 @@ void orthonormality_multiplier_update(const double (&d)[3][3], double* const (&f
     for (int k = 0; k < 3; ++k) f[a][k] += s * (L[a][0] * d[0][k] + L[a][1] * d[1][k] + L[a][2] * d[2][k]);
 }
 
+SB_HOT_KERNEL
 void closest_orthonormal_frame(double* d) {
   Eigen::Map<Eigen::Matrix3d> D(d);
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();

@@ -124,19 +124,25 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0);
 
-/// What an energy-momentum step needs of q_n at one quadrature point: the field vector z(q_n)
-/// and the strains eps(q_n). Constant during a step: residual evaluations compute them once.
-struct GpState {
-  VecZ z;
-  Vec6 eps;
+/// What an energy-momentum step needs of one span at q_n, for span_residual_em: its quadrature
+/// points' basis and weights, z(q_n), eps(q_n) and the reference strains, point g in lane g
+/// (unused lanes zero, weight 0). Constant during a step: computed once per step.
+constexpr int kSpanLanes = 4;
+struct alignas(32) SpanEmState {
+  double N[3][kSpanLanes], dN[3][kSpanLanes], w[kSpanLanes];
+  double z0[kNz][kSpanLanes];
+  double e0[6][kSpanLanes];
+  double eps0[6][kSpanLanes];
 };
-GpState gp_state(const StrainTable& T, const GaussPoint& gp, const VecEl& q);
+/// gps and eps0: the span's n_gp <= kSpanLanes quadrature points and their reference strains.
+SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp, const VecEl& q0);
 
-/// The internal force of beam_gp_residual_tangent_em (without the tangent) from the cached
-/// state of q0, with the strain tables unrolled at compile time: this runs in every Newton
-/// iteration of every span.
-void beam_gp_residual_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                         const GpState& s0, const VecEl& q1, VecEl& r, double xi = 0.0);
+/// The energy-momentum internal force of one span, r += sum over its points of the force of
+/// beam_gp_residual_tangent_em (without the tangent), from the span's cached state at q_n. The
+/// points are computed together in SIMD lanes and the strain measure's terms are written out:
+/// this runs in every Newton iteration of every span.
+void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmState& s, const VecEl& q1, VecEl& r,
+                      double xi = 0.0);
 
 /// Orthonormality constraints of one control point (seed eq. 2), as quadratic forms in the
 /// control point's 12 coordinates (blocks phi, d1, d2, d3).
