@@ -177,13 +177,12 @@ void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const
 }
 
 namespace {
-inline double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // The two measures' strains and weighted gradients g = sum_k sigma_k d eps_k / dz written out
 // (the tables above, term by term), for any arithmetic type: doubles, or SIMD lanes that hold
 // several quadrature points. z blocks: 0 phi', 1-3 d1..d3, 4-6 d1'..d3'.
 template <class T>
-inline T dot3v(const T* a, const T* b) {
+inline T dot3(const T* a, const T* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 struct SimoReissnerForms {
@@ -191,12 +190,12 @@ struct SimoReissnerForms {
   static void strains(const T* z, T* e) {
     const T *p = z + 3 * kPhiS, *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
-    e[0] = dot3v(d1, p);
-    e[1] = dot3v(d2, p);
-    e[2] = dot3v(d3, p);
-    e[3] = 0.5 * (dot3v(d3, e2) - dot3v(d2, e3));
-    e[4] = 0.5 * (dot3v(d1, e3) - dot3v(d3, e1));
-    e[5] = 0.5 * (dot3v(d2, e1) - dot3v(d1, e2));
+    e[0] = dot3(d1, p);
+    e[1] = dot3(d2, p);
+    e[2] = dot3(d3, p);
+    e[3] = 0.5 * (dot3(d3, e2) - dot3(d2, e3));
+    e[4] = 0.5 * (dot3(d1, e3) - dot3(d3, e1));
+    e[5] = 0.5 * (dot3(d2, e1) - dot3(d1, e2));
   }
   template <class T>
   static void gradient(const T* s, const T* z, T* g) {
@@ -219,12 +218,12 @@ struct SeedForms {
   static void strains(const T* z, T* e) {
     const T *p = z + 3 * kPhiS, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
-    e[0] = 0.5 * dot3v(p, p);
-    e[1] = dot3v(p, d2);
-    e[2] = dot3v(p, d3);
-    e[3] = 0.5 * (dot3v(e2, d3) - dot3v(e3, d2));
-    e[4] = dot3v(p, e3);
-    e[5] = dot3v(p, e2);
+    e[0] = 0.5 * dot3(p, p);
+    e[1] = dot3(p, d2);
+    e[2] = dot3(p, d3);
+    e[3] = 0.5 * (dot3(e2, d3) - dot3(e3, d2));
+    e[4] = dot3(p, e3);
+    e[5] = dot3(p, e2);
   }
   template <class T>
   static void gradient(const T* s, const T* z, T* g) {
@@ -364,7 +363,6 @@ namespace {
 // The 6 x 6 normal equations (G G^T) dlambda = -G f / s by an unrolled Cholesky: for triads far
 // from orthonormal.
 void multiplier_update_cholesky(const double (&d)[3][3], double* const (&f)[3], double* lambda, double s) {
-  auto dot3 = [](const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
   double g[6], A[6][6];
   for (int r = 0; r < 6; ++r) {
     const int a = kTriadPairA[r], b = kTriadPairB[r];

@@ -139,7 +139,7 @@ class TimeIntegrator {
   PetscInt jac_iter_ = -1;
   double jac_c0_ = 0.0;
   bool last_failed_ = false;
-  // Roundoff floor of |F|: the least of the last kFloorSamples final |F| of steps that ended in
+  // Roundoff floor of |F|: the mean of the last kFloorSamples final |F| of steps that ended in
   // stagnation (0: none yet). Later steps of the same size stop once |F| is within kFloorMargin
   // of it, which saves the iteration that only confirms the floor; every kFloorRemeasure-th
   // step measures it again.
