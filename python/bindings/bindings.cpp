@@ -37,6 +37,7 @@ kernels::StrainMeasure strain_from(const std::string& s) {
 kernels::Quadrature quadrature_from(const std::string& s) {
   if (s == "full") return kernels::Quadrature::Full;
   if (s == "reduced") return kernels::Quadrature::Reduced;
+  if (s == "assumed_strain") return kernels::Quadrature::AssumedStrain;
   throw std::invalid_argument("unknown quadrature '" + s + "'");
 }
 
@@ -135,11 +136,12 @@ PYBIND11_MODULE(_core, m) {
                                       {"d2", &b.d2}, {"d3", &b.d3}, {"force", &b.force}, {"moment", &b.moment}})
                d[name] = as_array(*vec, n, 3);
              d["strain"] = as_array(b.strain, n, 6);
+             d["tension"] = as_array(b.tension, n, 1).attr("reshape")(n);
              return d;
            },
            py::arg("beam"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
            "fields sampled along a beam (dict of arrays: s, position, velocity, d1, d2, d3, strain, force, "
-           "moment); collective")
+           "moment, tension); collective")
       .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
       .def_property_readonly("ghost_rebuilds", &Model::ghost_rebuilds,
                              "how often the ghost set was rebuilt because a sliding joint moved")

@@ -39,7 +39,7 @@ class BeamElastic final : public SpanEffect {
         for (size_t k = 0; k < elements_.size(); ++k) {
           const int e = elements_[k];
           start_[k] = kernels::span_em_state(b.strain_table(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
-                                             gather_span(ctx.x_old, ctx.map, b, e));
+                                             b.projection(e), gather_span(ctx.x_old, ctx.map, b, e));
         }
         start_key_ = ctx.step_start;
         has_start_ = true;
@@ -77,9 +77,8 @@ class BeamElastic final : public SpanEffect {
     const Beam& b = ctx.model.beam(beam_);
     double U = 0.0;
     for (int e : elements_) {
-      const VecEl q = gather_span(ctx.x, ctx.map, b, e);
-      for (int g = 0; g < b.n_gp(); ++g)
-        U += kernels::beam_gp_energy(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q);
+      U += kernels::span_energy(b.strain_table(), b.stiffness(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
+                                b.projection(e), gather_span(ctx.x, ctx.map, b, e));
     }
     return U;
   }
@@ -89,14 +88,12 @@ class BeamElastic final : public SpanEffect {
   void element(const EvalContext& ctx, const Beam& b, int e, VecEl& re, MatEl* K) const {
     if (ctx.rule == StepRule::EnergyMomentum) {
       const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, e), q1 = gather_span(ctx.x, ctx.map, b, e);
-      for (int g = 0; g < b.n_gp(); ++g)
-        kernels::beam_gp_residual_tangent_em(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q0, q1, re, K,
-                                             ctx.dissipation);
+      kernels::span_residual_tangent_em(b.strain_table(), b.stiffness(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
+                                        b.projection(e), q0, q1, re, K, ctx.dissipation);
       return;
     }
-    const VecEl q = gather_span(ctx.xf, ctx.map, b, e);
-    for (int g = 0; g < b.n_gp(); ++g)
-      kernels::beam_gp_residual_tangent(b.strain_table(), b.stiffness(), b.eps0(e, g), b.gp(e, g), q, re, K);
+    kernels::span_residual_tangent(b.strain_table(), b.stiffness(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
+                                   b.projection(e), gather_span(ctx.xf, ctx.map, b, e), re, K);
     if (K && ctx.theta != 1.0) *K *= ctx.theta;
   }
   // energy-momentum: the state of every owned span at the step start

@@ -50,7 +50,7 @@ const StrainTable& strain_table(StrainMeasure m) {
 }
 
 int gauss_rule(Quadrature q, std::array<double, 3>& x, std::array<double, 3>& w) {
-  if (q == Quadrature::Full) {
+  if (q == Quadrature::Full || q == Quadrature::AssumedStrain) {
     const double a = std::sqrt(0.6);
     x = {0.5 * (1 - a), 0.5, 0.5 * (1 + a)};
     w = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
@@ -176,6 +176,131 @@ void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const
   }
 }
 
+void projection_weights(const double* x, const double* w, int n, int degree, double t, double* out) {
+  // phi(t)^T G^-1 phi(x_m) w_m with phi = (1, x - xbar): G = sum_m w_m phi phi^T is diagonal
+  double W = 0.0, xbar = 0.0, S = 0.0;
+  for (int m = 0; m < n; ++m) {
+    W += w[m];
+    xbar += w[m] * x[m];
+  }
+  xbar /= W;
+  for (int m = 0; m < n; ++m) S += w[m] * (x[m] - xbar) * (x[m] - xbar);
+  for (int m = 0; m < n; ++m) out[m] = w[m] / W + (degree >= 1 ? w[m] * (t - xbar) * (x[m] - xbar) / S : 0.0);
+}
+
+StrainProjection span_projection(const double* x, const double* w, int n, int degree) {
+  StrainProjection p;
+  p.active = true;
+  for (int l = 0; l < n; ++l) projection_weights(x, w, n, degree, x[l], p.P[l]);
+  return p;
+}
+
+namespace {
+// Differences of the span's points' strains from their references, with Gamma projected.
+void project_gamma(const StrainProjection& P, int n, Vec6* e) {
+  if (!P.active) return;
+  Eigen::Vector3d out[kSpanLanes];
+  for (int l = 0; l < n; ++l) {
+    out[l].setZero();
+    for (int m = 0; m < n; ++m) out[l] += P.P[l][m] * e[m].head<3>();
+  }
+  for (int l = 0; l < n; ++l) e[l].head<3>() = out[l];
+}
+using Mat3El = Eigen::Matrix<double, 3, kNqEl>;
+// K += s sum_l w_l Ga_l^T C_Gamma (sum_m P[l][m] Gb_m): the Gamma part of the tangent of a
+// projected span, with Ga the strain gradients of the force and Gb those of the differentiated state.
+void add_projected_gamma_tangent(const StrainProjection& P, const GaussPoint* gps, int n, const Stiffness& C,
+                                 const Mat3El* Ga, const Mat3El* Gb, double s, MatEl& K) {
+  const Eigen::Vector3d Cg = C.head<3>();
+  for (int l = 0; l < n; ++l) {
+    Mat3El Gbar = Mat3El::Zero();
+    for (int m = 0; m < n; ++m) Gbar += P.P[l][m] * Gb[m];
+    K.noalias() += (s * gps[l].w) * Ga[l].transpose() * (Cg.asDiagonal() * Gbar);
+  }
+}
+}  // namespace
+
+double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
+                   const StrainProjection& P, const VecEl& q) {
+  Vec6 de[kSpanLanes];
+  for (int g = 0; g < n; ++g) de[g] = strains(T, apply_P(gps[g], q)) - eps0[g];
+  project_gamma(P, n, de);
+  double U = 0.0;
+  for (int g = 0; g < n; ++g) U += 0.5 * gps[g].w * de[g].dot(C.cwiseProduct(de[g]));
+  return U;
+}
+
+void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
+                           const StrainProjection& P, const VecEl& q, VecEl& r, MatEl* K) {
+  if (!P.active) {
+    for (int g = 0; g < n; ++g) beam_gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K);
+    return;
+  }
+  VecZ z[kSpanLanes];
+  Vec6 sigma[kSpanLanes];
+  for (int g = 0; g < n; ++g) {
+    z[g] = apply_P(gps[g], q);
+    sigma[g] = strains(T, z[g]) - eps0[g];
+  }
+  project_gamma(P, n, sigma);
+  for (int g = 0; g < n; ++g) {
+    sigma[g] = C.cwiseProduct(sigma[g]);
+    add_Pt(gps[g], gps[g].w, weighted_gradient(T, sigma[g], z[g]), r);
+  }
+  if (!K) return;
+  Stiffness Ck = C;  // the pointwise (torsion and bending) part
+  Ck.head<3>().setZero();
+  Mat3El G[kSpanLanes];
+  for (int g = 0; g < n; ++g) {
+    Mat6Z B;
+    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z[g], B.row(k));
+    MatZ Kz = B.transpose() * Ck.asDiagonal() * B;
+    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], sigma[g](k), Kz);
+    add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
+    G[g] = B.topRows<3>() * field_map(gps[g]);
+  }
+  add_projected_gamma_tangent(P, gps, n, C, G, G, 1.0, *K);
+}
+
+void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0,
+                              int n, const StrainProjection& P, const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K,
+                              double xi) {
+  if (!P.active) {
+    for (int g = 0; g < n; ++g) beam_gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K, xi);
+    return;
+  }
+  VecZ z1[kSpanLanes], zm[kSpanLanes];
+  Vec6 sigma[kSpanLanes];
+  for (int g = 0; g < n; ++g) {
+    const VecZ z0 = apply_P(gps[g], q0);
+    z1[g] = apply_P(gps[g], q1);
+    zm[g] = 0.5 * (z0 + z1[g]);
+    sigma[g] = 0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1[g]) - eps0[g];
+  }
+  project_gamma(P, n, sigma);
+  for (int g = 0; g < n; ++g) {
+    sigma[g] = C.cwiseProduct(sigma[g]);
+    add_Pt(gps[g], gps[g].w, weighted_gradient(T, sigma[g], zm[g]), r);
+  }
+  if (!K) return;
+  Stiffness Ck = C;
+  Ck.head<3>().setZero();
+  Mat3El Gm[kSpanLanes], G1[kSpanLanes];
+  for (int g = 0; g < n; ++g) {
+    Mat6Z Bm, B1;
+    for (int k = 0; k < 6; ++k) {
+      form_gradient<kNz>(T[k], zm[g], Bm.row(k));
+      form_gradient<kNz>(T[k], z1[g], B1.row(k));
+    }
+    MatZ Kz = 0.5 * (1.0 + xi) * (Bm.transpose() * Ck.asDiagonal() * B1);
+    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], 0.5 * sigma[g](k), Kz);
+    add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
+    Gm[g] = Bm.topRows<3>() * field_map(gps[g]);
+    G1[g] = B1.topRows<3>() * field_map(gps[g]);
+  }
+  add_projected_gamma_tangent(P, gps, n, C, Gm, G1, 0.5 * (1.0 + xi), *K);
+}
+
 namespace {
 
 // The two measures' strains and weighted gradients g = sum_k sigma_k d eps_k / dz written out
@@ -275,6 +400,14 @@ __attribute__((always_inline)) inline void span_residual(const Stiffness& C, con
   Forms::strains(z1, e1);
   const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
   for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * load(st.e0[k]) + a1 * e1[k] - load(st.eps0[k]));
+  if (st.projected) {
+    Lanes Pc[kSpanLanes];
+    for (int m = 0; m < kSpanLanes; ++m) Pc[m] = load(st.Pcol[m]);
+    for (int k = 0; k < 3; ++k) {
+      const Lanes v = sigma[k];
+      sigma[k] = Pc[0] * v[0] + Pc[1] * v[1] + Pc[2] * v[2] + Pc[3] * v[3];
+    }
+  }
   for (int k = 0; k < kNz; ++k) zm[k] = 0.5 * (load(st.z0[k]) + z1[k]);
   Forms::gradient(sigma, zm, g);
   const Lanes w = load(st.w);
@@ -287,8 +420,13 @@ __attribute__((always_inline)) inline void span_residual(const Stiffness& C, con
 }
 }  // namespace
 
-SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp, const VecEl& q0) {
+SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp,
+                          const StrainProjection& P, const VecEl& q0) {
   SpanEmState st{};
+  st.projected = P.active;
+  if (P.active)
+    for (int l = 0; l < n_gp; ++l)
+      for (int m = 0; m < n_gp; ++m) st.Pcol[m][l] = P.P[l][m];
   for (int g = 0; g < n_gp; ++g) {
     const GaussPoint& gp = gps[g];
     for (int a = 0; a < 3; ++a) {
@@ -319,7 +457,16 @@ void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmStat
     return;
   }
   // a table known only at run time: point by point
-  for (int g = 0; g < kSpanLanes && st.w[g] != 0.0; ++g) {
+  int n = 0;
+  while (n < kSpanLanes && st.w[n] != 0.0) ++n;
+  VecZ zm[kSpanLanes];
+  Vec6 sig[kSpanLanes];
+  GaussPoint gps[kSpanLanes];
+  StrainProjection P;
+  P.active = st.projected;
+  for (int l = 0; l < kSpanLanes; ++l)
+    for (int m = 0; m < kSpanLanes; ++m) P.P[l][m] = st.Pcol[m][l];
+  for (int g = 0; g < n; ++g) {
     VecZ z0, z1;
     Vec6 e0, ref;
     GaussPoint gp{};
@@ -334,9 +481,12 @@ void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmStat
       ref(k) = st.eps0[k][g];
     }
     z1 = apply_P(gp, q1);
-    const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * strains(T, z1) - ref);
-    add_Pt(gp, gp.w, weighted_gradient(T, sigma, 0.5 * (z0 + z1)), r);
+    gps[g] = gp;
+    zm[g] = 0.5 * (z0 + z1);
+    sig[g] = 0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * strains(T, z1) - ref;
   }
+  project_gamma(P, n, sig);
+  for (int g = 0; g < n; ++g) add_Pt(gps[g], gps[g].w, weighted_gradient(T, C.cwiseProduct(sig[g]), zm[g]), r);
 }
 
 const std::array<QuadraticForm, 6>& orthonormality_forms() { return kOrthonormality; }

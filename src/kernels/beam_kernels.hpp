@@ -16,7 +16,9 @@
 namespace slidebeam::kernels {
 
 enum class StrainMeasure { SimoReissner, Seed };
-enum class Quadrature { Full, Reduced };
+/// Stiffness quadrature of a span: 3-point Gauss (full), 2-point Gauss (reduced), or 3-point Gauss
+/// with the assumed membrane and shear strains of span_projection (locking-free, theory.md).
+enum class Quadrature { Full, Reduced, AssumedStrain };
 
 /// Blocks of the field vector z at a quadrature point.
 enum FieldBlock : int { kPhiS = 0, kD1 = 1, kD2 = 2, kD3 = 3, kD1S = 4, kD2S = 5, kD3S = 6 };
@@ -96,6 +98,26 @@ struct GaussPoint {
   double w;
 };
 
+constexpr int kSpanLanes = 4;  ///< at most this many quadrature points per span
+
+/// The assumed membrane and shear strains of a span. The first three strains (Gamma: axial and
+/// the two shears) at the span's quadrature points are replaced by their discrete L2 projection
+/// onto polynomials of degree 0 or 1 on the span, Gamma_bar_l = sum_m P[l][m] Gamma_m; torsion
+/// and bending stay pointwise. P is a constant matrix, idempotent and self-adjoint in the
+/// quadrature's inner product (w_l P[l][m] = w_m P[m][l]), so the projected strains stay quadratic
+/// forms in the coordinates: energy, force and tangent follow from those of the pointwise
+/// strains, and the averaged-strain energy-momentum step stays exact. Inactive: P = identity.
+struct StrainProjection {
+  bool active = false;
+  double P[kSpanLanes][kSpanLanes] = {};
+};
+/// The projection onto polynomials of the given degree (0 or 1) of n points at positions x (any
+/// affine coordinate of the span) with quadrature weights w.
+StrainProjection span_projection(const double* x, const double* w, int n, int degree);
+/// The projected strain at position t of the span as weights of the n point values:
+/// Gamma_bar(t) = sum_m out[m] Gamma_m (row l of P is this at t = x_l).
+void projection_weights(const double* x, const double* w, int n, int degree, double t, double* out);
+
 /// Map z = P q from the 36 coordinates of a span's control points to the field vector.
 MatZEl field_map(const GaussPoint& gp);
 
@@ -124,21 +146,33 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0);
 
+/// Whole-span versions of the three point kernels above: the sum over the span's n quadrature
+/// points with the strain projection applied (P inactive: exactly the sum of the point kernels).
+double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
+                   const StrainProjection& P, const VecEl& q);
+void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
+                           const StrainProjection& P, const VecEl& q, VecEl& r, MatEl* K);
+void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0,
+                              int n, const StrainProjection& P, const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K,
+                              double xi = 0.0);
+
 /// What an energy-momentum step needs of one span at q_n, for span_residual_em: its quadrature
 /// points' basis and weights, z(q_n), eps(q_n) and the reference strains, point g in lane g
 /// (unused lanes zero, weight 0). Constant during a step: computed once per step.
-constexpr int kSpanLanes = 4;
 struct alignas(32) SpanEmState {
   double N[3][kSpanLanes], dN[3][kSpanLanes], w[kSpanLanes];
+  double Pcol[kSpanLanes][kSpanLanes];  ///< column m of the strain projection (projected only)
+  bool projected;
   double z0[kNz][kSpanLanes];
   double e0[6][kSpanLanes];
   double eps0[6][kSpanLanes];
 };
 /// gps and eps0: the span's n_gp <= kSpanLanes quadrature points and their reference strains.
-SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp, const VecEl& q0);
+SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp,
+                          const StrainProjection& P, const VecEl& q0);
 
-/// The energy-momentum internal force of one span, r += sum over its points of the force of
-/// beam_gp_residual_tangent_em (without the tangent), from the span's cached state at q_n. The
+/// The energy-momentum internal force of one span, r += that of span_residual_tangent_em
+/// (without the tangent), from the span's cached state at q_n. The
 /// points are computed together in SIMD lanes and the strain measure's terms are written out:
 /// this runs in every Newton iteration of every span.
 void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmState& s, const VecEl& q1, VecEl& r,

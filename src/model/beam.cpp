@@ -51,6 +51,15 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
   gps_ = gauss_points(spec.n_spans, spec.length, spec.quadrature);
   gps_full_ = gauss_points(spec.n_spans, spec.length, kernels::Quadrature::Full);
   n_gp_ = static_cast<int>(gps_.size()) / spec.n_spans;
+  proj_.assign(static_cast<size_t>(spec.n_spans), kernels::StrainProjection{});
+  if (spec.quadrature == kernels::Quadrature::AssumedStrain) {
+    // Constants per span leave one hourglass mode per strain (n values for the n + 1 coefficients
+    // of phi' along a beam); linears in the first span add the missing one (theory.md).
+    std::array<double, 3> x{}, w{};
+    const int ng = kernels::gauss_rule(spec.quadrature, x, w);
+    for (int e = 0; e < spec.n_spans; ++e)
+      proj_[static_cast<size_t>(e)] = kernels::span_projection(x.data(), w.data(), ng, projection_degree(e));
+  }
   // Reference strains at the stiffness quadrature points: the reference configuration is stress free.
   eps0_.resize(gps_.size());
   for (int e = 0; e < spec.n_spans; ++e) {
@@ -83,14 +92,27 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
   for (auto* v : {&out.position, &out.velocity, &out.d1, &out.d2, &out.d3, &out.force, &out.moment})
     v->assign(static_cast<size_t>(3 * n), 0.0);
   out.strain.assign(static_cast<size_t>(6 * n), 0.0);
+  out.tension.assign(static_cast<size_t>(n), 0.0);
   for (int i = 0; i < n; ++i) {
     const double s = length() * i / (n - 1);
     const PointBasis b = basis_at(s);
     const kernels::GaussPoint gp{b.N, b.dN, 0.0};
     const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * b.span);
     const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * b.span);
-    const kernels::Vec6 eps = kernels::strains(strain_table(), kernels::field_map(gp) * qe) -
-                              kernels::strains(strain_table(), kernels::field_map(gp) * q0);
+    kernels::Vec6 eps = kernels::strains(strain_table(), kernels::field_map(gp) * qe) -
+                        kernels::strains(strain_table(), kernels::field_map(gp) * q0);
+    if (projection(b.span).active) {
+      // the element's own membrane and shear strains: the span's projection evaluated at s
+      std::array<double, 3> x{}, w{};
+      const int ng = kernels::gauss_rule(spec_.quadrature, x, w);
+      double pw[kernels::kSpanLanes];
+      kernels::projection_weights(x.data(), w.data(), ng, projection_degree(b.span), s / length() * n_spans() - b.span,
+                                  pw);
+      eps.head<3>().setZero();
+      for (int g = 0; g < ng; ++g)
+        eps.head<3>() += pw[g] * (kernels::strains(strain_table(), kernels::field_map(this->gp(b.span, g)) * qe) -
+                                  eps0(b.span, g)).head<3>();
+    }
     const kernels::Vec6 sigma = stiffness_.cwiseProduct(eps);
     out.s[static_cast<size_t>(i)] = s;
     Eigen::Vector3d f[4] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
@@ -112,6 +134,7 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     put(out.velocity, vel);
     put(out.force, n_sp);
     put(out.moment, m_sp);
+    out.tension[static_cast<size_t>(i)] = sigma(0);
     for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
   }
   return out;
@@ -156,6 +179,7 @@ BeamSamples Beam::sample_ancf(const std::vector<double>& q, const std::vector<do
   for (auto* v : {&out.position, &out.velocity, &out.d1, &out.d2, &out.d3, &out.force, &out.moment})
     v->assign(static_cast<size_t>(3 * n), 0.0);
   out.strain.assign(static_cast<size_t>(6 * n), 0.0);
+  out.tension.assign(static_cast<size_t>(n), 0.0);
   const auto sec = ancf_section();
   for (int i = 0; i < n; ++i) {
     const double s = length() * i / (n - 1);
@@ -177,6 +201,7 @@ BeamSamples Beam::sample_ancf(const std::vector<double>& q, const std::vector<do
     if (!q_dot.empty()) put(out.velocity, ancf::interpolate(c.basis.S, slice(q_dot)));
     put(out.d1, t);
     put(out.force, sec.EA * eps * t);
+    out.tension[static_cast<size_t>(i)] = sec.EA * eps;
     put(out.moment, sec.EI * c.dr.cross(c.ddr - c0.ddr));
     out.strain[static_cast<size_t>(6 * i)] = eps;
     for (int k = 0; k < 3; ++k) out.strain[static_cast<size_t>(6 * i + 3 + k)] = kappa(k);

@@ -67,8 +67,11 @@ struct PositionStencil {
 /// ANCF cable: d1 is the unit tangent r'/|r'|, d2 and d3 are zero (a cable has no section
 /// frame); strain = (eps, 0, 0, k) with eps the Green axial strain and k = r' x r'' / |r'|^3 the
 /// spatial curvature vector; force = EA eps t, moment = EI r' x (r'' - r0'').
+/// tension: the axial force, sigma_0 = EA Gamma_1 (director) or EA eps (ANCF).
+/// Director beams with the assumed-strain quadrature report the element's own membrane and shear
+/// strains (the span's projection evaluated at s), so force and tension are what the element uses.
 struct BeamSamples {
-  std::vector<double> s, position, velocity, d1, d2, d3, strain, force, moment;
+  std::vector<double> s, position, velocity, d1, d2, d3, strain, force, moment, tension;
 };
 
 class Beam {
@@ -110,6 +113,11 @@ class Beam {
   int n_gp() const { return n_gp_; }
   const kernels::GaussPoint& gp(int e, int g) const { return gps_[e * n_gp_ + g]; }
   const kernels::Vec6& eps0(int e, int g) const { return eps0_[e * n_gp_ + g]; }
+  /// The strain projection of span e (active for the assumed-strain quadrature: the membrane and
+  /// shear strains projected onto constants per span, onto linears in the first span).
+  const kernels::StrainProjection& projection(int e) const { return proj_[static_cast<size_t>(e)]; }
+  /// Degree of span e's projection: 1 in the first span, 0 in the others.
+  static int projection_degree(int e) { return e == 0 ? 1 : 0; }
   /// Full (3-point) quadrature of span e, used for mass and distributed loads whatever the
   /// stiffness rule, so that the mass matrix and gravity are integrated exactly.
   const kernels::GaussPoint& gp_full(int e, int g) const { return gps_full_[e * 3 + g]; }
@@ -131,6 +139,7 @@ class Beam {
   kernels::Stiffness stiffness_;
   std::vector<kernels::GaussPoint> gps_, gps_full_;
   std::vector<kernels::Vec6> eps0_;
+  std::vector<kernels::StrainProjection> proj_;
   std::vector<kernels::ancf::AncfElement> ancf_elements_;
 
   BeamSamples sample_ancf(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const;

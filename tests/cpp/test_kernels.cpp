@@ -195,7 +195,7 @@ TEST_P(KernelFD, SpanResidualOfTimeStepsIsTheSumOverPoints) {
   std::vector<Vec6> eps0(pts.size());
   for (size_t g = 0; g < pts.size(); ++g) eps0[g] = (1.0 + 0.5 * static_cast<double>(g)) * test_eps0();
   const VecEl q0 = deformed_state(7), q1 = deformed_state(31);
-  const SpanEmState st = span_em_state(T, pts.data(), eps0.data(), static_cast<int>(pts.size()), q0);
+  const SpanEmState st = span_em_state(T, pts.data(), eps0.data(), static_cast<int>(pts.size()), StrainProjection{}, q0);
   for (const double xi : {0.0, 0.3}) {
     VecEl r = VecEl::Zero(), r_span = VecEl::Zero();
     for (size_t g = 0; g < pts.size(); ++g) beam_gp_residual_tangent_em(T, C, eps0[g], pts[g], q0, q1, r, nullptr, xi);
@@ -207,6 +207,109 @@ TEST_P(KernelFD, SpanResidualOfTimeStepsIsTheSumOverPoints) {
 INSTANTIATE_TEST_SUITE_P(MeasuresAndRules, KernelFD,
                          ::testing::Combine(::testing::Values(StrainMeasure::SimoReissner, StrainMeasure::Seed),
                                             ::testing::Values(Quadrature::Full, Quadrature::Reduced)));
+
+// Whole spans with the assumed-strain projection (degree 0: interior spans, 1: the first span;
+// -1: none): residual = FD gradient of the span energy, tangent = FD derivative of the residual
+// (symmetric); energy-momentum: exact discrete gradient and tangent = FD; the time steps' SIMD
+// span kernel gives the same force.
+class SpanFD : public ::testing::TestWithParam<std::tuple<StrainMeasure, Quadrature, int>> {
+ protected:
+  StrainProjection projection(Quadrature quad, int degree) const {
+    if (degree < 0) return StrainProjection{};
+    std::array<double, 3> x{}, w{};
+    const int ng = gauss_rule(quad, x, w);
+    return span_projection(x.data(), w.data(), ng, degree);
+  }
+};
+
+TEST_P(SpanFD, ResidualTangentAndEnergyMomentum) {
+  const auto [measure, quad, degree] = GetParam();
+  const StrainTable& T = strain_table(measure);
+  const Stiffness C = test_stiffness();
+  const auto pts = span_points(quad);
+  const int n = static_cast<int>(pts.size());
+  const StrainProjection P = projection(quad, degree);
+  std::vector<Vec6> eps0(pts.size());
+  for (int g = 0; g < n; ++g) eps0[g] = (1.0 + 0.5 * g) * test_eps0();
+  const VecEl q = deformed_state(3);
+  VecEl r = VecEl::Zero();
+  MatEl K = MatEl::Zero();
+  span_residual_tangent(T, C, pts.data(), eps0.data(), n, P, q, r, &K);
+  const double h = 1e-6;
+  for (int i = 0; i < kNqEl; ++i) {
+    VecEl qp = q, qm = q;
+    qp(i) += h;
+    qm(i) -= h;
+    const double dU = (span_energy(T, C, pts.data(), eps0.data(), n, P, qp) -
+                       span_energy(T, C, pts.data(), eps0.data(), n, P, qm)) / (2 * h);
+    EXPECT_NEAR(r(i), dU, 1e-6 * (1 + std::abs(dU))) << "residual entry " << i;
+    VecEl rp = VecEl::Zero(), rm = VecEl::Zero();
+    span_residual_tangent(T, C, pts.data(), eps0.data(), n, P, qp, rp, nullptr);
+    span_residual_tangent(T, C, pts.data(), eps0.data(), n, P, qm, rm, nullptr);
+    const VecEl col = (rp - rm) / (2 * h);
+    EXPECT_LT((K.col(i) - col).norm(), 1e-6 * (1 + col.norm())) << "tangent column " << i;
+  }
+  EXPECT_LT((K - K.transpose()).norm(), 1e-9 * K.norm());
+
+  const VecEl q0 = deformed_state(7), q1 = deformed_state(31);
+  const SpanEmState st = span_em_state(T, pts.data(), eps0.data(), n, P, q0);
+  for (const double xi : {0.0, 0.3}) {
+    VecEl re = VecEl::Zero(), r_span = VecEl::Zero();
+    MatEl Ke = MatEl::Zero();
+    span_residual_tangent_em(T, C, pts.data(), eps0.data(), n, P, q0, q1, re, &Ke, xi);
+    if (xi == 0.0) {
+      const double dU = span_energy(T, C, pts.data(), eps0.data(), n, P, q1) -
+                        span_energy(T, C, pts.data(), eps0.data(), n, P, q0);
+      EXPECT_NEAR(re.dot(q1 - q0), dU, 1e-12 * (1 + std::abs(dU)));
+    }
+    span_residual_em(T, C, st, q1, r_span, xi);
+    EXPECT_LT((r_span - re).norm(), 1e-13 * re.norm()) << "xi " << xi;
+    for (int i = 0; i < kNqEl; ++i) {
+      VecEl qp = q1, qm = q1;
+      qp(i) += h;
+      qm(i) -= h;
+      VecEl rp = VecEl::Zero(), rm = VecEl::Zero();
+      span_residual_tangent_em(T, C, pts.data(), eps0.data(), n, P, q0, qp, rp, nullptr, xi);
+      span_residual_tangent_em(T, C, pts.data(), eps0.data(), n, P, q0, qm, rm, nullptr, xi);
+      const VecEl col = (rp - rm) / (2 * h);
+      EXPECT_LT((Ke.col(i) - col).norm(), 1e-6 * (1 + col.norm())) << "tangent column " << i << ", xi " << xi;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(MeasuresRulesProjections, SpanFD,
+                         ::testing::Combine(::testing::Values(StrainMeasure::SimoReissner, StrainMeasure::Seed),
+                                            ::testing::Values(Quadrature::AssumedStrain, Quadrature::Reduced),
+                                            ::testing::Values(-1, 0, 1)));
+
+// The projection is idempotent and self-adjoint in the quadrature's inner product; on 3-point
+// Gauss it reproduces the exact span mean of a cubic (what 2-point Gauss gives) and the exact
+// L2 projection onto linears.
+TEST(Kernels, StrainProjectionIsTheL2Projection) {
+  std::array<double, 3> x{}, w{};
+  const int n = gauss_rule(Quadrature::AssumedStrain, x, w);
+  ASSERT_EQ(n, 3);
+  const auto cubic = [](double t) { return 0.3 - 1.1 * t + 2.0 * t * t + 1.7 * t * t * t; };
+  for (int degree : {0, 1}) {
+    const StrainProjection P = span_projection(x.data(), w.data(), n, degree);
+    for (int l = 0; l < n; ++l)
+      for (int m = 0; m < n; ++m) {
+        double PP = 0.0;
+        for (int k = 0; k < n; ++k) PP += P.P[l][k] * P.P[k][m];
+        EXPECT_NEAR(PP, P.P[l][m], 1e-15);
+        EXPECT_NEAR(w[l] * P.P[l][m], w[m] * P.P[m][l], 1e-15);
+      }
+    // exact projection of the cubic on [0, 1]: its mean, and the slope <f, t - 1/2> / <t - 1/2, t - 1/2>
+    const double mean = 0.3 - 1.1 / 2 + 2.0 / 3 + 1.7 / 4;
+    const double ft = -1.1 / 12 + 2.0 / 12 + 1.7 * 0.075;  // int f (t - 1/2) dt
+    for (int l = 0; l < n; ++l) {
+      double v = 0.0;
+      for (int m = 0; m < n; ++m) v += P.P[l][m] * cubic(x[m]);
+      const double exact = mean + (degree == 1 ? 12.0 * ft * (x[l] - 0.5) : 0.0);
+      EXPECT_NEAR(v, exact, 1e-14) << "degree " << degree << " point " << l;
+    }
+  }
+}
 
 TEST(Kernels, StraightReferenceHasNoStrainChangeUnderRigidMotion) {
   // Rigid rotation + translation of a straight span leaves every strain of both measures unchanged.
