@@ -71,6 +71,7 @@ MatZEl field_map(const GaussPoint& gp) {
     for (int i = 0; i < 3; ++i) {
       P.block<3, 3>(3 * (kD1 + i), c + 3 * (1 + i)) = gp.N[a] * I;
       P.block<3, 3>(3 * (kD1S + i), c + 3 * (1 + i)) = gp.dN[a] * I;
+      P.block<3, 3>(3 * (kD1SS + i), c + 3 * (1 + i)) = gp.ddN[a] * I;
     }
   }
   return P;
@@ -88,6 +89,7 @@ VecZ apply_P(const GaussPoint& gp, const VecEl& q) {
     for (int i = 1; i <= 3; ++i) {
       z.segment<3>(3 * i) += gp.N[a] * q.segment<3>(c + 3 * i);
       z.segment<3>(3 * (3 + i)) += gp.dN[a] * q.segment<3>(c + 3 * i);
+      z.segment<3>(3 * (6 + i)) += gp.ddN[a] * q.segment<3>(c + 3 * i);
     }
   }
   return z;
@@ -98,7 +100,8 @@ void add_Pt(const GaussPoint& gp, double w, const VecZ& g, VecEl& r) {
     const int c = kNq * a;
     r.segment<3>(c) += w * gp.dN[a] * g.segment<3>(3 * kPhiS);
     for (int i = 1; i <= 3; ++i)
-      r.segment<3>(c + 3 * i) += w * (gp.N[a] * g.segment<3>(3 * i) + gp.dN[a] * g.segment<3>(3 * (3 + i)));
+      r.segment<3>(c + 3 * i) += w * (gp.N[a] * g.segment<3>(3 * i) + gp.dN[a] * g.segment<3>(3 * (3 + i)) +
+                                       gp.ddN[a] * g.segment<3>(3 * (6 + i)));
   }
 }
 // K += w P^T Kz P
@@ -108,16 +111,18 @@ void add_Pt_K_P(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
     const int c = kNq * a;
     Y.middleCols<3>(c) = gp.dN[a] * Kz.middleCols<3>(3 * kPhiS);
     for (int i = 1; i <= 3; ++i)
-      Y.middleCols<3>(c + 3 * i) = gp.N[a] * Kz.middleCols<3>(3 * i) + gp.dN[a] * Kz.middleCols<3>(3 * (3 + i));
+      Y.middleCols<3>(c + 3 * i) = gp.N[a] * Kz.middleCols<3>(3 * i) + gp.dN[a] * Kz.middleCols<3>(3 * (3 + i)) +
+                                   gp.ddN[a] * Kz.middleCols<3>(3 * (6 + i));
   }
   for (int a = 0; a < 3; ++a) {
     const int c = kNq * a;
     K.middleRows<3>(c) += (w * gp.dN[a]) * Y.middleRows<3>(3 * kPhiS);
     for (int i = 1; i <= 3; ++i)
-      K.middleRows<3>(c + 3 * i) += (w * gp.N[a]) * Y.middleRows<3>(3 * i) + (w * gp.dN[a]) * Y.middleRows<3>(3 * (3 + i));
+      K.middleRows<3>(c + 3 * i) += (w * gp.N[a]) * Y.middleRows<3>(3 * i) + (w * gp.dN[a]) * Y.middleRows<3>(3 * (3 + i)) +
+                                    (w * gp.ddN[a]) * Y.middleRows<3>(3 * (6 + i));
   }
 }
-// g = sum_k sigma_k d eps_k / dz at z, term by term (the 6 x 21 gradient is mostly zeros).
+// g = sum_k sigma_k d eps_k / dz at z, term by term (the 6 x 30 gradient is mostly zeros).
 VecZ weighted_gradient(const StrainTable& T, const Vec6& sigma, const VecZ& z) {
   VecZ g = VecZ::Zero();
   for (int k = 0; k < 6; ++k) {
@@ -138,15 +143,17 @@ Vec6 strains(const StrainTable& T, const VecZ& z) {
   return e;
 }
 
-double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+double beam_gp_energy(const StrainTable& T0, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                       const VecEl& q) {
+  const StrainTable T = point_table(T0, gp);
   const VecZ z = apply_P(gp, q);
   const Vec6 de = strains(T, z) - eps0;
   return 0.5 * gp.w * de.dot(C.cwiseProduct(de));
 }
 
-void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                               const VecEl& q, VecEl& r, MatEl* K) {
+  const StrainTable T = point_table(T0, gp);
   const VecZ z = apply_P(gp, q);
   const Vec6 sigma = C.cwiseProduct(strains(T, z) - eps0);
   add_Pt(gp, gp.w, weighted_gradient(T, sigma, z), r);
@@ -159,8 +166,9 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
   }
 }
 
-void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi) {
+  const StrainTable T = point_table(T0, gp);
   const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
   // averaged strain, shifted by xi/2 (eps1 - eps0) towards the end of the step
   const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
@@ -220,10 +228,22 @@ void add_projected_gamma_tangent(const StrainProjection& P, const GaussPoint* gp
 }
 }  // namespace
 
+StrainTable point_table(const StrainTable& T, const GaussPoint& gp) {
+  if (!gp.corrected || &T != &kSimoReissner) return T;
+  StrainTable Tc = T;
+  // Gamma_i -= 1/2 (d_i . d_1 - delta_i1): the interpolated directors' stretch S = 1/2 (D^T D - I)
+  for (int i = 0; i < 3; ++i) Tc[i].terms[Tc[i].n_terms++] = {kD1 + i, kD1, -0.5};
+  // K_i += v (the same form in d', d''): the curvature lost to the shrinkage, v |K|^2 K
+  for (int i = 3; i < 6; ++i)
+    for (int t = 0; t < T[i].n_terms; ++t)
+      Tc[i].terms[Tc[i].n_terms++] = {T[i].terms[t].a + 3, T[i].terms[t].b + 3, gp.v * T[i].terms[t].c};
+  return Tc;
+}
+
 double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
                    const StrainProjection& P, const VecEl& q) {
   Vec6 de[kSpanLanes];
-  for (int g = 0; g < n; ++g) de[g] = strains(T, apply_P(gps[g], q)) - eps0[g];
+  for (int g = 0; g < n; ++g) de[g] = strains(point_table(T, gps[g]), apply_P(gps[g], q)) - eps0[g];
   project_gamma(P, n, de);
   double U = 0.0;
   for (int g = 0; g < n; ++g) U += 0.5 * gps[g].w * de[g].dot(C.cwiseProduct(de[g]));
@@ -236,16 +256,18 @@ void span_residual_tangent(const StrainTable& T, const Stiffness& C, const Gauss
     for (int g = 0; g < n; ++g) beam_gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K);
     return;
   }
+  StrainTable Tg[kSpanLanes];
+  for (int g = 0; g < n; ++g) Tg[g] = point_table(T, gps[g]);
   VecZ z[kSpanLanes];
   Vec6 sigma[kSpanLanes];
   for (int g = 0; g < n; ++g) {
     z[g] = apply_P(gps[g], q);
-    sigma[g] = strains(T, z[g]) - eps0[g];
+    sigma[g] = strains(Tg[g], z[g]) - eps0[g];
   }
   project_gamma(P, n, sigma);
   for (int g = 0; g < n; ++g) {
     sigma[g] = C.cwiseProduct(sigma[g]);
-    add_Pt(gps[g], gps[g].w, weighted_gradient(T, sigma[g], z[g]), r);
+    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg[g], sigma[g], z[g]), r);
   }
   if (!K) return;
   Stiffness Ck = C;  // the pointwise (torsion and bending) part
@@ -253,9 +275,9 @@ void span_residual_tangent(const StrainTable& T, const Stiffness& C, const Gauss
   Mat3El G[kSpanLanes];
   for (int g = 0; g < n; ++g) {
     Mat6Z B;
-    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z[g], B.row(k));
+    for (int k = 0; k < 6; ++k) form_gradient<kNz>(Tg[g][k], z[g], B.row(k));
     MatZ Kz = B.transpose() * Ck.asDiagonal() * B;
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], sigma[g](k), Kz);
+    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[g][k], sigma[g](k), Kz);
     add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
     G[g] = B.topRows<3>() * field_map(gps[g]);
   }
@@ -269,18 +291,20 @@ void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Ga
     for (int g = 0; g < n; ++g) beam_gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K, xi);
     return;
   }
+  StrainTable Tg[kSpanLanes];
+  for (int g = 0; g < n; ++g) Tg[g] = point_table(T, gps[g]);
   VecZ z1[kSpanLanes], zm[kSpanLanes];
   Vec6 sigma[kSpanLanes];
   for (int g = 0; g < n; ++g) {
     const VecZ z0 = apply_P(gps[g], q0);
     z1[g] = apply_P(gps[g], q1);
     zm[g] = 0.5 * (z0 + z1[g]);
-    sigma[g] = 0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1[g]) - eps0[g];
+    sigma[g] = 0.5 * (1.0 - xi) * strains(Tg[g], z0) + 0.5 * (1.0 + xi) * strains(Tg[g], z1[g]) - eps0[g];
   }
   project_gamma(P, n, sigma);
   for (int g = 0; g < n; ++g) {
     sigma[g] = C.cwiseProduct(sigma[g]);
-    add_Pt(gps[g], gps[g].w, weighted_gradient(T, sigma[g], zm[g]), r);
+    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg[g], sigma[g], zm[g]), r);
   }
   if (!K) return;
   Stiffness Ck = C;
@@ -289,11 +313,11 @@ void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Ga
   for (int g = 0; g < n; ++g) {
     Mat6Z Bm, B1;
     for (int k = 0; k < 6; ++k) {
-      form_gradient<kNz>(T[k], zm[g], Bm.row(k));
-      form_gradient<kNz>(T[k], z1[g], B1.row(k));
+      form_gradient<kNz>(Tg[g][k], zm[g], Bm.row(k));
+      form_gradient<kNz>(Tg[g][k], z1[g], B1.row(k));
     }
     MatZ Kz = 0.5 * (1.0 + xi) * (Bm.transpose() * Ck.asDiagonal() * B1);
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], 0.5 * sigma[g](k), Kz);
+    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[g][k], 0.5 * sigma[g](k), Kz);
     add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
     Gm[g] = Bm.topRows<3>() * field_map(gps[g]);
     G1[g] = B1.topRows<3>() * field_map(gps[g]);
@@ -367,6 +391,42 @@ struct SeedForms {
   }
 };
 
+// The director-interpolation correction of point_table, added to the Simo-Reissner strains and
+// their weighted gradient (written out like the forms above; v per point).
+struct DirectorCorrection {
+  template <class T>
+  static void strains(const T* z, const T& v, T* e) {
+    const T *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
+    const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
+    const T *f1 = z + 3 * kD1SS, *f2 = z + 3 * kD2SS, *f3 = z + 3 * kD3SS;
+    e[0] -= 0.5 * dot3(d1, d1);
+    e[1] -= 0.5 * dot3(d2, d1);
+    e[2] -= 0.5 * dot3(d3, d1);
+    e[3] += 0.5 * v * (dot3(e3, f2) - dot3(e2, f3));
+    e[4] += 0.5 * v * (dot3(e1, f3) - dot3(e3, f1));
+    e[5] += 0.5 * v * (dot3(e2, f1) - dot3(e1, f2));
+  }
+  template <class T>
+  static void gradient(const T* s, const T* z, const T& v, T* g) {
+    const T h3 = 0.5 * v * s[3], h4 = 0.5 * v * s[4], h5 = 0.5 * v * s[5];
+    const T g1 = 0.5 * s[1], g2 = 0.5 * s[2];
+    const T *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
+    const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
+    const T *f1 = z + 3 * kD1SS, *f2 = z + 3 * kD2SS, *f3 = z + 3 * kD3SS;
+    for (int c = 0; c < 3; ++c) {
+      g[3 * kD1 + c] -= s[0] * d1[c] + g1 * d2[c] + g2 * d3[c];
+      g[3 * kD2 + c] -= g1 * d1[c];
+      g[3 * kD3 + c] -= g2 * d1[c];
+      g[3 * kD1S + c] += h4 * f3[c] - h5 * f2[c];
+      g[3 * kD2S + c] += h5 * f1[c] - h3 * f3[c];
+      g[3 * kD3S + c] += h3 * f2[c] - h4 * f1[c];
+      g[3 * kD1SS + c] = h5 * e2[c] - h4 * e3[c];
+      g[3 * kD2SS + c] = h3 * e3[c] - h5 * e1[c];
+      g[3 * kD3SS + c] = h4 * e1[c] - h3 * e2[c];
+    }
+  }
+};
+
 // A span's quadrature points side by side in the lanes of one SIMD register (GCC vector
 // extension: AVX2 in the x86-64-v3 clone, SSE2 pairs otherwise).
 typedef double Lanes __attribute__((vector_size(sizeof(double) * kSpanLanes)));
@@ -383,21 +443,27 @@ inline double lane_sum(Lanes v) {
 }
 
 // (always inlined: it must be compiled into each clone of span_residual_em)
-template <class Forms>
+// Corrected: the Simo-Reissner forms with the director correction (z then includes d'').
+template <class Forms, bool Corrected>
 __attribute__((always_inline)) inline void span_residual(const Stiffness& C, const SpanEmState& st, const VecEl& q1, VecEl& r, double xi) {
-  Lanes N[3], dN[3], z1[kNz], zm[kNz], e1[6], sigma[6], g[kNz];
+  constexpr int nz = Corrected ? kNz : 3 * kD1SS;
+  Lanes N[3], dN[3], ddN[3], z1[kNz], zm[kNz], e1[6], sigma[6], g[kNz], v{};
   for (int a = 0; a < 3; ++a) {
     N[a] = load(st.N[a]);
     dN[a] = load(st.dN[a]);
+    if (Corrected) ddN[a] = load(st.ddN[a]);
   }
+  if (Corrected) v = load(st.v);
   const double* q = q1.data();
   for (int c = 0; c < 3; ++c) z1[c] = dN[0] * q[c] + dN[1] * q[kNq + c] + dN[2] * q[2 * kNq + c];
   for (int k = 3; k < kNq; ++k) {
     const double qa = q[k], qb = q[kNq + k], qc = q[2 * kNq + k];
     z1[k] = N[0] * qa + N[1] * qb + N[2] * qc;
     z1[9 + k] = dN[0] * qa + dN[1] * qb + dN[2] * qc;
+    if (Corrected) z1[18 + k] = ddN[0] * qa + ddN[1] * qb + ddN[2] * qc;
   }
   Forms::strains(z1, e1);
+  if (Corrected) DirectorCorrection::strains(z1, v, e1);
   const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
   for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * load(st.e0[k]) + a1 * e1[k] - load(st.eps0[k]));
   if (st.projected) {
@@ -408,14 +474,20 @@ __attribute__((always_inline)) inline void span_residual(const Stiffness& C, con
       sigma[k] = Pc[0] * v[0] + Pc[1] * v[1] + Pc[2] * v[2] + Pc[3] * v[3];
     }
   }
-  for (int k = 0; k < kNz; ++k) zm[k] = 0.5 * (load(st.z0[k]) + z1[k]);
+  for (int k = 0; k < nz; ++k) zm[k] = 0.5 * (load(st.z0[k]) + z1[k]);
   Forms::gradient(sigma, zm, g);
+  if (Corrected) DirectorCorrection::gradient(sigma, zm, v, g);
   const Lanes w = load(st.w);
   for (int a = 0; a < 3; ++a) {
     const Lanes wN = w * N[a], wdN = w * dN[a];
     double* ra = r.data() + kNq * a;
     for (int c = 0; c < 3; ++c) ra[c] += lane_sum(wdN * g[c]);
-    for (int k = 3; k < kNq; ++k) ra[k] += lane_sum(wN * g[k] + wdN * g[9 + k]);
+    if (Corrected) {
+      const Lanes wddN = w * ddN[a];
+      for (int k = 3; k < kNq; ++k) ra[k] += lane_sum(wN * g[k] + wdN * g[9 + k] + wddN * g[18 + k]);
+    } else {
+      for (int k = 3; k < kNq; ++k) ra[k] += lane_sum(wN * g[k] + wdN * g[9 + k]);
+    }
   }
 }
 }  // namespace
@@ -424,6 +496,7 @@ SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec
                           const StrainProjection& P, const VecEl& q0) {
   SpanEmState st{};
   st.projected = P.active;
+  st.corrected = &T == &kSimoReissner && n_gp > 0 && gps[0].corrected;
   if (P.active)
     for (int l = 0; l < n_gp; ++l)
       for (int m = 0; m < n_gp; ++m) st.Pcol[m][l] = P.P[l][m];
@@ -434,8 +507,10 @@ SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec
       st.dN[a][g] = gp.dN[a];
     }
     st.w[g] = gp.w;
+    for (int a = 0; a < 3; ++a) st.ddN[a][g] = gp.ddN[a];
+    st.v[g] = gp.v;
     const VecZ z = apply_P(gp, q0);
-    const Vec6 e = strains(T, z);
+    const Vec6 e = strains(point_table(T, gp), z);
     for (int k = 0; k < kNz; ++k) st.z0[k][g] = z(k);
     for (int k = 0; k < 6; ++k) {
       st.e0[k][g] = e(k);
@@ -449,11 +524,14 @@ SB_HOT_KERNEL
 void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmState& st, const VecEl& q1, VecEl& r,
                       double xi) {
   if (&T == &kSimoReissner) {
-    span_residual<SimoReissnerForms>(C, st, q1, r, xi);
+    if (st.corrected)
+      span_residual<SimoReissnerForms, true>(C, st, q1, r, xi);
+    else
+      span_residual<SimoReissnerForms, false>(C, st, q1, r, xi);
     return;
   }
   if (&T == &kSeed) {
-    span_residual<SeedForms>(C, st, q1, r, xi);
+    span_residual<SeedForms, false>(C, st, q1, r, xi);
     return;
   }
   // a table known only at run time: point by point
@@ -475,6 +553,9 @@ void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmStat
       gp.dN[a] = st.dN[a][g];
     }
     gp.w = st.w[g];
+    for (int a = 0; a < 3; ++a) gp.ddN[a] = st.ddN[a][g];
+    gp.v = st.v[g];
+    gp.corrected = st.corrected;
     for (int k = 0; k < kNz; ++k) z0(k) = st.z0[k][g];
     for (int k = 0; k < 6; ++k) {
       e0(k) = st.e0[k][g];
@@ -483,10 +564,11 @@ void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmStat
     z1 = apply_P(gp, q1);
     gps[g] = gp;
     zm[g] = 0.5 * (z0 + z1);
-    sig[g] = 0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * strains(T, z1) - ref;
+    sig[g] = 0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * strains(point_table(T, gp), z1) - ref;
   }
   project_gamma(P, n, sig);
-  for (int g = 0; g < n; ++g) add_Pt(gps[g], gps[g].w, weighted_gradient(T, C.cwiseProduct(sig[g]), zm[g]), r);
+  for (int g = 0; g < n; ++g)
+    add_Pt(gps[g], gps[g].w, weighted_gradient(point_table(T, gps[g]), C.cwiseProduct(sig[g]), zm[g]), r);
 }
 
 const std::array<QuadraticForm, 6>& orthonormality_forms() { return kOrthonormality; }

@@ -3,7 +3,7 @@
 /// @file Element kernels of the director beam (formulation.md sections 1-4).
 ///
 /// Every strain of both measures is a bilinear form c * z_a . z_b in the field vector at a
-/// quadrature point, z = (phi', d1, d2, d3, d1', d2', d3') in R^21. One table of such terms per
+/// quadrature point, z = (phi', d1, d2, d3, d1', d2', d3', d1'', d2'', d3'') in R^30. One table of such terms per
 /// measure therefore gives the strain, its gradient B = d eps/dz (linear in z) and its Hessian
 /// (constant), and so the energy, the internal force and the exact tangent. The same property
 /// makes the averaged-strain energy-momentum scheme exact.
@@ -21,8 +21,11 @@ enum class StrainMeasure { SimoReissner, Seed };
 enum class Quadrature { Full, Reduced, AssumedStrain };
 
 /// Blocks of the field vector z at a quadrature point.
-enum FieldBlock : int { kPhiS = 0, kD1 = 1, kD2 = 2, kD3 = 3, kD1S = 4, kD2S = 5, kD3S = 6 };
-constexpr int kNz = 21;       ///< size of z
+/// (The second derivatives enter only the director-interpolation correction of point_table.)
+enum FieldBlock : int {
+  kPhiS = 0, kD1 = 1, kD2 = 2, kD3 = 3, kD1S = 4, kD2S = 5, kD3S = 6, kD1SS = 7, kD2SS = 8, kD3SS = 9
+};
+constexpr int kNz = 30;       ///< size of z
 constexpr int kNq = 12;       ///< coordinates per control point: phi, d1, d2, d3
 constexpr int kNqEl = 3 * kNq;  ///< coordinates of a quadratic span (3 control points)
 
@@ -43,10 +46,10 @@ struct BilinearTerm {
   int b;
   double c;
 };
-/// One strain component: a sum of at most two bilinear terms.
+/// One strain component: a sum of at most four bilinear terms.
 struct QuadraticForm {
   int n_terms;
-  std::array<BilinearTerm, 2> terms;
+  std::array<BilinearTerm, 4> terms;
 };
 /// Six strains in the order (axial, shear 2, shear 3, torsion, bending about d2, bending about d3),
 /// matching the stiffness diag(EA, kGA2, kGA3, GJ, EI2, EI3).
@@ -90,12 +93,18 @@ void form_add_hessian(const QuadraticForm& f, double w, Eigen::Matrix<double, N,
   }
 }
 
-/// Basis data of one quadrature point of a span: N and dN/ds (already divided by the
-/// parameter-to-arc-length factor) and the integration weight in arc length.
+/// Basis data of one quadrature point of a span: N, dN/ds and d2N/ds2 (already divided by the
+/// parameter-to-arc-length factor) and the integration weight in arc length. corrected: the
+/// point's strains carry the director-interpolation correction of point_table, with
+/// v = sum_a N_a (g_a - s)^2 the second moment of the control points' Greville abscissae g_a
+/// about s (arc length squared).
 struct GaussPoint {
   std::array<double, 3> N;
   std::array<double, 3> dN;
   double w;
+  std::array<double, 3> ddN{};
+  double v = 0.0;
+  bool corrected = false;
 };
 
 constexpr int kSpanLanes = 4;  ///< at most this many quadrature points per span
@@ -121,7 +130,15 @@ void projection_weights(const double* x, const double* w, int n, int degree, dou
 /// Map z = P q from the 36 coordinates of a span's control points to the field vector.
 MatZEl field_map(const GaussPoint& gp);
 
-/// Strains at z.
+/// The strain table at a quadrature point. The measure's own table, except for corrected points of
+/// the Simo-Reissner measure, where it compensates to leading order the stretch of directors
+/// interpolated between orthonormal control points (theory.md, "director interpolation"):
+///   Gamma_i - 1/2 (d_i . d_1 - delta_i1)  and  K_i + v K_i(d', d''),
+/// K_i(d', d'') being the curvature form with d' in place of d and d'' in place of d'. Both are
+/// still quadratic forms in the coordinates and objective, so everything built on the tables
+/// (exact energy-momentum, frame indifference, the exact tangent) holds unchanged.
+StrainTable point_table(const StrainTable& T, const GaussPoint& gp);
+/// Strains at z (of the table given: pass point_table's for a point's strains).
 Vec6 strains(const StrainTable& T, const VecZ& z);
 
 /// Gauss-Legendre points and weights on [0,1] for a quadrature rule (3 = full, 2 = reduced).
@@ -162,7 +179,8 @@ void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Ga
 struct alignas(32) SpanEmState {
   double N[3][kSpanLanes], dN[3][kSpanLanes], w[kSpanLanes];
   double Pcol[kSpanLanes][kSpanLanes];  ///< column m of the strain projection (projected only)
-  bool projected;
+  double ddN[3][kSpanLanes], v[kSpanLanes];  ///< corrected points only (point_table)
+  bool projected, corrected;
   double z0[kNz][kSpanLanes];
   double e0[6][kSpanLanes];
   double eps0[6][kSpanLanes];

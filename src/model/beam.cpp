@@ -8,24 +8,34 @@
 namespace slidebeam {
 
 namespace {
-std::vector<kernels::GaussPoint> gauss_points(int n_spans, double L, kernels::Quadrature q) {
+/// Basis of span e at parameter xi as a quadrature point of weight w. corrected: with the data of
+/// the director-interpolation correction (kernels::point_table).
+kernels::GaussPoint basis_point(int n_spans, double L, int e, double xi, double w, bool corrected) {
+  const auto b = bspline::basis_on_span(n_spans, e, xi);
+  kernels::GaussPoint gp{};
+  for (int a = 0; a < 3; ++a) {
+    gp.N[a] = b.N[a];
+    gp.dN[a] = b.dN[a] / L;  // d/ds = (1/L) d/dxi
+    gp.ddN[a] = b.ddN[a] / (L * L);
+  }
+  gp.w = w;
+  gp.corrected = corrected;
+  if (corrected)
+    for (int a = 0; a < 3; ++a) {
+      const double d = (bspline::greville(n_spans, e + a) - xi) * L;
+      gp.v += b.N[a] * d * d;
+    }
+  return gp;
+}
+
+std::vector<kernels::GaussPoint> gauss_points(int n_spans, double L, kernels::Quadrature q, bool corrected) {
   std::array<double, 3> x{}, w{};
   const int ng = kernels::gauss_rule(q, x, w);
   std::vector<kernels::GaussPoint> gps;
   gps.reserve(static_cast<size_t>(n_spans * ng));
   const double h = 1.0 / n_spans;
   for (int e = 0; e < n_spans; ++e) {
-    for (int g = 0; g < ng; ++g) {
-      const double xi = (e + x[g]) * h;
-      const auto b = bspline::basis_on_span(n_spans, e, xi);
-      kernels::GaussPoint gp{};
-      for (int a = 0; a < 3; ++a) {
-        gp.N[a] = b.N[a];
-        gp.dN[a] = b.dN[a] / L;  // d/ds = (1/L) d/dxi
-      }
-      gp.w = w[g] * h * L;  // ds = L dxi
-      gps.push_back(gp);
-    }
+    for (int g = 0; g < ng; ++g) gps.push_back(basis_point(n_spans, L, e, (e + x[g]) * h, w[g] * h * L, corrected));
   }
   return gps;
 }
@@ -48,8 +58,8 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
   }
   const auto& s = spec.section;
   stiffness_ << s.EA, s.kGA2, s.kGA3, s.GJ, s.EI2, s.EI3;
-  gps_ = gauss_points(spec.n_spans, spec.length, spec.quadrature);
-  gps_full_ = gauss_points(spec.n_spans, spec.length, kernels::Quadrature::Full);
+  gps_ = gauss_points(spec.n_spans, spec.length, spec.quadrature, corrected());
+  gps_full_ = gauss_points(spec.n_spans, spec.length, kernels::Quadrature::Full, false);
   n_gp_ = static_cast<int>(gps_.size()) / spec.n_spans;
   proj_.assign(static_cast<size_t>(spec.n_spans), kernels::StrainProjection{});
   if (spec.quadrature == kernels::Quadrature::AssumedStrain) {
@@ -65,7 +75,8 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
   for (int e = 0; e < spec.n_spans; ++e) {
     const kernels::VecEl q = Eigen::Map<const kernels::VecEl>(spec.q_ref.data() + 12 * e);
     for (int g = 0; g < n_gp_; ++g)
-      eps0_[e * n_gp_ + g] = kernels::strains(strain_table(), kernels::field_map(gp(e, g)) * q);
+      eps0_[e * n_gp_ + g] =
+          kernels::strains(kernels::point_table(strain_table(), gp(e, g)), kernels::field_map(gp(e, g)) * q);
   }
 }
 
@@ -96,11 +107,11 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
   for (int i = 0; i < n; ++i) {
     const double s = length() * i / (n - 1);
     const PointBasis b = basis_at(s);
-    const kernels::GaussPoint gp{b.N, b.dN, 0.0};
+    const kernels::GaussPoint gp = basis_point(n_spans(), length(), b.span, s / length(), 0.0, corrected());
+    const kernels::StrainTable T = kernels::point_table(strain_table(), gp);
     const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * b.span);
     const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * b.span);
-    kernels::Vec6 eps = kernels::strains(strain_table(), kernels::field_map(gp) * qe) -
-                        kernels::strains(strain_table(), kernels::field_map(gp) * q0);
+    kernels::Vec6 eps = kernels::strains(T, kernels::field_map(gp) * qe) - kernels::strains(T, kernels::field_map(gp) * q0);
     if (projection(b.span).active) {
       // the element's own membrane and shear strains: the span's projection evaluated at s
       std::array<double, 3> x{}, w{};
@@ -110,7 +121,8 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
                                   pw);
       eps.head<3>().setZero();
       for (int g = 0; g < ng; ++g)
-        eps.head<3>() += pw[g] * (kernels::strains(strain_table(), kernels::field_map(this->gp(b.span, g)) * qe) -
+        eps.head<3>() += pw[g] * (kernels::strains(kernels::point_table(strain_table(), this->gp(b.span, g)),
+                                                   kernels::field_map(this->gp(b.span, g)) * qe) -
                                   eps0(b.span, g)).head<3>();
     }
     const kernels::Vec6 sigma = stiffness_.cwiseProduct(eps);

@@ -116,6 +116,11 @@ class Beam {
   /// The strain projection of span e (active for the assumed-strain quadrature: the membrane and
   /// shear strains projected onto constants per span, onto linears in the first span).
   const kernels::StrainProjection& projection(int e) const { return proj_[static_cast<size_t>(e)]; }
+  /// Whether the stiffness points carry the director-interpolation correction: the
+  /// assumed-strain quadrature with the Simo-Reissner measure.
+  bool corrected() const {
+    return spec_.quadrature == kernels::Quadrature::AssumedStrain && spec_.strain == kernels::StrainMeasure::SimoReissner;
+  }
   /// Degree of span e's projection: 1 in the first span, 0 in the others.
   static int projection_degree(int e) { return e == 0 ? 1 : 0; }
   /// Full (3-point) quadrature of span e, used for mass and distributed loads whatever the

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Finite-difference checks of the element kernels: residual = dU/dq, tangent = dr/dq,
-// for both strain measures and both quadratures, on a deformed, non-orthonormal state.
+// for both strain measures and every quadrature, on a deformed, non-orthonormal state.
 #include "kernels/beam_kernels.hpp"
 #include "model/beam.hpp"
 
@@ -33,7 +33,9 @@ VecEl deformed_state(unsigned seed) {
   return q;
 }
 
-// Quadrature points (with weights) of the second of four uniform spans, 2.5 long in arc length.
+// Quadrature points (with weights) of the second of four uniform spans, 2.5 long in arc length;
+// the assumed-strain rule's points carry the director-interpolation correction (with a v larger
+// than a real one, so that its terms weigh in the checks).
 std::vector<GaussPoint> span_points(Quadrature quad) {
   std::array<double, 3> x{}, w{};
   const int ng = gauss_rule(quad, x, w);
@@ -45,8 +47,11 @@ std::vector<GaussPoint> span_points(Quadrature quad) {
     for (int a = 0; a < 3; ++a) {
       gp.N[a] = b.N[a];
       gp.dN[a] = b.dN[a] / L;
+      gp.ddN[a] = b.ddN[a] / (L * L);
     }
     gp.w = w[g] * L / 4.0;
+    gp.corrected = quad == Quadrature::AssumedStrain;
+    gp.v = gp.corrected ? 0.3 + 0.1 * g : 0.0;
     pts.push_back(gp);
   }
   return pts;
@@ -206,7 +211,8 @@ TEST_P(KernelFD, SpanResidualOfTimeStepsIsTheSumOverPoints) {
 
 INSTANTIATE_TEST_SUITE_P(MeasuresAndRules, KernelFD,
                          ::testing::Combine(::testing::Values(StrainMeasure::SimoReissner, StrainMeasure::Seed),
-                                            ::testing::Values(Quadrature::Full, Quadrature::Reduced)));
+                                            ::testing::Values(Quadrature::Full, Quadrature::Reduced,
+                                                              Quadrature::AssumedStrain)));
 
 // Whole spans with the assumed-strain projection (degree 0: interior spans, 1: the first span;
 // -1: none): residual = FD gradient of the span energy, tangent = FD derivative of the residual
