@@ -104,23 +104,45 @@ void add_Pt(const GaussPoint& gp, double w, const VecZ& g, VecEl& r) {
                                        gp.ddN[a] * g.segment<3>(3 * (6 + i)));
   }
 }
-// K += w P^T Kz P
+// The entries of z a point's strains use: without the director correction, not d''.
+constexpr int kNzPlain = 3 * kD1SS;
+// K += w P^T Kz P, with Kz's first NZ rows and columns (the rest is zero)
+template <int NZ>
+void add_Pt_K_P_n(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
+  Eigen::Matrix<double, NZ, kNqEl> Y;  // Kz P
+  const auto Kn = Kz.topLeftCorner<NZ, NZ>();
+  for (int a = 0; a < 3; ++a) {
+    const int c = kNq * a;
+    Y.template middleCols<3>(c) = gp.dN[a] * Kn.template middleCols<3>(3 * kPhiS);
+    for (int i = 1; i <= 3; ++i) {
+      Y.template middleCols<3>(c + 3 * i) = gp.N[a] * Kn.template middleCols<3>(3 * i) + gp.dN[a] * Kn.template middleCols<3>(3 * (3 + i));
+      if constexpr (NZ > kNzPlain) Y.template middleCols<3>(c + 3 * i) += gp.ddN[a] * Kn.template middleCols<3>(3 * (6 + i));
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    const int c = kNq * a;
+    K.middleRows<3>(c) += (w * gp.dN[a]) * Y.template middleRows<3>(3 * kPhiS);
+    for (int i = 1; i <= 3; ++i) {
+      K.middleRows<3>(c + 3 * i) += (w * gp.N[a]) * Y.template middleRows<3>(3 * i) + (w * gp.dN[a]) * Y.template middleRows<3>(3 * (3 + i));
+      if constexpr (NZ > kNzPlain) K.middleRows<3>(c + 3 * i) += (w * gp.ddN[a]) * Y.template middleRows<3>(3 * (6 + i));
+    }
+  }
+}
 void add_Pt_K_P(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
-  Eigen::Matrix<double, kNz, kNqEl> Y;  // Kz P
-  for (int a = 0; a < 3; ++a) {
-    const int c = kNq * a;
-    Y.middleCols<3>(c) = gp.dN[a] * Kz.middleCols<3>(3 * kPhiS);
-    for (int i = 1; i <= 3; ++i)
-      Y.middleCols<3>(c + 3 * i) = gp.N[a] * Kz.middleCols<3>(3 * i) + gp.dN[a] * Kz.middleCols<3>(3 * (3 + i)) +
-                                   gp.ddN[a] * Kz.middleCols<3>(3 * (6 + i));
-  }
-  for (int a = 0; a < 3; ++a) {
-    const int c = kNq * a;
-    K.middleRows<3>(c) += (w * gp.dN[a]) * Y.middleRows<3>(3 * kPhiS);
-    for (int i = 1; i <= 3; ++i)
-      K.middleRows<3>(c + 3 * i) += (w * gp.N[a]) * Y.middleRows<3>(3 * i) + (w * gp.dN[a]) * Y.middleRows<3>(3 * (3 + i)) +
-                                    (w * gp.ddN[a]) * Y.middleRows<3>(3 * (6 + i));
-  }
+  if (gp.corrected)
+    add_Pt_K_P_n<kNz>(gp, w, Kz, K);
+  else
+    add_Pt_K_P_n<kNzPlain>(gp, w, Kz, K);
+}
+// s Ba^T diag(C) Bb over the entries of z the point uses
+MatZ weighted_product(const GaussPoint& gp, const Mat6Z& Ba, const Stiffness& C, const Mat6Z& Bb, double s) {
+  MatZ Kz = MatZ::Zero();
+  if (gp.corrected)
+    Kz.noalias() = s * (Ba.transpose() * C.asDiagonal() * Bb);
+  else
+    Kz.topLeftCorner<kNzPlain, kNzPlain>().noalias() =
+        s * (Ba.leftCols<kNzPlain>().transpose() * C.asDiagonal() * Bb.leftCols<kNzPlain>());
+  return Kz;
 }
 // g = sum_k sigma_k d eps_k / dz at z, term by term (the 6 x 30 gradient is mostly zeros).
 VecZ weighted_gradient(const StrainTable& T, const Vec6& sigma, const VecZ& z) {
@@ -160,7 +182,7 @@ void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C, const V
   if (K) {
     Mat6Z B;
     for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z, B.row(k));
-    MatZ Kz = B.transpose() * C.asDiagonal() * B;
+    MatZ Kz = weighted_product(gp, B, C, B, 1.0);
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], sigma(k), Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
   }
@@ -178,7 +200,7 @@ void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C, cons
     for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], zm, Bm.row(k));
     Mat6Z B1;
     for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z1, B1.row(k));
-    MatZ Kz = 0.5 * (1.0 + xi) * (Bm.transpose() * C.asDiagonal() * B1);
+    MatZ Kz = weighted_product(gp, Bm, C, B1, 0.5 * (1.0 + xi));
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], 0.5 * sigma(k), Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
   }
@@ -276,7 +298,7 @@ void span_residual_tangent(const StrainTable& T, const Stiffness& C, const Gauss
   for (int g = 0; g < n; ++g) {
     Mat6Z B;
     for (int k = 0; k < 6; ++k) form_gradient<kNz>(Tg[g][k], z[g], B.row(k));
-    MatZ Kz = B.transpose() * Ck.asDiagonal() * B;
+    MatZ Kz = weighted_product(gps[g], B, Ck, B, 1.0);
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[g][k], sigma[g](k), Kz);
     add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
     G[g] = B.topRows<3>() * field_map(gps[g]);
@@ -316,7 +338,7 @@ void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Ga
       form_gradient<kNz>(Tg[g][k], zm[g], Bm.row(k));
       form_gradient<kNz>(Tg[g][k], z1[g], B1.row(k));
     }
-    MatZ Kz = 0.5 * (1.0 + xi) * (Bm.transpose() * Ck.asDiagonal() * B1);
+    MatZ Kz = weighted_product(gps[g], Bm, Ck, B1, 0.5 * (1.0 + xi));
     for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[g][k], 0.5 * sigma[g](k), Kz);
     add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
     Gm[g] = Bm.topRows<3>() * field_map(gps[g]);
