@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+
 namespace slidebeam::effects {
 
 using kernels::MatEl;
@@ -23,36 +25,84 @@ class SpanEffect : public ElementEffect<3, kernels::kNqEl> {
   Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
 };
 
-/// Strain energy of one beam (formulation.md section 3), integrated span by span.
+/// Strain energy of one beam (formulation.md section 3), integrated span by span. With the
+/// assumed-strain quadrature the membrane and shear strains enter through their values at the
+/// knots (kernels::GammaMoments): a knot's value takes the moments of the spans on both sides,
+/// the spans' Gamma stresses are the knots' interpolated, and the material part of the tangent
+/// couples a knot's two spans (four control points).
 class BeamElastic final : public SpanEffect {
+  using Vec3 = Eigen::Vector3d;
+
  public:
   BeamElastic(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_elastic") {}
   std::string type() const override { return "beam_elastic"; }
 
+  void distribute(const Model& m) override {
+    SpanEffect::distribute(m);
+    const Beam& b = m.beam(beam_);
+    if (!b.gamma_at_knots()) return;
+    const int n = b.n_spans();
+    std::vector<char> need(static_cast<size_t>(n), 0);
+    for (int e : elements_) {
+      for (int f = std::max(e - 1, 0); f <= std::min(e + 1, n - 1); ++f) need[static_cast<size_t>(f)] = 1;
+      knots_.push_back(e);  // knot i is assembled by the owner of span min(i, n - 1)
+      if (e == n - 1) knots_.push_back(n);
+    }
+    for (int f = 0; f < n; ++f)
+      if (need[static_cast<size_t>(f)]) moment_spans_.push_back(f);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    SpanEffect::needed_dofs(m, dofs);
+    const Beam& b = m.beam(beam_);
+    for (int f : moment_spans_) add_cp_blocks(m.dof_map(), b.first_cp() + f, 3, dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    PetscCall(SpanEffect::pattern(m, sink));
+    const Beam& b = m.beam(beam_);
+    for (int i : knots_) {
+      const std::vector<PetscInt> d = knot_dofs(m.dof_map(), b, i);
+      const std::vector<double> zero(d.size() * d.size(), 0.0);
+      PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
     const Beam& b = ctx.model.beam(beam_);
+    const bool knots = b.gamma_at_knots();
     if (ctx.rule == StepRule::EnergyMomentum) {
-      // z(q_n) and eps(q_n) are constant during the step: computed at its first residual
+      // z(q_n), eps(q_n) and the knots' strains at q_n are constant during the step: computed at its first residual
       if (start_key_ != ctx.step_start || !has_start_) {
         start_.resize(elements_.size());
         for (size_t k = 0; k < elements_.size(); ++k) {
           const int e = elements_[k];
           start_[k] = kernels::span_em_state(b.strain_table(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
-                                             b.projection(e), gather_span(ctx.x_old, ctx.map, b, e));
+                                             gather_span(ctx.x_old, ctx.map, b, e));
         }
+        if (knots) knot_strains(ctx, ctx.x_old, b, knot_start_);
         start_key_ = ctx.step_start;
         has_start_ = true;
+      }
+      if (knots) {
+        knot_strains(ctx, ctx.x, b, knot_now_);
+        const double a0 = 0.5 * (1.0 - ctx.dissipation), a1 = 0.5 * (1.0 + ctx.dissipation);
+        for (int i : needed_knots()) knot_sigma_[static_cast<size_t>(i)] = b.stiffness().head<3>().cwiseProduct(
+            a0 * knot_start_[static_cast<size_t>(i)] + a1 * knot_now_[static_cast<size_t>(i)]);
       }
       for (size_t k = 0; k < elements_.size(); ++k) {
         const int e = elements_[k];
         VecEl re = VecEl::Zero();
+        double lanes[3][kernels::kSpanLanes] = {};
+        if (knots) gamma_sigma_lanes(b, e, lanes);
         kernels::span_residual_em(b.strain_table(), b.stiffness(), start_[k], gather_span(ctx.x, ctx.map, b, e), re,
-                                  ctx.dissipation);
+                                  ctx.dissipation, knots ? lanes : nullptr);
         scatter_span(ctx.map, r, b, e, re);
       }
       PetscFunctionReturn(0);
     }
+    if (knots) force_state_knot_sigma(ctx, b);
     for (int e : elements_) {
       VecEl re = VecEl::Zero();
       element(ctx, b, e, re, nullptr);
@@ -63,6 +113,18 @@ class BeamElastic final : public SpanEffect {
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     const Beam& b = ctx.model.beam(beam_);
+    const bool knots = b.gamma_at_knots();
+    if (knots) {
+      if (ctx.rule == StepRule::EnergyMomentum) {
+        knot_strains(ctx, ctx.x_old, b, knot_start_);
+        knot_strains(ctx, ctx.x, b, knot_now_);
+        const double a0 = 0.5 * (1.0 - ctx.dissipation), a1 = 0.5 * (1.0 + ctx.dissipation);
+        for (int i : needed_knots()) knot_sigma_[static_cast<size_t>(i)] = b.stiffness().head<3>().cwiseProduct(
+            a0 * knot_start_[static_cast<size_t>(i)] + a1 * knot_now_[static_cast<size_t>(i)]);
+      } else {
+        force_state_knot_sigma(ctx, b);
+      }
+    }
     for (int e : elements_) {
       VecEl re = VecEl::Zero();
       MatEl K = MatEl::Zero();
@@ -71,31 +133,133 @@ class BeamElastic final : public SpanEffect {
       const auto d = span_q_dofs(ctx.map, b, e);
       PetscCall(J.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), Kr.data()));
     }
+    if (knots)
+      for (int i : knots_) PetscCall(knot_tangent(ctx, b, i, J));
     PetscFunctionReturn(0);
   }
   double energy(const EvalContext& ctx) const override {
     const Beam& b = ctx.model.beam(beam_);
     double U = 0.0;
-    for (int e : elements_) {
+    for (int e : elements_)
       U += kernels::span_energy(b.strain_table(), b.stiffness(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
-                                b.projection(e), gather_span(ctx.x, ctx.map, b, e));
+                                b.gamma_at_knots(), gather_span(ctx.x, ctx.map, b, e));
+    if (b.gamma_at_knots()) {
+      knot_strains(ctx, ctx.x, b, knot_now_);
+      for (int i : knots_) {
+        const Vec3& v = knot_now_[static_cast<size_t>(i)];
+        U += 0.5 * b.knot_mass(i) * v.dot(b.stiffness().head<3>().cwiseProduct(v));
+      }
     }
     return U;
   }
 
  private:
-  /// Internal force (and tangent d/dx) of span e under the context's step rule.
+  /// Internal force (and tangent d/dx) of span e under the context's step rule; with knots, the
+  /// Gamma stresses of knot_sigma_.
   void element(const EvalContext& ctx, const Beam& b, int e, VecEl& re, MatEl* K) const {
+    Vec3 gs[kernels::kSpanLanes];
+    const bool knots = b.gamma_at_knots();
+    if (knots)
+      for (int g = 0; g < b.n_gp(); ++g) {
+        const double t = b.gp(e, g).t;
+        gs[g] = (1.0 - t) * knot_sigma_[static_cast<size_t>(e)] + t * knot_sigma_[static_cast<size_t>(e + 1)];
+      }
     if (ctx.rule == StepRule::EnergyMomentum) {
       const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, e), q1 = gather_span(ctx.x, ctx.map, b, e);
       kernels::span_residual_tangent_em(b.strain_table(), b.stiffness(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
-                                        b.projection(e), q0, q1, re, K, ctx.dissipation);
+                                        knots ? gs : nullptr, q0, q1, re, K, ctx.dissipation);
       return;
     }
     kernels::span_residual_tangent(b.strain_table(), b.stiffness(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
-                                   b.projection(e), gather_span(ctx.xf, ctx.map, b, e), re, K);
+                                   knots ? gs : nullptr, gather_span(ctx.xf, ctx.map, b, e), re, K);
     if (K && ctx.theta != 1.0) *K *= ctx.theta;
   }
+  /// Knots next to the owned spans (whose strains the spans' forces use).
+  std::vector<int> needed_knots() const {
+    std::vector<int> k;
+    for (int e : elements_) {
+      if (k.empty() || k.back() != e) k.push_back(e);
+      k.push_back(e + 1);
+    }
+    return k;
+  }
+  /// The knots' strains b_i in the state x (entries of the knots next to owned spans).
+  void knot_strains(const EvalContext& ctx, const LocalValues& x, const Beam& b, std::vector<Vec3>& out) const {
+    out.assign(static_cast<size_t>(b.n_spans() + 1), Vec3::Zero());
+    for (int f : moment_spans_) {
+      const auto m = kernels::span_gamma_moments(b.strain_table(), &b.gp(f, 0), &b.eps0(f, 0), b.n_gp(),
+                                                 gather_span(x, ctx.map, b, f));
+      out[static_cast<size_t>(f)] += m.left;
+      out[static_cast<size_t>(f + 1)] += m.right;
+    }
+    for (int i = 0; i <= b.n_spans(); ++i) out[static_cast<size_t>(i)] /= b.knot_mass(i);
+  }
+  /// knot_sigma_ = C_Gamma b at the force state (statics and the non-conserving integrators).
+  void force_state_knot_sigma(const EvalContext& ctx, const Beam& b) const {
+    knot_strains(ctx, ctx.xf, b, knot_now_);
+    knot_sigma_.assign(knot_now_.size(), Vec3::Zero());
+    for (size_t i = 0; i < knot_now_.size(); ++i) knot_sigma_[i] = b.stiffness().head<3>().cwiseProduct(knot_now_[i]);
+  }
+  /// Span e's Gamma stresses at its points, lane by lane.
+  void gamma_sigma_lanes(const Beam& b, int e, double (&lanes)[3][kernels::kSpanLanes]) const {
+    for (int g = 0; g < b.n_gp(); ++g) {
+      const double t = b.gp(e, g).t;
+      const Vec3 v = (1.0 - t) * knot_sigma_[static_cast<size_t>(e)] + t * knot_sigma_[static_cast<size_t>(e + 1)];
+      for (int k = 0; k < 3; ++k) lanes[k][g] = v(k);
+    }
+  }
+  /// The spans on both sides of knot i, and the first control point of their union.
+  static void knot_spans(const Beam& b, int i, int& left, int& right) {
+    left = i >= 1 ? i - 1 : -1;
+    right = i < b.n_spans() ? i : -1;
+  }
+  static std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) {
+    int left, right;
+    knot_spans(b, i, left, right);
+    const int cp0 = left >= 0 ? left : right, cp1 = (right >= 0 ? right : left) + 2;
+    std::vector<PetscInt> d;
+    for (int cp = cp0; cp <= cp1; ++cp)
+      for (int k = 0; k < kernels::kNq; ++k) d.push_back(map.q(b.first_cp() + cp, k));
+    return d;
+  }
+  /// The material tangent of knot i's Gamma energy, s / m_i Gbar_a^T C Gbar_b, with Gbar the
+  /// gradient of the knot's moment: at the force state (statics), or the midpoint and the end of
+  /// the step (energy-momentum, s = (1 + xi) / 2).
+  PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {
+    PetscFunctionBeginUser;
+    int left, right;
+    knot_spans(b, i, left, right);
+    const int cp0 = left >= 0 ? left : right;
+    const int n = 12 * ((right >= 0 ? right : left) + 3 - cp0);
+    Eigen::MatrixXd Ga = Eigen::MatrixXd::Zero(3, n), Gb = Eigen::MatrixXd::Zero(3, n);
+    const bool em = ctx.rule == StepRule::EnergyMomentum;
+    double s = em ? 0.5 * (1.0 + ctx.dissipation) : ctx.theta;
+    for (const int f : {left, right}) {
+      if (f < 0) continue;
+      const int col = 12 * (f - cp0);
+      const bool toward_right = f == left;  // the left span's moment toward its right knot
+      const auto& T = b.strain_table();
+      if (em) {
+        const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, f), q1 = gather_span(ctx.x, ctx.map, b, f);
+        Ga.middleCols(col, kernels::kNqEl) += kernels::span_gamma_moment_gradient(T, &b.gp(f, 0), b.n_gp(), 0.5 * (q0 + q1), toward_right);
+        Gb.middleCols(col, kernels::kNqEl) += kernels::span_gamma_moment_gradient(T, &b.gp(f, 0), b.n_gp(), q1, toward_right);
+      } else {
+        const auto G = kernels::span_gamma_moment_gradient(T, &b.gp(f, 0), b.n_gp(), gather_span(ctx.xf, ctx.map, b, f), toward_right);
+        Ga.middleCols(col, kernels::kNqEl) += G;
+        Gb.middleCols(col, kernels::kNqEl) += G;
+      }
+    }
+    s /= b.knot_mass(i);
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const RowMajor K = s * (Ga.transpose() * b.stiffness().head<3>().asDiagonal() * Gb);
+    const std::vector<PetscInt> d = knot_dofs(ctx.map, b, i);
+    PetscCall(J.add(n, d.data(), n, d.data(), K.data()));
+    PetscFunctionReturn(0);
+  }
+
+  // assumed strains: the spans whose moments the owned spans' knots need, and the knots this rank assembles
+  std::vector<int> moment_spans_, knots_;
+  mutable std::vector<Vec3> knot_start_, knot_now_, knot_sigma_;
   // energy-momentum: the state of every owned span at the step start
   mutable std::vector<kernels::SpanEmState> start_;
   mutable unsigned long start_key_ = 0;

@@ -206,47 +206,12 @@ void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C, cons
   }
 }
 
-void projection_weights(const double* x, const double* w, int n, int degree, double t, double* out) {
-  // phi(t)^T G^-1 phi(x_m) w_m with phi = (1, x - xbar): G = sum_m w_m phi phi^T is diagonal
-  double W = 0.0, xbar = 0.0, S = 0.0;
-  for (int m = 0; m < n; ++m) {
-    W += w[m];
-    xbar += w[m] * x[m];
-  }
-  xbar /= W;
-  for (int m = 0; m < n; ++m) S += w[m] * (x[m] - xbar) * (x[m] - xbar);
-  for (int m = 0; m < n; ++m) out[m] = w[m] / W + (degree >= 1 ? w[m] * (t - xbar) * (x[m] - xbar) / S : 0.0);
-}
-
-StrainProjection span_projection(const double* x, const double* w, int n, int degree) {
-  StrainProjection p;
-  p.active = true;
-  for (int l = 0; l < n; ++l) projection_weights(x, w, n, degree, x[l], p.P[l]);
-  return p;
-}
-
 namespace {
-// Differences of the span's points' strains from their references, with Gamma projected.
-void project_gamma(const StrainProjection& P, int n, Vec6* e) {
-  if (!P.active) return;
-  Eigen::Vector3d out[kSpanLanes];
-  for (int l = 0; l < n; ++l) {
-    out[l].setZero();
-    for (int m = 0; m < n; ++m) out[l] += P.P[l][m] * e[m].head<3>();
-  }
-  for (int l = 0; l < n; ++l) e[l].head<3>() = out[l];
-}
-using Mat3El = Eigen::Matrix<double, 3, kNqEl>;
-// K += s sum_l w_l Ga_l^T C_Gamma (sum_m P[l][m] Gb_m): the Gamma part of the tangent of a
-// projected span, with Ga the strain gradients of the force and Gb those of the differentiated state.
-void add_projected_gamma_tangent(const StrainProjection& P, const GaussPoint* gps, int n, const Stiffness& C,
-                                 const Mat3El* Ga, const Mat3El* Gb, double s, MatEl& K) {
-  const Eigen::Vector3d Cg = C.head<3>();
-  for (int l = 0; l < n; ++l) {
-    Mat3El Gbar = Mat3El::Zero();
-    for (int m = 0; m < n; ++m) Gbar += P.P[l][m] * Gb[m];
-    K.noalias() += (s * gps[l].w) * Ga[l].transpose() * (Cg.asDiagonal() * Gbar);
-  }
+// The Gamma rows of d eps / dq at a point (3 x 36), from its z.
+Mat3El gamma_gradient(const StrainTable& T, const GaussPoint& gp, const VecZ& z) {
+  Eigen::Matrix<double, 3, kNz> B;
+  for (int k = 0; k < 3; ++k) form_gradient<kNz>(T[k], z, B.row(k));
+  return B * field_map(gp);
 }
 }  // namespace
 
@@ -262,89 +227,82 @@ StrainTable point_table(const StrainTable& T, const GaussPoint& gp) {
   return Tc;
 }
 
+GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n,
+                                const VecEl& q) {
+  GammaMoments m;
+  for (int g = 0; g < n; ++g) {
+    const Eigen::Vector3d d = (strains(point_table(T, gps[g]), apply_P(gps[g], q)) - eps0[g]).head<3>();
+    m.left += gps[g].w * (1.0 - gps[g].t) * d;
+    m.right += gps[g].w * gps[g].t * d;
+  }
+  return m;
+}
+
+Mat3El span_gamma_moment_gradient(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, bool right) {
+  Mat3El G = Mat3El::Zero();
+  for (int g = 0; g < n; ++g)
+    G += gps[g].w * (right ? gps[g].t : 1.0 - gps[g].t) *
+         gamma_gradient(point_table(T, gps[g]), gps[g], apply_P(gps[g], q));
+  return G;
+}
+
 double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
-                   const StrainProjection& P, const VecEl& q) {
-  Vec6 de[kSpanLanes];
-  for (int g = 0; g < n; ++g) de[g] = strains(point_table(T, gps[g]), apply_P(gps[g], q)) - eps0[g];
-  project_gamma(P, n, de);
+                   bool gamma_from_knots, const VecEl& q) {
+  Stiffness Ck = C;
+  if (gamma_from_knots) Ck.head<3>().setZero();
   double U = 0.0;
-  for (int g = 0; g < n; ++g) U += 0.5 * gps[g].w * de[g].dot(C.cwiseProduct(de[g]));
+  for (int g = 0; g < n; ++g) U += beam_gp_energy(T, Ck, eps0[g], gps[g], q);
   return U;
 }
 
 void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
-                           const StrainProjection& P, const VecEl& q, VecEl& r, MatEl* K) {
-  if (!P.active) {
+                           const Eigen::Vector3d* gamma_sigma, const VecEl& q, VecEl& r, MatEl* K) {
+  if (!gamma_sigma) {
     for (int g = 0; g < n; ++g) beam_gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K);
     return;
   }
-  StrainTable Tg[kSpanLanes];
-  for (int g = 0; g < n; ++g) Tg[g] = point_table(T, gps[g]);
-  VecZ z[kSpanLanes];
-  Vec6 sigma[kSpanLanes];
-  for (int g = 0; g < n; ++g) {
-    z[g] = apply_P(gps[g], q);
-    sigma[g] = strains(Tg[g], z[g]) - eps0[g];
-  }
-  project_gamma(P, n, sigma);
-  for (int g = 0; g < n; ++g) {
-    sigma[g] = C.cwiseProduct(sigma[g]);
-    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg[g], sigma[g], z[g]), r);
-  }
-  if (!K) return;
   Stiffness Ck = C;  // the pointwise (torsion and bending) part
   Ck.head<3>().setZero();
-  Mat3El G[kSpanLanes];
   for (int g = 0; g < n; ++g) {
+    const StrainTable Tg = point_table(T, gps[g]);
+    const VecZ z = apply_P(gps[g], q);
+    Vec6 sigma = Ck.cwiseProduct(strains(Tg, z) - eps0[g]);
+    sigma.head<3>() = gamma_sigma[g];
+    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg, sigma, z), r);
+    if (!K) continue;
     Mat6Z B;
-    for (int k = 0; k < 6; ++k) form_gradient<kNz>(Tg[g][k], z[g], B.row(k));
+    for (int k = 0; k < 6; ++k) form_gradient<kNz>(Tg[k], z, B.row(k));
     MatZ Kz = weighted_product(gps[g], B, Ck, B, 1.0);
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[g][k], sigma[g](k), Kz);
+    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[k], sigma(k), Kz);
     add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
-    G[g] = B.topRows<3>() * field_map(gps[g]);
   }
-  add_projected_gamma_tangent(P, gps, n, C, G, G, 1.0, *K);
 }
 
 void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0,
-                              int n, const StrainProjection& P, const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K,
-                              double xi) {
-  if (!P.active) {
+                              int n, const Eigen::Vector3d* gamma_sigma, const VecEl& q0, const VecEl& q1, VecEl& r,
+                              MatEl* K, double xi) {
+  if (!gamma_sigma) {
     for (int g = 0; g < n; ++g) beam_gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K, xi);
     return;
   }
-  StrainTable Tg[kSpanLanes];
-  for (int g = 0; g < n; ++g) Tg[g] = point_table(T, gps[g]);
-  VecZ z1[kSpanLanes], zm[kSpanLanes];
-  Vec6 sigma[kSpanLanes];
-  for (int g = 0; g < n; ++g) {
-    const VecZ z0 = apply_P(gps[g], q0);
-    z1[g] = apply_P(gps[g], q1);
-    zm[g] = 0.5 * (z0 + z1[g]);
-    sigma[g] = 0.5 * (1.0 - xi) * strains(Tg[g], z0) + 0.5 * (1.0 + xi) * strains(Tg[g], z1[g]) - eps0[g];
-  }
-  project_gamma(P, n, sigma);
-  for (int g = 0; g < n; ++g) {
-    sigma[g] = C.cwiseProduct(sigma[g]);
-    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg[g], sigma[g], zm[g]), r);
-  }
-  if (!K) return;
   Stiffness Ck = C;
   Ck.head<3>().setZero();
-  Mat3El Gm[kSpanLanes], G1[kSpanLanes];
   for (int g = 0; g < n; ++g) {
+    const StrainTable Tg = point_table(T, gps[g]);
+    const VecZ z0 = apply_P(gps[g], q0), z1 = apply_P(gps[g], q1), zm = 0.5 * (z0 + z1);
+    Vec6 sigma = Ck.cwiseProduct(0.5 * (1.0 - xi) * strains(Tg, z0) + 0.5 * (1.0 + xi) * strains(Tg, z1) - eps0[g]);
+    sigma.head<3>() = gamma_sigma[g];
+    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg, sigma, zm), r);
+    if (!K) continue;
     Mat6Z Bm, B1;
     for (int k = 0; k < 6; ++k) {
-      form_gradient<kNz>(Tg[g][k], zm[g], Bm.row(k));
-      form_gradient<kNz>(Tg[g][k], z1[g], B1.row(k));
+      form_gradient<kNz>(Tg[k], zm, Bm.row(k));
+      form_gradient<kNz>(Tg[k], z1, B1.row(k));
     }
     MatZ Kz = weighted_product(gps[g], Bm, Ck, B1, 0.5 * (1.0 + xi));
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[g][k], 0.5 * sigma[g](k), Kz);
+    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[k], 0.5 * sigma(k), Kz);
     add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
-    Gm[g] = Bm.topRows<3>() * field_map(gps[g]);
-    G1[g] = B1.topRows<3>() * field_map(gps[g]);
   }
-  add_projected_gamma_tangent(P, gps, n, C, Gm, G1, 0.5 * (1.0 + xi), *K);
 }
 
 namespace {
@@ -467,7 +425,8 @@ inline double lane_sum(Lanes v) {
 // (always inlined: it must be compiled into each clone of span_residual_em)
 // Corrected: the Simo-Reissner forms with the director correction (z then includes d'').
 template <class Forms, bool Corrected>
-__attribute__((always_inline)) inline void span_residual(const Stiffness& C, const SpanEmState& st, const VecEl& q1, VecEl& r, double xi) {
+__attribute__((always_inline)) inline void span_residual(const Stiffness& C, const SpanEmState& st, const VecEl& q1, VecEl& r,
+                                                         double xi, const double (*gamma_sigma)[kSpanLanes]) {
   constexpr int nz = Corrected ? kNz : 3 * kD1SS;
   Lanes N[3], dN[3], ddN[3], z1[kNz], zm[kNz], e1[6], sigma[6], g[kNz], v{};
   for (int a = 0; a < 3; ++a) {
@@ -488,14 +447,8 @@ __attribute__((always_inline)) inline void span_residual(const Stiffness& C, con
   if (Corrected) DirectorCorrection::strains(z1, v, e1);
   const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
   for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * load(st.e0[k]) + a1 * e1[k] - load(st.eps0[k]));
-  if (st.projected) {
-    Lanes Pc[kSpanLanes];
-    for (int m = 0; m < kSpanLanes; ++m) Pc[m] = load(st.Pcol[m]);
-    for (int k = 0; k < 3; ++k) {
-      const Lanes v = sigma[k];
-      sigma[k] = Pc[0] * v[0] + Pc[1] * v[1] + Pc[2] * v[2] + Pc[3] * v[3];
-    }
-  }
+  if (gamma_sigma)
+    for (int k = 0; k < 3; ++k) sigma[k] = load(gamma_sigma[k]);
   for (int k = 0; k < nz; ++k) zm[k] = 0.5 * (load(st.z0[k]) + z1[k]);
   Forms::gradient(sigma, zm, g);
   if (Corrected) DirectorCorrection::gradient(sigma, zm, v, g);
@@ -514,14 +467,9 @@ __attribute__((always_inline)) inline void span_residual(const Stiffness& C, con
 }
 }  // namespace
 
-SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp,
-                          const StrainProjection& P, const VecEl& q0) {
+SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp, const VecEl& q0) {
   SpanEmState st{};
-  st.projected = P.active;
   st.corrected = &T == &kSimoReissner && n_gp > 0 && gps[0].corrected;
-  if (P.active)
-    for (int l = 0; l < n_gp; ++l)
-      for (int m = 0; m < n_gp; ++m) st.Pcol[m][l] = P.P[l][m];
   for (int g = 0; g < n_gp; ++g) {
     const GaussPoint& gp = gps[g];
     for (int a = 0; a < 3; ++a) {
@@ -544,38 +492,29 @@ SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec
 
 SB_HOT_KERNEL
 void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmState& st, const VecEl& q1, VecEl& r,
-                      double xi) {
+                      double xi, const double (*gamma_sigma)[kSpanLanes]) {
   if (&T == &kSimoReissner) {
     if (st.corrected)
-      span_residual<SimoReissnerForms, true>(C, st, q1, r, xi);
+      span_residual<SimoReissnerForms, true>(C, st, q1, r, xi, gamma_sigma);
     else
-      span_residual<SimoReissnerForms, false>(C, st, q1, r, xi);
+      span_residual<SimoReissnerForms, false>(C, st, q1, r, xi, gamma_sigma);
     return;
   }
   if (&T == &kSeed) {
-    span_residual<SeedForms, false>(C, st, q1, r, xi);
+    span_residual<SeedForms, false>(C, st, q1, r, xi, gamma_sigma);
     return;
   }
   // a table known only at run time: point by point
-  int n = 0;
-  while (n < kSpanLanes && st.w[n] != 0.0) ++n;
-  VecZ zm[kSpanLanes];
-  Vec6 sig[kSpanLanes];
-  GaussPoint gps[kSpanLanes];
-  StrainProjection P;
-  P.active = st.projected;
-  for (int l = 0; l < kSpanLanes; ++l)
-    for (int m = 0; m < kSpanLanes; ++m) P.P[l][m] = st.Pcol[m][l];
-  for (int g = 0; g < n; ++g) {
-    VecZ z0, z1;
+  for (int g = 0; g < kSpanLanes && st.w[g] != 0.0; ++g) {
+    VecZ z0;
     Vec6 e0, ref;
     GaussPoint gp{};
     for (int a = 0; a < 3; ++a) {
       gp.N[a] = st.N[a][g];
       gp.dN[a] = st.dN[a][g];
+      gp.ddN[a] = st.ddN[a][g];
     }
     gp.w = st.w[g];
-    for (int a = 0; a < 3; ++a) gp.ddN[a] = st.ddN[a][g];
     gp.v = st.v[g];
     gp.corrected = st.corrected;
     for (int k = 0; k < kNz; ++k) z0(k) = st.z0[k][g];
@@ -583,14 +522,13 @@ void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmStat
       e0(k) = st.e0[k][g];
       ref(k) = st.eps0[k][g];
     }
-    z1 = apply_P(gp, q1);
-    gps[g] = gp;
-    zm[g] = 0.5 * (z0 + z1);
-    sig[g] = 0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * strains(point_table(T, gp), z1) - ref;
+    const StrainTable Tg = point_table(T, gp);
+    const VecZ z1 = apply_P(gp, q1);
+    Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * strains(Tg, z1) - ref);
+    if (gamma_sigma)
+      for (int k = 0; k < 3; ++k) sigma(k) = gamma_sigma[k][g];
+    add_Pt(gp, gp.w, weighted_gradient(Tg, sigma, 0.5 * (z0 + z1)), r);
   }
-  project_gamma(P, n, sig);
-  for (int g = 0; g < n; ++g)
-    add_Pt(gps[g], gps[g].w, weighted_gradient(point_table(T, gps[g]), C.cwiseProduct(sig[g]), zm[g]), r);
 }
 
 const std::array<QuadraticForm, 6>& orthonormality_forms() { return kOrthonormality; }

@@ -17,7 +17,8 @@ namespace slidebeam::kernels {
 
 enum class StrainMeasure { SimoReissner, Seed };
 /// Stiffness quadrature of a span: 3-point Gauss (full), 2-point Gauss (reduced), or 3-point Gauss
-/// with the assumed membrane and shear strains of span_projection (locking-free, theory.md).
+/// with the assumed membrane and shear strains at the knots (span_gamma_moments; locking-free,
+/// docs/theory.md).
 enum class Quadrature { Full, Reduced, AssumedStrain };
 
 /// Blocks of the field vector z at a quadrature point.
@@ -105,27 +106,10 @@ struct GaussPoint {
   std::array<double, 3> ddN{};
   double v = 0.0;
   bool corrected = false;
+  double t = 0.0;  ///< position in the span, 0 at its left knot, 1 at its right
 };
 
 constexpr int kSpanLanes = 4;  ///< at most this many quadrature points per span
-
-/// The assumed membrane and shear strains of a span. The first three strains (Gamma: axial and
-/// the two shears) at the span's quadrature points are replaced by their discrete L2 projection
-/// onto polynomials of degree 0 or 1 on the span, Gamma_bar_l = sum_m P[l][m] Gamma_m; torsion
-/// and bending stay pointwise. P is a constant matrix, idempotent and self-adjoint in the
-/// quadrature's inner product (w_l P[l][m] = w_m P[m][l]), so the projected strains stay quadratic
-/// forms in the coordinates: energy, force and tangent follow from those of the pointwise
-/// strains, and the averaged-strain energy-momentum step stays exact. Inactive: P = identity.
-struct StrainProjection {
-  bool active = false;
-  double P[kSpanLanes][kSpanLanes] = {};
-};
-/// The projection onto polynomials of the given degree (0 or 1) of n points at positions x (any
-/// affine coordinate of the span) with quadrature weights w.
-StrainProjection span_projection(const double* x, const double* w, int n, int degree);
-/// The projected strain at position t of the span as weights of the n point values:
-/// Gamma_bar(t) = sum_m out[m] Gamma_m (row l of P is this at t = x_l).
-void projection_weights(const double* x, const double* w, int n, int degree, double t, double* out);
 
 /// Map z = P q from the 36 coordinates of a span's control points to the field vector.
 MatZEl field_map(const GaussPoint& gp);
@@ -163,38 +147,58 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                                  const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0);
 
-/// Whole-span versions of the three point kernels above: the sum over the span's n quadrature
-/// points with the strain projection applied (P inactive: exactly the sum of the point kernels).
+/// The assumed membrane and shear strains (quadrature = "assumed_strain"). The first three
+/// strains, Gamma (axial and the two shears), enter the energy only through their weighted means
+/// at the knots, b_i = int H_i (Gamma - Gamma_ref) ds / m_i with H_i the piecewise-linear hat of
+/// knot i and m_i = int H_i ds: W_Gamma = 1/2 sum_i m_i b_i^T C_Gamma b_i (the lumped projection
+/// onto continuous piecewise-linear strains). The b_i are fixed linear combinations of point
+/// strains, so they stay quadratic forms in the coordinates. A span contributes to its two knots
+/// the moments sum_g w_g H(x_g) (Gamma_g - Gamma_ref,g), H = 1 - t (left) and t (right) with t the
+/// point's position in the span (GaussPoint::t).
+struct GammaMoments {
+  Eigen::Vector3d left = Eigen::Vector3d::Zero(), right = Eigen::Vector3d::Zero();
+};
+GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n,
+                                const VecEl& q);
+/// The derivative d/dq of a span's moment toward its left (right = false) or right knot at q (3 x 36).
+using Mat3El = Eigen::Matrix<double, 3, kNqEl>;
+Mat3El span_gamma_moment_gradient(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, bool right);
+
+/// Whole-span versions of the three point kernels above, over the span's n quadrature points.
+/// gamma_sigma (may be null): the Gamma stresses at the points, C_Gamma times the assumed strains
+/// interpolated from the knots; they replace the points' own, and the tangent then holds the
+/// Gamma part's geometric terms only (its material part couples the knot's spans:
+/// span_gamma_moment_gradient). span_energy with gamma_sigma counts torsion and bending only.
 double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
-                   const StrainProjection& P, const VecEl& q);
+                   bool gamma_from_knots, const VecEl& q);
 void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
-                           const StrainProjection& P, const VecEl& q, VecEl& r, MatEl* K);
+                           const Eigen::Vector3d* gamma_sigma, const VecEl& q, VecEl& r, MatEl* K);
+/// Energy-momentum: gamma_sigma holds the step's Gamma stresses (from the knots' averaged strains).
 void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0,
-                              int n, const StrainProjection& P, const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K,
-                              double xi = 0.0);
+                              int n, const Eigen::Vector3d* gamma_sigma, const VecEl& q0, const VecEl& q1, VecEl& r,
+                              MatEl* K, double xi = 0.0);
 
 /// What an energy-momentum step needs of one span at q_n, for span_residual_em: its quadrature
 /// points' basis and weights, z(q_n), eps(q_n) and the reference strains, point g in lane g
 /// (unused lanes zero, weight 0). Constant during a step: computed once per step.
 struct alignas(32) SpanEmState {
   double N[3][kSpanLanes], dN[3][kSpanLanes], w[kSpanLanes];
-  double Pcol[kSpanLanes][kSpanLanes];  ///< column m of the strain projection (projected only)
   double ddN[3][kSpanLanes], v[kSpanLanes];  ///< corrected points only (point_table)
-  bool projected, corrected;
+  bool corrected;
   double z0[kNz][kSpanLanes];
   double e0[6][kSpanLanes];
   double eps0[6][kSpanLanes];
 };
 /// gps and eps0: the span's n_gp <= kSpanLanes quadrature points and their reference strains.
-SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp,
-                          const StrainProjection& P, const VecEl& q0);
+SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n_gp, const VecEl& q0);
 
 /// The energy-momentum internal force of one span, r += that of span_residual_tangent_em
-/// (without the tangent), from the span's cached state at q_n. The
-/// points are computed together in SIMD lanes and the strain measure's terms are written out:
-/// this runs in every Newton iteration of every span.
+/// (without the tangent), from the span's cached state at q_n. The points are computed together
+/// in SIMD lanes and the strain measure's terms are written out: this runs in every Newton
+/// iteration of every span. gamma_sigma (may be null): the points' Gamma stresses, component k of
+/// point g in gamma_sigma[k][g].
 void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmState& s, const VecEl& q1, VecEl& r,
-                      double xi = 0.0);
+                      double xi = 0.0, const double (*gamma_sigma)[kSpanLanes] = nullptr);
 
 /// Orthonormality constraints of one control point (seed eq. 2), as quadratic forms in the
 /// control point's 12 coordinates (blocks phi, d1, d2, d3).

@@ -19,6 +19,7 @@ kernels::GaussPoint basis_point(int n_spans, double L, int e, double xi, double 
     gp.ddN[a] = b.ddN[a] / (L * L);
   }
   gp.w = w;
+  gp.t = xi * n_spans - e;
   gp.corrected = corrected;
   if (corrected)
     for (int a = 0; a < 3; ++a) {
@@ -61,15 +62,12 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
   gps_ = gauss_points(spec.n_spans, spec.length, spec.quadrature, corrected());
   gps_full_ = gauss_points(spec.n_spans, spec.length, kernels::Quadrature::Full, false);
   n_gp_ = static_cast<int>(gps_.size()) / spec.n_spans;
-  proj_.assign(static_cast<size_t>(spec.n_spans), kernels::StrainProjection{});
-  if (spec.quadrature == kernels::Quadrature::AssumedStrain) {
-    // Constants per span leave one hourglass mode per strain (n values for the n + 1 coefficients
-    // of phi' along a beam); linears in the first span add the missing one (theory.md).
-    std::array<double, 3> x{}, w{};
-    const int ng = kernels::gauss_rule(spec.quadrature, x, w);
-    for (int e = 0; e < spec.n_spans; ++e)
-      proj_[static_cast<size_t>(e)] = kernels::span_projection(x.data(), w.data(), ng, projection_degree(e));
-  }
+  knot_mass_.assign(static_cast<size_t>(spec.n_spans + 1), 0.0);
+  for (int e = 0; e < spec.n_spans; ++e)
+    for (int g = 0; g < n_gp_; ++g) {
+      knot_mass_[static_cast<size_t>(e)] += gp(e, g).w * (1.0 - gp(e, g).t);
+      knot_mass_[static_cast<size_t>(e + 1)] += gp(e, g).w * gp(e, g).t;
+    }
   // Reference strains at the stiffness quadrature points: the reference configuration is stress free.
   eps0_.resize(gps_.size());
   for (int e = 0; e < spec.n_spans; ++e) {
@@ -104,6 +102,7 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     v->assign(static_cast<size_t>(3 * n), 0.0);
   out.strain.assign(static_cast<size_t>(6 * n), 0.0);
   out.tension.assign(static_cast<size_t>(n), 0.0);
+  const std::vector<Eigen::Vector3d> knots = gamma_at_knots() ? knot_gamma(q) : std::vector<Eigen::Vector3d>{};
   for (int i = 0; i < n; ++i) {
     const double s = length() * i / (n - 1);
     const PointBasis b = basis_at(s);
@@ -112,18 +111,9 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * b.span);
     const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * b.span);
     kernels::Vec6 eps = kernels::strains(T, kernels::field_map(gp) * qe) - kernels::strains(T, kernels::field_map(gp) * q0);
-    if (projection(b.span).active) {
-      // the element's own membrane and shear strains: the span's projection evaluated at s
-      std::array<double, 3> x{}, w{};
-      const int ng = kernels::gauss_rule(spec_.quadrature, x, w);
-      double pw[kernels::kSpanLanes];
-      kernels::projection_weights(x.data(), w.data(), ng, projection_degree(b.span), s / length() * n_spans() - b.span,
-                                  pw);
-      eps.head<3>().setZero();
-      for (int g = 0; g < ng; ++g)
-        eps.head<3>() += pw[g] * (kernels::strains(kernels::point_table(strain_table(), this->gp(b.span, g)),
-                                                   kernels::field_map(this->gp(b.span, g)) * qe) -
-                                  eps0(b.span, g)).head<3>();
+    if (gamma_at_knots()) {  // the element's own membrane and shear strains: the knots' values interpolated
+      const double t = gp.t;
+      eps.head<3>() = (1.0 - t) * knots[static_cast<size_t>(b.span)] + t * knots[static_cast<size_t>(b.span + 1)];
     }
     const kernels::Vec6 sigma = stiffness_.cwiseProduct(eps);
     out.s[static_cast<size_t>(i)] = s;
@@ -150,6 +140,18 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
   }
   return out;
+}
+
+std::vector<Eigen::Vector3d> Beam::knot_gamma(const std::vector<double>& q) const {
+  std::vector<Eigen::Vector3d> b(static_cast<size_t>(n_spans() + 1), Eigen::Vector3d::Zero());
+  for (int e = 0; e < n_spans(); ++e) {
+    const auto m = kernels::span_gamma_moments(strain_table(), &gp(e, 0), &eps0(e, 0), n_gp(),
+                                               Eigen::Map<const kernels::VecEl>(q.data() + 12 * e));
+    b[static_cast<size_t>(e)] += m.left;
+    b[static_cast<size_t>(e + 1)] += m.right;
+  }
+  for (int i = 0; i <= n_spans(); ++i) b[static_cast<size_t>(i)] /= knot_mass(i);
+  return b;
 }
 
 int Beam::ancf_element_at(double s, double& x) const {

@@ -10,6 +10,7 @@
 #include "kernels/bspline.hpp"
 
 #include <string>
+#include <cstdlib>
 #include <vector>
 
 namespace slidebeam {
@@ -113,16 +114,17 @@ class Beam {
   int n_gp() const { return n_gp_; }
   const kernels::GaussPoint& gp(int e, int g) const { return gps_[e * n_gp_ + g]; }
   const kernels::Vec6& eps0(int e, int g) const { return eps0_[e * n_gp_ + g]; }
-  /// The strain projection of span e (active for the assumed-strain quadrature: the membrane and
-  /// shear strains projected onto constants per span, onto linears in the first span).
-  const kernels::StrainProjection& projection(int e) const { return proj_[static_cast<size_t>(e)]; }
+  /// Assumed-strain quadrature: the membrane and shear strains enter through their values at
+  /// the knots (kernels::GammaMoments). knot_mass(i) = int H_i ds of knot i = 0 .. n_spans.
+  bool gamma_at_knots() const { return spec_.quadrature == kernels::Quadrature::AssumedStrain; }
+  double knot_mass(int i) const { return knot_mass_[static_cast<size_t>(i)]; }
+  /// The knots' assumed membrane and shear strains b_i in the configuration q (n_cp x 12).
+  std::vector<Eigen::Vector3d> knot_gamma(const std::vector<double>& q) const;
   /// Whether the stiffness points carry the director-interpolation correction: the
   /// assumed-strain quadrature with the Simo-Reissner measure.
   bool corrected() const {
     return spec_.quadrature == kernels::Quadrature::AssumedStrain && spec_.strain == kernels::StrainMeasure::SimoReissner;
   }
-  /// Degree of span e's projection: 1 in the first span, 0 in the others.
-  static int projection_degree(int e) { return e == 0 ? 1 : 0; }
   /// Full (3-point) quadrature of span e, used for mass and distributed loads whatever the
   /// stiffness rule, so that the mass matrix and gravity are integrated exactly.
   const kernels::GaussPoint& gp_full(int e, int g) const { return gps_full_[e * 3 + g]; }
@@ -144,7 +146,7 @@ class Beam {
   kernels::Stiffness stiffness_;
   std::vector<kernels::GaussPoint> gps_, gps_full_;
   std::vector<kernels::Vec6> eps0_;
-  std::vector<kernels::StrainProjection> proj_;
+  std::vector<double> knot_mass_;
   std::vector<kernels::ancf::AncfElement> ancf_elements_;
 
   BeamSamples sample_ancf(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const;

@@ -59,11 +59,14 @@ TEST(Model, AssembledJacobianMatchesFiniteDifferences) {
   m.add_beam(straight_beam("A", 5, 3.0, {0, 0, 0}, kernels::StrainMeasure::Seed, kernels::Quadrature::Reduced));
   m.add_beam(straight_beam("B", 4, 2.0, {0, 1, 0}, kernels::StrainMeasure::SimoReissner, kernels::Quadrature::Full));
   m.add_beam(turned_beam("C", 3, 1.5, {2, 1, 0}));  // welded to B's end at a right angle
+  // assumed strains: knot values couple neighbouring spans (and ranks); both measures
+  m.add_beam(straight_beam("D", 6, 2.4, {0, 3, 0}, kernels::StrainMeasure::SimoReissner, kernels::Quadrature::AssumedStrain));
+  m.add_beam(straight_beam("E", 1, 0.8, {0, 4, 0}, kernels::StrainMeasure::Seed, kernels::Quadrature::AssumedStrain));
   auto add = [&](const std::string& type, std::map<std::string, double> num,
                  std::map<std::string, std::vector<double>> vec = {}, std::map<std::string, std::string> str = {}) {
     m.add_effect(type, EffectParams{num, vec, str});
   };
-  for (double b : {0.0, 1.0, 2.0}) {
+  for (double b : {0.0, 1.0, 2.0, 3.0, 4.0}) {
     add("beam_elastic", {{"beam", b}});
     add("director_constraints", {{"beam", b}});
   }
@@ -77,6 +80,8 @@ TEST(Model, AssembledJacobianMatchesFiniteDifferences) {
   add("spherical", {{"beam", 1}, {"s", 0.0}}, {{"position", {0.0, 1.0, 0.0}}});
   add("spherical", {{"beam", 1}, {"s", 1.3}}, {{"position", {1.3, 1.0, 0.0}}});
   add("rigid_joint", {{"beam_a", 1}, {"s_a", 2.0}, {"beam_b", 2}, {"s_b", 0.0}});
+  add("clamp", {{"beam", 3}, {"s", 0.0}});
+  add("force", {{"beam", 3}, {"s", 2.4}}, {{"value", {0.5, 3.0, -2.0}}});
   m.finalize();
 
   Vec x = m.x(), v, F1, F2, Jv;
