@@ -34,6 +34,14 @@ kernels::StrainMeasure strain_from(const std::string& s) {
   if (s == "seed") return kernels::StrainMeasure::Seed;
   throw std::invalid_argument("unknown strain measure '" + s + "'");
 }
+py::list reaction_list(const std::vector<std::pair<int, Reaction>>& rs) {
+  py::list out;
+  for (const auto& [k, r] : rs)
+    out.append(py::make_tuple(k, py::make_tuple(r.force[0], r.force[1], r.force[2]),
+                              r.has_moment ? py::object(py::make_tuple(r.moment[0], r.moment[1], r.moment[2])) : py::none()));
+  return out;
+}
+
 kernels::Quadrature quadrature_from(const std::string& s) {
   if (s == "full") return kernels::Quadrature::Full;
   if (s == "reduced") return kernels::Quadrature::Reduced;
@@ -142,6 +150,9 @@ PYBIND11_MODULE(_core, m) {
            py::arg("beam"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
            "fields sampled along a beam (dict of arrays: s, position, velocity, d1, d2, d3, strain, force, "
            "moment, tension); collective")
+      .def("static_reactions",
+           [](const Model& s, double t, Vec x) { return reaction_list(s.static_reactions(t, x)); }, py::arg("t"), py::arg("x"),
+           "[(effect index, force, moment or None)] of supports and joints in equilibrium at x (collective)")
       .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
       .def_property_readonly("ghost_rebuilds", &Model::ghost_rebuilds,
                              "how often the ghost set was rebuilt because a sliding joint moved")
@@ -238,6 +249,8 @@ PYBIND11_MODULE(_core, m) {
            },
            "(kinetic energy, linear momentum, angular momentum about the origin) of the current state")
       .def("constraint_residual", &TimeIntegrator::constraint_residual)
+      .def("reactions", [](TimeIntegrator& s) { return reaction_list(s.reactions()); },
+           "[(effect index, force, moment or None)] of supports and joints over the last step (collective)")
       .def("prepare_step", &TimeIntegrator::prepare_step, py::arg("h"))
       .def("step_residual", [](TimeIntegrator& s, Vec x, Vec F) { SB_CHECK(s.step_residual(x, F)); })
       .def("step_jacobian", [](TimeIntegrator& s, Vec x, Mat J) { SB_CHECK(s.step_jacobian(x, J)); });

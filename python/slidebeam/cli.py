@@ -276,7 +276,12 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
         "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
         "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
         "final_energy": {"strain": last.strain_energy, "potential": last.potential_energy},
+        "reactions": [r.as_dict() for r in last.reactions],
     }
+    if scene.sliding_joints:
+        from .results import joint_names
+        summary["sliding_joints"] = {name: {"final_s": j.s, "final_reaction": list(j.reaction), "final_gap": j.gap}
+                                     for name, j in zip(joint_names(sim), last.joints)}
     _finish_costs(sim, summary, t0, rank, args.quiet)
     with output_phase():
         write_results(sim, out, records, summary, rank)
@@ -354,8 +359,10 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                                    "residual_initial": sim.settled.residual0, "residual": sim.settled.residual}
     if scene.sliding_joints:
         from .results import joint_names
-        summary["sliding_joints"] = {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction)}
+        summary["sliding_joints"] = {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction),
+                                            "final_gap": j.gap}
                                      for name, j in zip(joint_names(sim), last.joints)}
+    summary["reactions"] = [r.as_dict() for r in last.reactions]
     _finish_costs(sim, summary, t0, rank, args.quiet)
     with output_phase():
         write_results(sim, out, recs, summary, rank)

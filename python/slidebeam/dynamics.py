@@ -18,6 +18,24 @@ if TYPE_CHECKING:
     from .simulation import Simulation
 
 @dataclass(frozen=True)
+class Reaction:
+    """The force (and moment: clamps, rails, rigid joints) a support or joint exerts on the beam
+    it holds (a rigid joint: on its first beam), in the global frame, the moment about the held
+    point (a rail: about its start). Statics: in equilibrium; a time step: over the step, so that
+    with the loads the reactions balance the step's change of momentum."""
+
+    effect: str  # the effect's label, e.g. clamp[rod@start]
+    force: tuple[float, float, float]
+    moment: tuple[float, float, float] | None = None
+
+    def as_dict(self) -> dict[str, object]:
+        d: dict[str, object] = {"effect": self.effect, "force": list(self.force)}
+        if self.moment is not None:
+            d["moment"] = list(self.moment)
+        return d
+
+
+@dataclass(frozen=True)
 class JointState:
     """A sliding joint after a step: sliding coordinate s on the carrier, its mean rate over the
     step, and the reaction force the carrier exerts on the slider (the multipliers; under the
@@ -26,6 +44,7 @@ class JointState:
     s: float
     ds_dt: float
     reaction: tuple[float, float, float]
+    gap: float = 0.0  # distance of the slider point from the carrier's centre line at s
 
 
 @dataclass
@@ -48,6 +67,7 @@ class DynamicRecord:
     rejected_steps: int = 0
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
     joints: list[JointState] = field(default_factory=list)
+    reactions: list[Reaction] = field(default_factory=list)
 
     @property
     def total_energy(self) -> float:
@@ -172,7 +192,7 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
         if result.converged:  # the core already counts NaN/Inf in F or x as a failure
             st.step += 1
             last = t_end - integ.time <= 1e-9 * a.dt
-            joints = sim.joint_states() if sim.scene.sliding_joints else []
+            joints = sim.joint_states(gaps=False) if sim.scene.sliding_joints else []
             ended = _carrier_end(sim, joints, st.step) if joints else None
             if st.step % every == 0 or last or ended:
                 rec = sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints)

@@ -32,27 +32,37 @@ def prepare_output_dir(out: Path) -> None:
 
 
 def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]) -> str:
-    """One row per recorded step; tracked points last, as <beam>@<s>.x/.y/.z."""
+    """One row per recorded step; then tracked points as <beam>@<s>.x/.y/.z, sliding joints as
+    <slider>_on_<carrier>.s/.ds_dt/.reaction.x/y/z/.gap, and the reactions of supports and rigid
+    joints as <effect>.fx/fy/fz (and .mx/my/mz where they hold a moment)."""
     buf = io.StringIO()
     w = csv.writer(buf)
     track_cols = []
     for tp in sim.scene.output.track:
         name = f"{sim.scene.beams[tp.beam].name}@{tp.at:g}"
         track_cols += [f"{name}.x", f"{name}.y", f"{name}.z"]
+    joint_cols = [f"{name}.{q}" for name in joint_names(sim)
+                  for q in ("s", "ds_dt", "reaction.x", "reaction.y", "reaction.z", "gap")]
+    first = records[0].reactions
+    reaction_cols = [f"{r.effect}.{c}" for r in first
+                     for c in ("fx", "fy", "fz", *(("mx", "my", "mz") if r.moment is not None else ()))]
+
+    def tail(r: StepRecord | DynamicRecord) -> list[str]:
+        return [*[repr(v) for p in r.tracked for v in p],
+                *[repr(v) for j in r.joints for v in (j.s, j.ds_dt, *j.reaction, j.gap)],
+                *[repr(v) for x in r.reactions for v in (*x.force, *(x.moment or ()))]]
+
     if sim.integrator is not None:
-        joint_cols = [f"{name}.{q}" for name in joint_names(sim)
-                      for q in ("s", "ds_dt", "reaction.x", "reaction.y", "reaction.z")]
-        w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols])
+        w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols, *reaction_cols])
         for d in records:
             assert isinstance(d, DynamicRecord)
-            w.writerow([*d.row(), *[repr(v) for p in d.tracked for v in p],
-                        *[repr(v) for j in d.joints for v in (j.s, j.ds_dt, *j.reaction)]])
+            w.writerow([*d.row(), *tail(d)])
         return buf.getvalue()
     w.writerow(["step", "t", "converged", "reason", "newton_iterations", "residual_norm",
-                "strain_energy", "potential_energy", *track_cols])
+                "strain_energy", "potential_energy", *track_cols, *joint_cols, *reaction_cols])
     for r in records:
         w.writerow([r.step, repr(r.t), int(r.converged), r.reason, r.newton_iterations, repr(r.residual_norm),
-                    repr(r.strain_energy), repr(r.potential_energy), *[repr(v) for p in r.tracked for v in p]])
+                    repr(r.strain_energy), repr(r.potential_energy), *tail(r)])
     return buf.getvalue()
 
 

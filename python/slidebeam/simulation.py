@@ -6,6 +6,7 @@ handles, no copies): scripts may read or modify them, or drive SNES themselves.
 """
 from __future__ import annotations
 
+import dataclasses
 import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,7 +16,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from . import _core
-from .dynamics import DynamicRecord, JointState, RunOutcome, RunState, initial_velocity, run_dynamic
+from .dynamics import DynamicRecord, JointState, Reaction, RunOutcome, RunState, initial_velocity, run_dynamic
 from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
 
@@ -37,6 +38,8 @@ class StepRecord:
     strain_energy: float
     potential_energy: float
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
+    joints: list[JointState] = field(default_factory=list)
+    reactions: list[Reaction] = field(default_factory=list)
 
 
 def options_file_of(scene: Scene) -> Path | None:
@@ -245,6 +248,16 @@ class Simulation:
         s = np.linspace(0.0, spec.geometry.length, spec.spans * k + 1)
         return s, self.evaluate(b, s)
 
+    def sample_beam(self, beam: int | str, samples_per_span: int | None = None) -> dict[str, np.ndarray]:
+        """Fields along a beam at samples_per_span points per span (and its end), in the current
+        state (collective): s, position, velocity, d1, d2, d3 (n x 3 each), strain (n x 6: axial,
+        shear 2, shear 3, torsion, bending about d2, about d3, minus the reference strains), force
+        and moment (spatial stress resultants, n x 3) and tension (the axial force, n). The
+        resultants are the element's own: with assumed strains, the knots' membrane and shear
+        strains interpolated."""
+        k = samples_per_span or self.scene.output.samples_per_span
+        return dict(self._model.sample_beam(self._beam(beam), self.x, self.v, k))
+
     # -- solving ---------------------------------------------------------------------------
     def solve_step(self, t: float) -> _core.SolveResult:
         """Newton solve of the static equilibrium at (pseudo-)time t from the current state."""
@@ -261,6 +274,7 @@ class Simulation:
             newton_iterations=0 if result is None else result.iterations,
             residual_norm=0.0 if result is None else result.residual_norm,
             strain_energy=e["strain"], potential_energy=e["potential"], tracked=tracked,
+            joints=self.joint_states(), reactions=self.reactions(),
         )
 
     def solve_static(self, on_step: Callable[[StepRecord], None] | None = None,
@@ -340,16 +354,39 @@ class Simulation:
         multipliers come just before it)."""
         return self._model.extra_offset(self.sliding_joint_effects()[joint]) + 3
 
-    def joint_states(self) -> list[JointState]:
-        """s, ds/dt and reaction of every sliding joint in the current state (collective)."""
+    def joint_states(self, gaps: bool = True) -> list[JointState]:
+        """s, ds/dt, reaction and gap (the slider point's distance from the carrier's centre line,
+        the joint's constraint residual; 0 unless gaps) of every sliding joint in the current
+        state (collective; statics: ds/dt = 0)."""
         x = self.x
         rate = self.integrator.sliding_rate if self.integrator is not None else None
+        gap = self._joint_gaps() if gaps else [0.0] * len(self.scene.sliding_joints)
         states = []
-        for k in self.sliding_joint_effects():
+        for k, g in zip(self.sliding_joint_effects(), gap):
             mu_and_s = self._model.extra_values(k, x)  # mu (3), then s
             sdot = self._model.extra_values(k, rate)[3] if rate is not None else 0.0
-            states.append(JointState(float(mu_and_s[3]), float(sdot), tuple(float(m) for m in mu_and_s[:3])))
+            states.append(JointState(float(mu_and_s[3]), float(sdot), tuple(float(m) for m in mu_and_s[:3]), g))
         return states
+
+    def _joint_gaps(self) -> list[float]:
+        """|phi_carrier(s) - phi_slider| per sliding joint: its constraint rows of the residual."""
+        if not self.scene.sliding_joints:
+            return []
+        F = self.x.duplicate()
+        self._model.assemble_residual(self.t, self.x, F)
+        gaps = [float(np.linalg.norm(self._model.extra_values(k, F)[:3])) for k in self.sliding_joint_effects()]
+        F.destroy()
+        return gaps
+
+    def reactions(self, over_last_step: bool = False) -> list[Reaction]:
+        """What every support and rigid joint exerts on the structure (collective): in
+        equilibrium at the current state, or (over_last_step, dynamic scenes) over the last time
+        step, inertia included."""
+        if over_last_step and self.integrator is not None:
+            raw = self.integrator.reactions()
+        else:
+            raw = self._model.static_reactions(self.t, self.x)
+        return [Reaction(self.active_effects[k].label, tuple(f), None if m is None else tuple(m)) for k, f, m in raw]
 
     def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,
                        rejected: int, joints: list[JointState] | None = None) -> DynamicRecord:
@@ -367,7 +404,10 @@ class Simulation:
             kinetic_energy=kinetic, strain_energy=e["strain"],
             potential_energy=e["potential"], linear_momentum=tuple(lin), angular_momentum=tuple(ang),
             constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
-            tracked=self.tracked_points(), joints=self.joint_states() if joints is None else joints,
+            tracked=self.tracked_points(),
+            joints=self.joint_states() if joints is None else
+            [dataclasses.replace(j, gap=g) for j, g in zip(joints, self._joint_gaps())],
+            reactions=self.reactions(over_last_step=result is not None and bool(result.converged)),
         )
 
     def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None, state: RunState | None = None,

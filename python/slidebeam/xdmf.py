@@ -8,7 +8,8 @@ Files in the output folder (names are stable):
   with point data per recorded step: ``displacement`` (current minus reference position: ParaView's
   Warp By Vector moves the mesh), ``velocity``, ``d1``, ``d2``, ``d3``, ``strain`` (6: axial,
   shear 2, shear 3, torsion, bending about d2, about d3; minus the reference strains),
-  ``force`` and ``moment`` (spatial stress resultants), ``section_d2``, ``section_d3`` (d2 and d3
+  ``force`` and ``moment`` (spatial stress resultants, the element's own), ``tension`` (the axial
+  force, a scalar to colour by), ``section_d2``, ``section_d3`` (d2 and d3
   times the half extent of the section along them, sqrt(3 EI3/EA) and sqrt(3 EI2/EA): exact for
   a rectangle, from which a Ribbon or Tube filter draws the section), ``s`` (arc length) and
   ``beam_id``.

@@ -85,12 +85,7 @@ class BeamElastic final : public SpanEffect {
         start_key_ = ctx.step_start;
         has_start_ = true;
       }
-      if (knots) {
-        knot_strains(ctx, ctx.x, b, knot_now_);
-        const double a0 = 0.5 * (1.0 - ctx.dissipation), a1 = 0.5 * (1.0 + ctx.dissipation);
-        for (int i : needed_knots()) knot_sigma_[static_cast<size_t>(i)] = b.stiffness().head<3>().cwiseProduct(
-            a0 * knot_start_[static_cast<size_t>(i)] + a1 * knot_now_[static_cast<size_t>(i)]);
-      }
+      if (knots) step_knot_sigma(ctx, b);
       for (size_t k = 0; k < elements_.size(); ++k) {
         const int e = elements_[k];
         VecEl re = VecEl::Zero();
@@ -117,10 +112,7 @@ class BeamElastic final : public SpanEffect {
     if (knots) {
       if (ctx.rule == StepRule::EnergyMomentum) {
         knot_strains(ctx, ctx.x_old, b, knot_start_);
-        knot_strains(ctx, ctx.x, b, knot_now_);
-        const double a0 = 0.5 * (1.0 - ctx.dissipation), a1 = 0.5 * (1.0 + ctx.dissipation);
-        for (int i : needed_knots()) knot_sigma_[static_cast<size_t>(i)] = b.stiffness().head<3>().cwiseProduct(
-            a0 * knot_start_[static_cast<size_t>(i)] + a1 * knot_now_[static_cast<size_t>(i)]);
+        step_knot_sigma(ctx, b);
       } else {
         force_state_knot_sigma(ctx, b);
       }
@@ -174,14 +166,14 @@ class BeamElastic final : public SpanEffect {
                                    knots ? gs : nullptr, gather_span(ctx.xf, ctx.map, b, e), re, K);
     if (K && ctx.theta != 1.0) *K *= ctx.theta;
   }
-  /// Knots next to the owned spans (whose strains the spans' forces use).
-  std::vector<int> needed_knots() const {
-    std::vector<int> k;
-    for (int e : elements_) {
-      if (k.empty() || k.back() != e) k.push_back(e);
-      k.push_back(e + 1);
-    }
-    return k;
+  /// knot_sigma_ = C_Gamma (averaged strain) of an energy-momentum step, from knot_start_ (q_n)
+  /// and the knots' strains at x, shifted by xi/2 (b(x) - b(q_n)) for the energy-decaying variant.
+  void step_knot_sigma(const EvalContext& ctx, const Beam& b) const {
+    knot_strains(ctx, ctx.x, b, knot_now_);
+    const double a0 = 0.5 * (1.0 - ctx.dissipation), a1 = 0.5 * (1.0 + ctx.dissipation);
+    knot_sigma_.assign(knot_now_.size(), Vec3::Zero());
+    for (size_t i = 0; i < knot_now_.size(); ++i)
+      knot_sigma_[i] = b.stiffness().head<3>().cwiseProduct(a0 * knot_start_[i] + a1 * knot_now_[i]);
   }
   /// The knots' strains b_i in the state x (entries of the knots next to owned spans).
   void knot_strains(const EvalContext& ctx, const LocalValues& x, const Beam& b, std::vector<Vec3>& out) const {

@@ -56,6 +56,24 @@ class RigidJoint final : public Effect {
   PetscInt n_extra() const override { return 6; }
 
   void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(cp(m, a_, ca_)); }
+  bool has_reaction() const override { return true; }
+  /// The force and moment on beam A's end: minus the joint's own constraint forces there.
+  void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
+    const PetscInt c = cp(m, a_, ca_);
+    if (!m.dof_map().owns_cp(c)) return;
+    Eigen::Vector3d M = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) out.force[k] -= in.own(m.dof_map().q(c, k));
+    for (int i = 0; i < 3; ++i) {
+      Eigen::Vector3d d, f;
+      for (int k = 0; k < 3; ++k) {
+        d(k) = in.x(m.dof_map().q(c, 3 + 3 * i + k));
+        f(k) = in.own(m.dof_map().q(c, 3 + 3 * i + k));
+      }
+      M -= d.cross(f);
+    }
+    for (int k = 0; k < 3; ++k) out.moment[k] += M(k);
+    out.has_moment = true;
+  }
   PetscInt elimination_anchor(const Model& m) const override { return cp(m, a_, ca_); }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;

@@ -29,6 +29,35 @@ void prescribe_cp(const Model& m, const Beam& b, int c, int k0, int k1, const do
     }
 }
 
+/// The force on a control point's prescribed position rows and the moment of its director rows,
+/// M = sum_i d_i x f_di (a rotation dtheta moves d_i by dtheta x d_i): what a support holding the
+/// point supplies. ANCF nodes: r and r', with r' in the place of the one director.
+void add_point_reaction(const Model& m, const Beam& b, int c, bool moment, const Eigen::Vector3d& about,
+                        const ReactionInput& in, Reaction& out) {
+  const PetscInt cp = b.first_cp() + c;
+  if (!m.dof_map().owns_cp(cp)) return;
+  Eigen::Vector3d f, phi;
+  for (int k = 0; k < 3; ++k) {
+    f(k) = in.raw(m.dof_map().q(cp, k));
+    phi(k) = in.x(m.dof_map().q(cp, k));
+  }
+  Eigen::Vector3d M = (phi - about).cross(f);
+  const int n_dirs = b.is_ancf() ? 1 : 3;
+  for (int i = 0; i < n_dirs; ++i) {
+    Eigen::Vector3d d, fd;
+    for (int k = 0; k < 3; ++k) {
+      d(k) = in.x(m.dof_map().q(cp, 3 + 3 * i + k));
+      fd(k) = in.raw(m.dof_map().q(cp, 3 + 3 * i + k));
+    }
+    M += d.cross(fd);
+  }
+  for (int k = 0; k < 3; ++k) {
+    out.force[k] += f(k);
+    if (moment) out.moment[k] += M(k);
+  }
+  out.has_moment = moment;
+}
+
 /// Base of effects with no residual of their own (pure elimination).
 class PrescribingSupport : public Effect {
  public:
@@ -56,6 +85,12 @@ class Clamp final : public PrescribingSupport {
     const int nq = b.coordinates_per_cp();
     prescribe_cp(m, b, cp_, 0, nq, b.q_ref().data() + nq * cp_, true, rows, vals);
   }
+  bool has_reaction() const override { return true; }
+  void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
+    const Beam& b = m.beam(beam_);
+    const Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data() + b.coordinates_per_cp() * cp_);
+    add_point_reaction(m, b, cp_, true, X, in, out);
+  }
 
  private:
   int beam_;
@@ -72,6 +107,12 @@ class Fixed final : public PrescribingSupport {
     const Beam& b = m.beam(beam_);
     const int nq = b.coordinates_per_cp();
     for (int c = 0; c < b.n_cp(); ++c) prescribe_cp(m, b, c, 0, nq, b.q_ref().data() + nq * c, true, rows, vals);
+  }
+  bool has_reaction() const override { return true; }
+  void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
+    const Beam& b = m.beam(beam_);
+    const Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data());
+    for (int c = 0; c < b.n_cp(); ++c) add_point_reaction(m, b, c, true, X, in, out);
   }
 
  private:
@@ -98,6 +139,16 @@ class Spherical final : public Effect {
     if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X_.data(), false, rows, vals);
   }
   void distribute(const Model& m) override { owned_ = cp_ < 0 && owns_span(m, m.beam(beam_), stencil_.span); }
+  bool has_reaction() const override { return true; }
+  /// At a beam end the prescribed position rows' force; inside, -mu (the multipliers are the
+  /// force of the beam on the support).
+  void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
+    if (cp_ >= 0) {
+      add_point_reaction(m, m.beam(beam_), cp_, false, X_, in, out);
+      return;
+    }
+    for (int k = 0; k < 3; ++k) out.force[k] -= in.x(extra_offset() + k);
+  }
   /// The last control point the support couples to.
   PetscInt elimination_anchor(const Model& m) const override {
     return m.beam(beam_).first_cp() + stencil_.cp[stencil_.n - 1];

@@ -9,6 +9,7 @@
 
 #include <petscmat.h>
 
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
@@ -19,6 +20,20 @@
 namespace slidebeam {
 
 class Model;
+
+/// The force and moment a support or joint exerts, on the beam it holds (a joint: on its first
+/// beam); the moment about the held point (a rail: about its start).
+struct Reaction {
+  std::array<double, 3> force{}, moment{};
+  bool has_moment = false;
+};
+
+/// What Effect::reaction reads, at owned rows (0 elsewhere): raw, the residual of all effects
+/// (with the step's inertia) before prescribed rows are replaced; own, this effect's residual;
+/// x, the state.
+struct ReactionInput {
+  std::function<double(PetscInt)> raw, own, x;
+};
 
 /// Parameters of an effect, as given by the scene (numbers, vectors, strings).
 struct EffectParams {
@@ -208,6 +223,11 @@ class Effect {
   /// Unknowns this effect prescribes (Dirichlet), with their values. Called on every rank;
   /// return only rows owned by this rank.
   virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
+
+  /// Supports and joints: their reaction (summed over ranks by the model: add the terms of
+  /// owned rows only).
+  virtual bool has_reaction() const { return false; }
+  virtual void reaction(const Model&, const ReactionInput&, Reaction&) const {}
 
  private:
   PetscInt extra_offset_ = -1;

@@ -499,6 +499,60 @@ std::vector<double> Model::effect_energies(double t, Vec x) const {
   return e;
 }
 
+std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x, Vec F_raw, double scale) const {
+  std::vector<std::pair<int, Reaction>> out;
+  Vec own = nullptr;
+  SB_CHECK(VecDuplicate(x, &own));
+  const PetscInt lo = map_.owned_lo(), hi = map_.owned_hi();
+  const PetscScalar *raw = nullptr, *xa = nullptr, *ow = nullptr;
+  auto at = [lo, hi](const PetscScalar* a, PetscInt i) { return i >= lo && i < hi ? a[i - lo] : 0.0; };
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    if (!effects_[k]->has_reaction()) continue;
+    // the effect's own residual, assembled alone
+    SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+      PetscFunctionBeginUser;
+      PetscCall(VecZeroEntries(r_local_));
+      PetscScalar* ra = nullptr;
+      PetscCall(VecGetArray(r_local_, &ra));
+      PetscCall(effects_[k]->residual(ctx, LocalValues(ghost_dofs_, ra)));
+      PetscCall(VecRestoreArray(r_local_, &ra));
+      PetscFunctionReturn(0);
+    }));
+    SB_CHECK(VecZeroEntries(own));
+    SB_CHECK(VecScatterBegin(scatter_, r_local_, own, ADD_VALUES, SCATTER_REVERSE));
+    SB_CHECK(VecScatterEnd(scatter_, r_local_, own, ADD_VALUES, SCATTER_REVERSE));
+    SB_CHECK(VecGetArrayRead(F_raw, &raw));
+    SB_CHECK(VecGetArrayRead(x, &xa));
+    SB_CHECK(VecGetArrayRead(own, &ow));
+    const ReactionInput in{[&](PetscInt i) { return at(raw, i); }, [&](PetscInt i) { return scale * at(ow, i); },
+                           [&](PetscInt i) { return at(xa, i); }};
+    Reaction r;
+    effects_[k]->reaction(*this, in, r);
+    SB_CHECK(VecRestoreArrayRead(own, &ow));
+    SB_CHECK(VecRestoreArrayRead(x, &xa));
+    SB_CHECK(VecRestoreArrayRead(F_raw, &raw));
+    double buf[7] = {r.force[0], r.force[1], r.force[2], r.moment[0], r.moment[1], r.moment[2], r.has_moment ? 1.0 : 0.0};
+    MPI_Allreduce(MPI_IN_PLACE, buf, 7, MPI_DOUBLE, MPI_SUM, comm_);
+    for (int c = 0; c < 3; ++c) {
+      r.force[c] = buf[c];
+      r.moment[c] = buf[3 + c];
+    }
+    r.has_moment = buf[6] > 0.0;
+    out.emplace_back(static_cast<int>(k), r);
+  }
+  SB_CHECK(VecDestroy(&own));
+  return out;
+}
+
+std::vector<std::pair<int, Reaction>> Model::static_reactions(double t, Vec x) const {
+  Vec F = nullptr;
+  SB_CHECK(VecDuplicate(x, &F));
+  SB_CHECK(assemble_effects_residual(StepEval{StepRule::Endpoint, t, 1.0}, x, F));
+  auto r = reactions(StepEval{StepRule::Endpoint, t, 1.0}, x, F);
+  SB_CHECK(VecDestroy(&F));
+  return r;
+}
+
 std::vector<double> Model::beam_coordinates(int beam_index, Vec x) const {
   const Beam& b = beam(beam_index);
   const int nq = b.coordinates_per_cp();

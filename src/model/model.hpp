@@ -107,6 +107,13 @@ class Model {
   Momenta momenta(Vec x, Vec p) const;
   /// Potential energy of each effect at x (collective); same order as effects().
   std::vector<double> effect_energies(double t, Vec x) const;
+  /// Reactions of the effects that have one (Effect::has_reaction), as (effect index, reaction),
+  /// in the state x under the step rule ev; F_raw: the residual of all effects (and the step's
+  /// inertia) before prescribed rows are replaced; scale multiplies the effects' own residuals as
+  /// it does theirs in F_raw (HHT's 1 + alpha). Collective.
+  std::vector<std::pair<int, Reaction>> reactions(const StepEval& ev, Vec x, Vec F_raw, double scale = 1.0) const;
+  /// Static: reactions(Endpoint at t, x, the effects' residual at x).
+  std::vector<std::pair<int, Reaction>> static_reactions(double t, Vec x) const;
 
   /// Coordinates (n_cp x coordinates_per_cp, row-major) of a beam's control points at x, on every
   /// rank (collective).

@@ -251,6 +251,21 @@ PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
   PetscFunctionReturn(0);
 }
 
+std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
+  // the last step's context is still set up (prepare_step); x_ is its converged end state
+  Vec F = nullptr;
+  SB_CHECK(VecDuplicate(x_, &F));
+  SB_CHECK(model_.assemble_effects_residual(step_eval(), x_, F));
+  if (scale_ != 1.0) SB_CHECK(VecScale(F, scale_));
+  SB_CHECK(VecWAXPY(w_, -1.0, xt_, x_));
+  SB_CHECK(VecScale(w_, c0_));
+  SB_CHECK(MatMultAdd(M_, w_, F, F));
+  if (has_history_force_) SB_CHECK(VecAXPY(F, 1.0, f_hist_));
+  auto r = model_.reactions(step_eval(), x_, F, scale_);
+  SB_CHECK(VecDestroy(&F));
+  return r;
+}
+
 PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {
   PetscFunctionBeginUser;
   if (J == J_) {  // fast path: one COO pass with the mass terms

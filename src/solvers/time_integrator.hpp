@@ -101,6 +101,11 @@ class TimeIntegrator {
   /// residual and Jacobian can be evaluated (finite-difference tests).
   void prepare_step(double h);
   PetscErrorCode step_residual(Vec x1, Vec F);
+  /// Reactions of supports and joints over the last converged step (Model::reactions with the
+  /// step's residual, inertia included): what they exert on the structure during the step, so
+  /// that with the loads they balance the step's change of momentum. HHT: at t_{n+1}, without
+  /// its history term.
+  std::vector<std::pair<int, Reaction>> reactions();
   PetscErrorCode step_jacobian(Vec x1, Mat J);
 
  private:

@@ -93,11 +93,11 @@ def test_static_start_hangs_a_straight_rope_in_its_sag():
     assert abs(outcome.records[-1].tracked[0][2] + sag) < 1e-9 * sag
 
 
-def _ropeway(tmp_path: Path, static: str) -> "slidebeam.Simulation":
+def _ropeway(tmp_path: Path, static: str, quadrature: str = "assumed_strain") -> "slidebeam.Simulation":
     import slidebeam
 
     scene = cable_scene(tmp_path, 1, 32, 3, "--start", "equilibrium", "--static", static, "--t-end", "0.02")
-    return slidebeam.Simulation(slidebeam.load_scene(scene))
+    return slidebeam.Simulation(slidebeam.load_scene(scene, [f"beam.{b}.quadrature={quadrature}" for b in range(4)]))
 
 
 def test_static_start_with_held_sliders_keeps_them_in_place(tmp_path):
@@ -113,13 +113,20 @@ def test_static_start_with_held_sliders_keeps_them_in_place(tmp_path):
     assert max(abs(a.s - b.s) for a, b in zip(outcome.records[-1].joints, first.joints)) > 1e-6
 
 
-def test_static_start_with_free_sliders_finds_the_low_point(tmp_path):
-    """Free sliders on a symmetric sagging rope all end at its low point, the middle, and stay."""
-    sim = _ropeway(tmp_path, "free")
+@pytest.mark.parametrize("quadrature", ["full", "assumed_strain"])
+def test_static_start_with_free_sliders_finds_the_low_point(tmp_path, quadrature):
+    """Free sliders on a symmetric sagging rope all end at its low point, the middle, and stay.
+    With assumed strains (the default) the carrier's energy ripples with the load's place in a
+    span (the knots' averaged strains hide part of the kink under the load): on this nearly
+    flat landscape they settle 0.26 m off the middle, less than half a span (0.625 m);
+    docs/verification.md, "assumed strains"."""
+    sim = _ropeway(tmp_path, "free", quadrature)
     outcome = sim.run_dynamic()
     assert outcome.complete
     for rec in (outcome.records[0], outcome.records[-1]):
-        assert [j.s for j in rec.joints] == pytest.approx([10.0] * 3, abs=1e-6)
+        s = [j.s for j in rec.joints]
+        assert s == pytest.approx([s[0]] * 3, abs=1e-6)
+        assert s[0] == pytest.approx(10.0, abs=1e-6 if quadrature == "full" else 0.5 * 20.0 / 32)
     energy = abs(outcome.records[0].total_energy)
     assert max(r.kinetic_energy for r in outcome.records) < 1e-12 * energy
 

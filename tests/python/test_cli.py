@@ -71,9 +71,11 @@ def test_mpi_run_matches_serial(run_cli, root, tmp_path):
     assert a.returncode == 0 and b.returncode == 0, b.stderr
     ha = list(csv.reader((tmp_path / "np1" / "history.csv").open()))
     hb = list(csv.reader((tmp_path / "np2" / "history.csv").open()))
+    tip = [k for k, name in enumerate(ha[0]) if name.startswith("arc@")]
+    assert len(tip) == 3
     for ra, rb in zip(ha[1:], hb[1:]):
-        for va, vb in zip(ra[-3:], rb[-3:]):
-            assert abs(float(va) - float(vb)) < 1e-10
+        for k in tip:
+            assert abs(float(ra[k]) - float(rb[k])) < 1e-10
     assert json.loads((tmp_path / "np2" / "summary.json").read_text())["ranks"] == 2
 
 
@@ -306,4 +308,6 @@ def test_one_two_and_three_ranks_give_the_same_history(run_cli, root, tmp_path, 
                 if key in ("reason", "newton_iterations", "residual_norm") or "reaction" in key:
                     continue
                 x, y = float(a[key]), float(b[key])
-                assert abs(x - y) <= 1e-10 * scale[key.split(".")[0]], (np_, a["t"], key, x, y)
+                # support reactions: residuals of stiff rows, as exact as the Newton tolerance lets them be
+                tol = 1e-8 if key.rsplit(".", 1)[-1] in ("fx", "fy", "fz", "mx", "my", "mz") else 1e-10
+                assert abs(x - y) <= tol * scale[key.split(".")[0]], (np_, a["t"], key, x, y)

@@ -1,0 +1,59 @@
+# SPDX-License-Identifier: MIT
+"""Irvine's elastic catenary (Irvine, Cable Structures, 1981, section 2.3): a cable of
+unstretched length L0, axial stiffness EA and weight w per unstretched length hanging between two
+supports at the same height, a horizontal distance l apart. The reference for hanging ropes
+(docs/verification.md; scripts/catenary.py, tests/python/test_catenary.py)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class ElasticCatenary:
+    span: float      # l, horizontal distance of the supports [m]
+    length: float    # L0, unstretched length [m]
+    EA: float        # axial stiffness [N]
+    w: float         # weight per unstretched length [N/m]
+
+    @property
+    def V(self) -> float:
+        """Vertical reaction at each support: half the weight."""
+        return 0.5 * self.w * self.length
+
+    def horizontal_span(self, H: float) -> float:
+        """x(L0) for a horizontal tension H."""
+        return H * self.length / self.EA + 2.0 * H / self.w * math.asinh(self.V / H)
+
+    @property
+    def H(self) -> float:
+        """Horizontal tension: the root of x(L0) = l (bisection; x grows with H)."""
+        if self.horizontal_span(1e-12 * self.w * self.length) > self.span:
+            raise ValueError("the supports are further apart than the cable reaches")
+        lo, hi = 1e-12 * self.w * self.length, self.w * self.length
+        while self.horizontal_span(hi) < self.span:
+            hi *= 2.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if self.horizontal_span(mid) < self.span else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    def tension(self, s: np.ndarray | float) -> np.ndarray:
+        """T(s) = sqrt(H^2 + (V - w s)^2) at unstretched arc length s from the left support."""
+        H = self.H
+        return np.sqrt(H * H + (self.V - self.w * np.asarray(s, dtype=float)) ** 2)
+
+    def position(self, s: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+        """(x, z) at unstretched arc length s: x from the left support, z upward (<= 0)."""
+        H, V, w, EA = self.H, self.V, self.w, self.EA
+        s = np.asarray(s, dtype=float)
+        x = H * s / EA + H / w * (np.arcsinh(V / H) - np.arcsinh((V - w * s) / H))
+        z = -(w * s / EA * (V / w - s / 2) + H / w * (np.sqrt(1 + (V / H) ** 2) - np.sqrt(1 + ((V - w * s) / H) ** 2)))
+        return x, z
+
+    @property
+    def sag(self) -> float:
+        """Depth of the midpoint below the supports."""
+        return float(-self.position(0.5 * self.length)[1])
