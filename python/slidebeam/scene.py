@@ -765,7 +765,7 @@ def _parse_beam(t: _Table, index: int) -> Beam:
         geometry=geometry,
         d2=_parse_d2(t, geometry),
         spans=t.integer("spans"),
-        quadrature=t.choice("quadrature", ("full", "reduced", "assumed_strain"), "assumed_strain"),
+        quadrature=t.choice("quadrature", ("full", "reduced", "assumed_strain"), "full"),
         strain=t.choice("strain", ("simo-reissner", "seed"), "simo-reissner"),
         formulation=formulation,
         section=section,

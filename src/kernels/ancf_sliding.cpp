@@ -24,8 +24,9 @@ void add_basis(int n_elements, double L, int e, double s, int k, double f, Weigh
 }
 
 std::array<int, 2> touched_blocks(int n_elements, double L, double s0, double s1) {
-  const int e0 = element_of(n_elements, L, std::min(s0, s1)), e1 = element_of(n_elements, L, std::max(s0, s1));
-  return {2 * e0, 2 * e1 + 3};
+  // elements of both ends, not of min/max: a non-finite s (a diverging iterate) compares false
+  const int a = element_of(n_elements, L, s0), b = element_of(n_elements, L, s1);
+  return {2 * std::min(a, b), 2 * std::max(a, b) + 3};
 }
 
 void difference_quotient(int n_elements, double L, double s0, double s1, Weights& D, Weights& dD) {

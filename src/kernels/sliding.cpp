@@ -22,8 +22,9 @@ void add_basis(int n_spans, double L, int span, double s, int k, double f, Weigh
 }
 
 std::array<int, 2> touched_cps(int n_spans, double L, double s0, double s1) {
-  const int e0 = span_of(n_spans, L, std::min(s0, s1)), e1 = span_of(n_spans, L, std::max(s0, s1));
-  return {e0, e1 + 2};
+  // spans of both ends, not of min/max: a non-finite s (a diverging iterate) compares false
+  const int a = span_of(n_spans, L, s0), b = span_of(n_spans, L, s1);
+  return {std::min(a, b), std::max(a, b) + 2};
 }
 
 void difference_quotient(int n_spans, double L, double s0, double s1, Weights& D, Weights& dD) {

@@ -310,7 +310,9 @@ PetscErrorCode Model::prepare_ghosts(const StepEval& ev, Vec x) const {
   PetscCall(PetscInfo(nullptr, "Ghost set rebuilt (a sliding joint left its carrier window): %d\n", ghost_rebuilds_));
   PetscCall(build_ghosts());
   PetscCall(update_ghosts(x));
-  if (two_states && x_old_) PetscCall(update_ghosts(x_old_, x_old_local_));
+  // the step start too, whatever this evaluation's rule: a later two-state evaluation of the
+  // same step (a record's reactions after its energies) reads it without ghosting it again
+  if (x_old_) PetscCall(update_ghosts(x_old_, x_old_local_));
   PetscFunctionReturn(0);
 }
 

@@ -187,7 +187,7 @@ def test_full_scene_beams(full):
     assert g.center == (0.0, 0.0, 0.0) and g.radius == 100.0 and g.normal == (0.0, 0.0, 1.0)
     assert g.start == (100.0, 0.0, 0.0) and g.angle_deg == 45.0
     assert g.length == pytest.approx(100.0 * math.pi / 4, rel=1e-14)
-    assert ring.d2 is None and ring.strain == "seed" and ring.quadrature == "assumed_strain"  # the default
+    assert ring.d2 is None and ring.strain == "seed" and ring.quadrature == "full"
     end = g.point_at(g.length)
     assert end == pytest.approx((100 / math.sqrt(2), 100 / math.sqrt(2), 0.0), abs=1e-10)
 
