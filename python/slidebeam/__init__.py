@@ -11,7 +11,7 @@ from typing import Any
 
 from .scene import Scene, SceneError, load_scene, scene_from_dict
 
-__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "Simulation"]
+__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "Simulation", "Reaction"]
 
 
 def __getattr__(name: str) -> Any:
@@ -19,4 +19,8 @@ def __getattr__(name: str) -> Any:
         from .simulation import Simulation
 
         return Simulation
+    if name == "Reaction":
+        from .dynamics import Reaction
+
+        return Reaction
     raise AttributeError(f"module 'slidebeam' has no attribute {name!r}")

@@ -38,6 +38,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(VecDuplicate(x_, &v_));
   SB_CHECK(VecDuplicate(x_, &a_));
   SB_CHECK(VecDuplicate(x_, &x1_));
+  SB_CHECK(VecDuplicate(x_, &x_start_));
   SB_CHECK(VecDuplicate(x_, &v_prev_));
   SB_CHECK(VecDuplicate(x_, &xt_));
   SB_CHECK(VecDuplicate(x_, &w_));
@@ -115,7 +116,7 @@ TimeIntegrator::~TimeIntegrator() {
   SNESDestroy(&snes_);
   MatDestroy(&M_);
   MatDestroy(&J_);
-  for (Vec* v : {&x_, &v_, &a_, &x1_, &v_prev_, &xt_, &w_, &f_hist_, &work_, &sdot_, &state_mask_}) VecDestroy(v);
+  for (Vec* v : {&x_, &v_, &a_, &x1_, &x_start_, &v_prev_, &xt_, &w_, &f_hist_, &work_, &sdot_, &state_mask_}) VecDestroy(v);
 }
 
 StepEval TimeIntegrator::step_eval() const {
@@ -252,7 +253,9 @@ PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
 }
 
 std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
-  // the last step's context is still set up (prepare_step); x_ is its converged end state
+  // the last step's context (prepare_step) with its start state again: x_, which the model
+  // references as the step start, holds the step's end now
+  SB_CHECK(model_.set_step_start(x_start_));
   Vec F = nullptr;
   SB_CHECK(VecDuplicate(x_, &F));
   SB_CHECK(model_.assemble_effects_residual(step_eval(), x_, F));
@@ -470,6 +473,7 @@ SolveResult TimeIntegrator::step(double h) {
       SB_CHECK(VecPointwiseMult(sdot_, sdot_, model_.sliding_mask()));
       SB_CHECK(VecScale(sdot_, 1.0 / h));
     }
+    SB_CHECK(VecCopy(x_, x_start_));
     SB_CHECK(VecCopy(x1_, x_));
     t_ += h;
   }

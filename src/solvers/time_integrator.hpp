@@ -127,6 +127,7 @@ class TimeIntegrator {
   CooAssembly coo_;  // assembly record of J_
   Vec x_ = nullptr, v_ = nullptr, a_ = nullptr;   // state at t_n
   Vec x1_ = nullptr;                              // Newton iterate / solution
+  Vec x_start_ = nullptr;                         // start of the last converged step (reactions)
   Vec v_prev_ = nullptr;                          // v_{n-1} (predictor of midpoint-type schemes)
   Vec sdot_ = nullptr;                            // (s_n - s_{n-1}) / h on sliding coordinates
   int pattern_seen_ = 0;                          // CooAssembly generation of the factorisation

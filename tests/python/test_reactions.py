@@ -1,0 +1,156 @@
+# SPDX-License-Identifier: MIT
+"""Reactions of supports and rigid joints (history.csv, summary.json, Simulation.reactions): in
+statics they balance the loads and weights, with moments about the held points; over a time
+step they balance gravity and the step's change of linear momentum to the Newton tolerance."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import slidebeam
+
+ROOT = Path(__file__).resolve().parents[2]
+G = np.array([0.0, 0.0, -9.81])
+
+
+def by_effect(reactions) -> dict[str, slidebeam.Reaction]:
+    return {r.effect: r for r in reactions}
+
+
+@pytest.mark.parametrize("quadrature", ["full", "assumed_strain"])
+def test_clamp_and_rigid_joint_balance_the_loads(quadrature):
+    """An L-frame: beam a clamped at the origin, beam b welded to its end, a force at b's end and
+    gravity. Clamp: force = -(loads + weights), moment about the clamp = -sum r x f. The rigid
+    joint's force and moment on a are what b carries: its load and weight."""
+    rho_a = 2.0
+    scene = slidebeam.scene_from_dict({
+        "analysis": {"type": "static", "steps": 4},
+        "beam": [{"name": "a", "start": [0, 0, 0], "end": [1, 0, 0], "spans": 6, "quadrature": quadrature,
+                  "section": {"EA": 1e5, "kGA": 1e5, "GJ": 50.0, "EI2": 80.0, "EI3": 80.0, "rhoA": rho_a}},
+                 {"name": "b", "start": [1, 0, 0], "end": [1, 0.8, 0], "spans": 4, "quadrature": quadrature,
+                  "section": {"EA": 1e5, "kGA": 1e5, "GJ": 50.0, "EI2": 80.0, "EI3": 80.0, "rhoA": rho_a}}],
+        "rigid_joint": [{"beams": ["a", "b"], "at": ["end", "start"]}],
+        "support": [{"type": "clamp", "beam": "a", "at": "start"}],
+        "load": [{"type": "force", "beam": "b", "at": "end", "value": [3.0, -2.0, 5.0]}],
+        "gravity": {"g": G.tolist()},
+    })
+    sim = slidebeam.Simulation(scene)
+    assert sim.solve_static()[-1].converged
+    r = by_effect(sim.reactions())
+    assert set(r) == {"clamp[a@start]", "rigid_joint[a@end-b@start]"}
+    F = np.array([3.0, -2.0, 5.0])
+    # forces and moments about the clamp of everything but the clamp: the load and the weights
+    s = np.linspace(0.0, 1.0, 2001)
+    pa = sim.evaluate("a", s)[:, :3]
+    pb = sim.evaluate("b", s * 0.8)[:, :3]
+    tip = sim.evaluate("b", 0.8)[0, :3]
+    wa, wb = rho_a * 1.0 * G, rho_a * 0.8 * G
+    # weights per unit length integrated by the trapezoidal rule on a fine sampling (moment arms)
+    ma = np.trapz(np.cross(pa, rho_a * G), s, axis=0)
+    mb = np.trapz(np.cross(pb, rho_a * G), s * 0.8, axis=0)
+    clamp = r["clamp[a@start]"]
+    scale = np.linalg.norm(F) + np.linalg.norm(wa + wb)
+    assert np.allclose(clamp.force, -(F + wa + wb), atol=1e-8 * scale)
+    assert np.allclose(clamp.moment, -(np.cross(tip, F) + ma + mb), atol=1e-5 * scale)  # trapezoid: 1e-7
+    joint = r["rigid_joint[a@end-b@start]"]
+    end_a = sim.evaluate("a", 1.0)[0, :3]
+    assert np.allclose(joint.force, F + wb, atol=1e-8 * scale)
+    assert np.allclose(joint.moment, np.cross(tip - end_a, F) + mb - np.cross(end_a, wb), atol=1e-5 * scale)
+
+
+def test_static_zip_line_reactions_balance_the_weights():
+    """A horizontal rope with a trolley that slides freely to rest (the equilibrium start): the
+    two supports carry the rope, the hanger and the trolley, to 1e-8 of the weight."""
+    scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "zip_line.toml", [
+        "beam.0.end=[20,0,0]", "beam.1.start=[9,0,0]", "beam.1.end=[9,0,-0.5]", 'sliding_joint.0.static="free"'])
+    sim = slidebeam.Simulation(scene)
+    assert sim.settle().converged
+    rope, hanger = scene.beams
+    weight = (rope.section.rhoA * rope.geometry.length + hanger.section.rhoA * hanger.geometry.length + 80.0) * G
+    total = sum(np.array(r.force) for r in sim.reactions())
+    assert np.allclose(total, -weight, atol=1e-8 * np.linalg.norm(weight))
+    (joint,) = sim.joint_states()
+    assert 9.5 < joint.s < 10.5 and joint.gap < 1e-9
+    # the trolley's weight reaches the rope through the joint (the carrier's force on the slider)
+    assert joint.reaction[2] == pytest.approx(-(hanger.section.rhoA * 0.5 + 80.0) * G[2], rel=1e-6)
+
+
+def test_static_runs_report_sliding_joints(tmp_path):
+    """A static run's records carry the sliding joints' s, reaction and gap, as dynamic ones do:
+    a trolley held on the hanging rope (drawn in its sag: statics from a straight rope is a
+    mechanism)."""
+    text = (ROOT / "runs" / "cables" / "hanging_rope.toml").read_text()
+    text = text.replace('type = "dynamic"', 'type = "static"\nsteps = 4').replace('start = "equilibrium"\n', "")
+    text = "\n".join(line for line in text.splitlines() if not line.startswith(("t_end =", "dt =")))
+    text += """
+[[beam]]
+name = "hanger"
+start = [10.0, 0.0, -2.0]
+end = [10.0, 0.0, -2.5]
+d2 = [1.0, 0.0, 0.0]
+spans = 2
+section = { shape = "circle", r = 0.01, E = 2.1e11, nu = 0.3, rho = 7800.0 }
+
+[[sliding_joint]]
+slider = "hanger"
+at = "start"
+carrier = "rope"
+
+[[point_mass]]
+beam = "hanger"
+at = "end"
+mass = 10.0
+"""
+    path = tmp_path / "rope_with_trolley.toml"
+    path.write_text(text)
+    records = slidebeam.Simulation(slidebeam.load_scene(path)).solve_static()
+    assert records[-1].converged
+    (joint,) = records[-1].joints
+    assert joint.s == pytest.approx(10.26, abs=0.05) and joint.gap < 1e-9 and joint.reaction[2] > 90.0
+    total = sum(np.array(r.force) for r in records[-1].reactions)
+    assert total[2] > 10.0 * 9.81  # the supports carry the trolley too
+
+
+@pytest.mark.parametrize("integrator", ["energy-momentum", "midpoint"])
+def test_dynamic_reactions_balance_gravity_and_the_change_of_momentum(integrator):
+    """Steps of the zip line (the trolley running down): (p_n+1 - p_n) / h = m g + the support
+    reactions over the step, to the Newton tolerance (measured 3e-8 N against a weight of 972 N).
+    (Newmark and HHT balance momentum with their own average of forces: their reactions are at
+    t_n+1.)"""
+    scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "zip_line.toml", [f'analysis.integrator="{integrator}"'])
+    sim = slidebeam.Simulation(scene)
+    assert sim.settle().converged
+    rope, hanger = scene.beams
+    mass = rope.section.rhoA * rope.geometry.length + hanger.section.rhoA * hanger.geometry.length + 80.0
+    h = scene.analysis.dt
+    p0 = np.array(sim.integrator.motion()[1])
+    worst = 0.0
+    for _ in range(15):
+        assert sim.integrator.step(h).converged
+        p1 = np.array(sim.integrator.motion()[1])
+        reactions = sim.reactions(over_last_step=True)
+        assert {r.effect for r in reactions} == {"spherical[rope@start]", "spherical[rope@end]"}
+        worst = max(worst, float(np.linalg.norm((p1 - p0) / h - mass * G - sum(np.array(r.force) for r in reactions))))
+        p0 = p1
+    assert worst < 1e-8 * mass * 9.81, worst
+
+
+def test_reactions_are_in_history_and_summary(run_cli, root, tmp_path):
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "roll", "--set", "beam.0.spans=8",
+                  "--set", "analysis.steps=2")
+    assert out.returncode == 0, out.stderr
+    import csv
+    import json
+
+    header = next(csv.reader((tmp_path / "roll" / "history.csv").open()))
+    assert [h for h in header if h.startswith("clamp[")] == [f"clamp[strip@start].{c}" for c in
+                                                            ("fx", "fy", "fz", "mx", "my", "mz")]
+    summary = json.loads((tmp_path / "roll" / "summary.json").read_text())
+    (clamp,) = summary["reactions"]
+    assert clamp["effect"] == "clamp[strip@start]"
+    # the end moment 2 pi EI / L about z, and no force
+    assert clamp["moment"] == pytest.approx([0.0, 0.0, -2 * math.pi * 100.0 / 10.0], abs=1e-6)
+    assert clamp["force"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-6)
