@@ -72,13 +72,15 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
 
 
 def _record(d: dict) -> "DynamicRecord":
-    from .dynamics import DynamicRecord, JointState
+    from .dynamics import DynamicRecord, JointState, Reaction
 
     d = dict(d)
     d["linear_momentum"] = tuple(d["linear_momentum"])
     d["angular_momentum"] = tuple(d["angular_momentum"])
     d["tracked"] = [tuple(p) for p in d["tracked"]]
-    d["joints"] = [JointState(j["s"], j["ds_dt"], tuple(j["reaction"])) for j in d["joints"]]
+    d["joints"] = [JointState(j["s"], j["ds_dt"], tuple(j["reaction"]), j.get("gap", 0.0)) for j in d["joints"]]
+    d["reactions"] = [Reaction(r["effect"], tuple(r["force"]), None if r.get("moment") is None else tuple(r["moment"]))
+                      for r in d.get("reactions", [])]
     return DynamicRecord(**d)
 
 

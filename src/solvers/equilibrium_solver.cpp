@@ -151,7 +151,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
     // (switched evolution relaxation), at most 10x; a hard solve keeps it.
     const SolveResult last = solve_result(snes_);
     const double ser = std::sqrt(r / std::max(r_new, 1e-300));
-    h *= last.iterations <= 8 ? std::clamp(ser, 2.0, 10.0) : std::clamp(ser, 1.0, 2.0);
+    h *= last.iterations <= 6 ? std::clamp(ser, 2.0, 10.0) : std::clamp(ser, 1.0, 2.0);
     const bool stagnant = r_new >= 0.5 * r;
     SB_CHECK(PetscInfo(snes_, "continuation step %d: h %g, |F| %g, |dx| %g, |x| %g, Newton %d\n", res.pseudo_steps,
                        h, r_new, dx, xn, static_cast<int>(last.iterations)));
