@@ -57,6 +57,7 @@ class RigidJoint final : public Effect {
 
   void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(cp(m, a_, ca_)); }
   bool has_reaction() const override { return true; }
+  bool reaction_reads_own() const override { return true; }
   /// The force and moment on beam A's end: minus the joint's own constraint forces there.
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
     const PetscInt c = cp(m, a_, ca_);

@@ -227,6 +227,8 @@ class Effect {
   /// Supports and joints: their reaction (summed over ranks by the model: add the terms of
   /// owned rows only).
   virtual bool has_reaction() const { return false; }
+  /// Whether reaction() reads ReactionInput::own (assembling it costs a pass over the state).
+  virtual bool reaction_reads_own() const { return false; }
   virtual void reaction(const Model&, const ReactionInput&, Reaction&) const {}
 
  private:

@@ -501,6 +501,23 @@ std::vector<double> Model::effect_energies(double t, Vec x) const {
   return e;
 }
 
+PetscErrorCode Model::effect_residual(size_t k, const StepEval& ev, Vec x, Vec F) const {
+  PetscFunctionBeginUser;
+  PetscCall(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    PetscCall(VecZeroEntries(r_local_));
+    PetscScalar* ra = nullptr;
+    PetscCall(VecGetArray(r_local_, &ra));
+    PetscCall(effects_[k]->residual(ctx, LocalValues(ghost_dofs_, ra)));
+    PetscCall(VecRestoreArray(r_local_, &ra));
+    PetscFunctionReturn(0);
+  }));
+  PetscCall(VecZeroEntries(F));
+  PetscCall(VecScatterBegin(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
+  PetscFunctionReturn(0);
+}
+
 std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x, Vec F_raw, double scale) const {
   std::vector<std::pair<int, Reaction>> out;
   Vec own = nullptr;
@@ -510,19 +527,9 @@ std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x
   auto at = [lo, hi](const PetscScalar* a, PetscInt i) { return i >= lo && i < hi ? a[i - lo] : 0.0; };
   for (size_t k = 0; k < effects_.size(); ++k) {
     if (!effects_[k]->has_reaction()) continue;
-    // the effect's own residual, assembled alone
-    SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
-      PetscFunctionBeginUser;
-      PetscCall(VecZeroEntries(r_local_));
-      PetscScalar* ra = nullptr;
-      PetscCall(VecGetArray(r_local_, &ra));
-      PetscCall(effects_[k]->residual(ctx, LocalValues(ghost_dofs_, ra)));
-      PetscCall(VecRestoreArray(r_local_, &ra));
-      PetscFunctionReturn(0);
-    }));
+    // the effect's own residual, assembled alone (only for effects that read it)
     SB_CHECK(VecZeroEntries(own));
-    SB_CHECK(VecScatterBegin(scatter_, r_local_, own, ADD_VALUES, SCATTER_REVERSE));
-    SB_CHECK(VecScatterEnd(scatter_, r_local_, own, ADD_VALUES, SCATTER_REVERSE));
+    if (effects_[k]->reaction_reads_own()) SB_CHECK(effect_residual(k, ev, x, own));
     SB_CHECK(VecGetArrayRead(F_raw, &raw));
     SB_CHECK(VecGetArrayRead(x, &xa));
     SB_CHECK(VecGetArrayRead(own, &ow));

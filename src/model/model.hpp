@@ -112,6 +112,8 @@ class Model {
   /// inertia) before prescribed rows are replaced; scale multiplies the effects' own residuals as
   /// it does theirs in F_raw (HHT's 1 + alpha). Collective.
   std::vector<std::pair<int, Reaction>> reactions(const StepEval& ev, Vec x, Vec F_raw, double scale = 1.0) const;
+  /// The residual of effect k alone (collective).
+  PetscErrorCode effect_residual(size_t k, const StepEval& ev, Vec x, Vec F) const;
   /// Static: reactions(Endpoint at t, x, the effects' residual at x).
   std::vector<std::pair<int, Reaction>> static_reactions(double t, Vec x) const;
 

@@ -240,7 +240,7 @@ void TimeIntegrator::prepare_step(double h) {
   if (condensation_) condensation_->set_force_state(x_, step_eval().theta, scale_);
 }
 
-PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
+PetscErrorCode TimeIntegrator::step_forces(Vec x1, Vec F) {
   PetscFunctionBeginUser;
   PetscCall(model_.assemble_effects_residual(step_eval(), x1, F));
   if (scale_ != 1.0) PetscCall(VecScale(F, scale_));
@@ -248,6 +248,12 @@ PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
   PetscCall(VecScale(w_, c0_));
   PetscCall(MatMultAdd(M_, w_, F, F));
   if (has_history_force_) PetscCall(VecAXPY(F, 1.0, f_hist_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
+  PetscFunctionBeginUser;
+  PetscCall(step_forces(x1, F));
   PetscCall(model_.set_prescribed_residual_rows(x1, F));
   PetscFunctionReturn(0);
 }
@@ -258,12 +264,7 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
   SB_CHECK(model_.set_step_start(x_start_));
   Vec F = nullptr;
   SB_CHECK(VecDuplicate(x_, &F));
-  SB_CHECK(model_.assemble_effects_residual(step_eval(), x_, F));
-  if (scale_ != 1.0) SB_CHECK(VecScale(F, scale_));
-  SB_CHECK(VecWAXPY(w_, -1.0, xt_, x_));
-  SB_CHECK(VecScale(w_, c0_));
-  SB_CHECK(MatMultAdd(M_, w_, F, F));
-  if (has_history_force_) SB_CHECK(VecAXPY(F, 1.0, f_hist_));
+  SB_CHECK(step_forces(x_, F));
   auto r = model_.reactions(step_eval(), x_, F, scale_);
   SB_CHECK(VecDestroy(&F));
   return r;

@@ -114,6 +114,9 @@ class TimeIntegrator {
   static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                   SNESConvergedReason* reason, void* ctx);
   StepEval step_eval() const;
+  /// The step residual before the prescribed rows are replaced: the effects' forces (HHT: scaled,
+  /// with the history term) and the inertia c0 M (x1 - x~).
+  PetscErrorCode step_forces(Vec x1, Vec F);
   /// Leave the non-pivoting LU for SuperLU (after a failure with it).
   void use_pivoting_lu();
   void consistent_acceleration();
