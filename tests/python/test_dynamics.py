@@ -51,10 +51,11 @@ def everything_scene(integrator: str, quadrature: str = "assumed_strain") -> sli
 @pytest.mark.parametrize("integrator", INTEGRATORS + ("energy-momentum, xi = 0.3",))
 def test_step_jacobian_matches_finite_differences(integrator, quadrature):
     if quadrature == "assumed_strain" and integrator in ("newmark", "hht") and MPI.COMM_WORLD.Get_size() > 1:
-        # known defect: on 2 ranks the second Newmark/HHT step of this scene diverges with assumed
-        # strains (the residual, energy and Jacobian equal the serial ones; the first step's
-        # residual already differs: the consistent initial acceleration is suspect)
-        pytest.xfail("parallel Newmark/HHT with assumed strains: second step diverges")
+        # known: the index-3 Newton diverges on this scene's second step when its predictor is not
+        # projected onto rotations, as on 2 ranks (serial with -sb_condense_directors false: the
+        # same, and full quadrature fails at the third step); projecting it in parallel helps
+        # here but slows other parallel runs: open
+        pytest.xfail("parallel Newmark/HHT with assumed strains: the second step diverges")
     scene = everything_scene(integrator.split(",")[0], quadrature)
     if "xi" in integrator:  # the energy-decaying variant
         scene = dataclasses.replace(scene, analysis=dataclasses.replace(scene.analysis, em_dissipation=0.3))
