@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// The carrier-curve kernels of the sliding joint: the exact discrete derivative across knots
 /// and its derivative, and the closest-point projection.
+#include "kernels/ancf_sliding.hpp"
 #include "kernels/sliding.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 using namespace slidebeam::sliding;
@@ -86,4 +89,20 @@ TEST(Projection, FindsTheClosestPointOfACurvedCarrier) {
   const auto r = project(kSpans, kL, x.data(), 3, p);
   EXPECT_NEAR(r[0], s_true, 1e-10);
   EXPECT_NEAR(r[1], 0.01 * std::hypot(t[0], t[1]), 1e-10);
+}
+
+// A diverging Newton iterate can make s non-finite: the blocks a step touches still cover the
+// spans of both ends (min/max of a NaN picked one end only, and the basis of the other was
+// written outside the weights).
+TEST(TouchedBlocks, CoverBothEndsWhenSIsNotFinite) {
+  const double nan = std::nan("");
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double s1 : {nan, inf, -inf}) {
+    const auto r = touched_cps(8, 2.0, 1.3, s1);  // s0 in span 5
+    EXPECT_LE(r[0], std::min(5, span_of(8, 2.0, s1)));
+    EXPECT_GE(r[1], std::max(5, span_of(8, 2.0, s1)) + 2);
+    const auto a = hermite::touched_blocks(8, 2.0, 1.3, s1);  // element 5: blocks 10 .. 13
+    EXPECT_LE(a[0], 2 * std::min(5, hermite::element_of(8, 2.0, s1)));
+    EXPECT_GE(a[1], 2 * std::max(5, hermite::element_of(8, 2.0, s1)) + 3);
+  }
 }
