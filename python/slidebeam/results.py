@@ -73,12 +73,19 @@ def joint_names(sim: Simulation) -> list[str]:
 
 
 def configuration_csv(sim: Simulation) -> str:
+    """The final state sampled along every beam (output.samples_per_span points per span): centre
+    line, directors, strains (minus the reference's), the spatial force and moment resultants
+    and the tension, as the element has them."""
     buf = io.StringIO()
     w = csv.writer(buf)
-    w.writerow(["beam", "s", "x", "y", "z", "d1x", "d1y", "d1z", "d2x", "d2y", "d2z", "d3x", "d3y", "d3z"])
+    strain_cols = ["eps_axial", "eps_shear2", "eps_shear3", "kappa_torsion", "kappa2", "kappa3"]
+    w.writerow(["beam", "s", "x", "y", "z", "d1x", "d1y", "d1z", "d2x", "d2y", "d2z", "d3x", "d3y", "d3z",
+                *strain_cols, "fx", "fy", "fz", "mx", "my", "mz", "tension"])
     for b in sim.scene.beams:
-        s, q = sim.centreline(b.index)
-        for si, row in zip(s, q):
+        f = sim.sample_beam(b.index)
+        for i, si in enumerate(f["s"]):
+            row = [*f["position"][i], *f["d1"][i], *f["d2"][i], *f["d3"][i], *f["strain"][i], *f["force"][i],
+                   *f["moment"][i], f["tension"][i]]
             w.writerow([b.name, repr(float(si)), *[repr(float(v)) for v in row]])
     return buf.getvalue()
 

@@ -36,6 +36,10 @@ def test_run_writes_results(run_cli, root, tmp_path):
     assert tip == pytest.approx(summary["final_end_positions"]["strip"]["end"], abs=1e-12)
     config = list(csv.DictReader((tmp_path / "res" / "final_configuration.csv").open()))
     assert len(config) == 6 * 8 + 1 and float(config[-1]["s"]) == 10.0
+    assert {"eps_axial", "kappa3", "fx", "mz", "tension"} <= set(config[0])
+    # a pure end moment: a bending moment all along (a coarse full-quadrature strip: within 20 %)
+    moments = [float(r["mz"]) for r in config]
+    assert min(moments) > 0.8 * max(moments) > 1.0
 
 
 def test_check_validates_only(run_cli, root, tmp_path):
