@@ -85,7 +85,7 @@ class BeamElastic final : public SpanEffect {
         start_key_ = ctx.step_start;
         has_start_ = true;
       }
-      if (knots) step_knot_sigma(ctx, b);
+      if (knots) update_knot_sigma(ctx, b);
       for (size_t k = 0; k < elements_.size(); ++k) {
         const int e = elements_[k];
         VecEl re = VecEl::Zero();
@@ -97,7 +97,7 @@ class BeamElastic final : public SpanEffect {
       }
       PetscFunctionReturn(0);
     }
-    if (knots) force_state_knot_sigma(ctx, b);
+    if (knots) update_knot_sigma(ctx, b);
     for (int e : elements_) {
       VecEl re = VecEl::Zero();
       element(ctx, b, e, re, nullptr);
@@ -110,12 +110,9 @@ class BeamElastic final : public SpanEffect {
     const Beam& b = ctx.model.beam(beam_);
     const bool knots = b.gamma_at_knots();
     if (knots) {
-      if (ctx.rule == StepRule::EnergyMomentum) {
-        knot_strains(ctx, ctx.x_old, b, knot_start_);
-        step_knot_sigma(ctx, b);
-      } else {
-        force_state_knot_sigma(ctx, b);
-      }
+      // (not the residual's cache of the step start: the Jacobian may come first)
+      if (ctx.rule == StepRule::EnergyMomentum) knot_strains(ctx, ctx.x_old, b, knot_start_);
+      update_knot_sigma(ctx, b);
     }
     for (int e : elements_) {
       VecEl re = VecEl::Zero();
@@ -152,10 +149,7 @@ class BeamElastic final : public SpanEffect {
     Vec3 gs[kernels::kSpanLanes];
     const bool knots = b.gamma_at_knots();
     if (knots)
-      for (int g = 0; g < b.n_gp(); ++g) {
-        const double t = b.gp(e, g).t;
-        gs[g] = (1.0 - t) * knot_sigma_[static_cast<size_t>(e)] + t * knot_sigma_[static_cast<size_t>(e + 1)];
-      }
+      for (int g = 0; g < b.n_gp(); ++g) gs[g] = point_gamma_sigma(b, e, g);
     if (ctx.rule == StepRule::EnergyMomentum) {
       const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, e), q1 = gather_span(ctx.x, ctx.map, b, e);
       kernels::span_residual_tangent_em(b.strain_table(), b.stiffness(), &b.gp(e, 0), &b.eps0(e, 0), b.n_gp(),
@@ -166,41 +160,34 @@ class BeamElastic final : public SpanEffect {
                                    knots ? gs : nullptr, gather_span(ctx.xf, ctx.map, b, e), re, K);
     if (K && ctx.theta != 1.0) *K *= ctx.theta;
   }
-  /// knot_sigma_ = C_Gamma (averaged strain) of an energy-momentum step, from knot_start_ (q_n)
-  /// and the knots' strains at x, shifted by xi/2 (b(x) - b(q_n)) for the energy-decaying variant.
-  void step_knot_sigma(const EvalContext& ctx, const Beam& b) const {
-    knot_strains(ctx, ctx.x, b, knot_now_);
+  /// knot_sigma_ = C_Gamma times the knots' strains at the force state; energy-momentum: at the
+  /// step's averaged strain (knot_start_ at q_n), shifted by xi/2 (b(x) - b(q_n)) for the
+  /// energy-decaying variant.
+  void update_knot_sigma(const EvalContext& ctx, const Beam& b) const {
+    const bool em = ctx.rule == StepRule::EnergyMomentum;
+    knot_strains(ctx, em ? ctx.x : ctx.xf, b, knot_now_);
     const double a0 = 0.5 * (1.0 - ctx.dissipation), a1 = 0.5 * (1.0 + ctx.dissipation);
     knot_sigma_.assign(knot_now_.size(), Vec3::Zero());
     for (size_t i = 0; i < knot_now_.size(); ++i)
-      knot_sigma_[i] = b.stiffness().head<3>().cwiseProduct(a0 * knot_start_[i] + a1 * knot_now_[i]);
+      knot_sigma_[i] = b.stiffness().head<3>().cwiseProduct(em ? a0 * knot_start_[i] + a1 * knot_now_[i] : knot_now_[i]);
+  }
+  /// The Gamma stress at point g of span e: the knots' stresses interpolated.
+  Vec3 point_gamma_sigma(const Beam& b, int e, int g) const {
+    const double t = b.gp(e, g).t;
+    return (1.0 - t) * knot_sigma_[static_cast<size_t>(e)] + t * knot_sigma_[static_cast<size_t>(e + 1)];
   }
   /// The knots' strains b_i in the state x (entries of the knots next to owned spans).
   void knot_strains(const EvalContext& ctx, const LocalValues& x, const Beam& b, std::vector<Vec3>& out) const {
-    out.assign(static_cast<size_t>(b.n_spans() + 1), Vec3::Zero());
-    for (int f : moment_spans_) {
-      const auto m = kernels::span_gamma_moments(b.strain_table(), &b.gp(f, 0), &b.eps0(f, 0), b.n_gp(),
-                                                 gather_span(x, ctx.map, b, f));
-      out[static_cast<size_t>(f)] += m.left;
-      out[static_cast<size_t>(f + 1)] += m.right;
-    }
-    for (int i = 0; i <= b.n_spans(); ++i) out[static_cast<size_t>(i)] /= b.knot_mass(i);
-  }
-  /// knot_sigma_ = C_Gamma b at the force state (statics and the non-conserving integrators).
-  void force_state_knot_sigma(const EvalContext& ctx, const Beam& b) const {
-    knot_strains(ctx, ctx.xf, b, knot_now_);
-    knot_sigma_.assign(knot_now_.size(), Vec3::Zero());
-    for (size_t i = 0; i < knot_now_.size(); ++i) knot_sigma_[i] = b.stiffness().head<3>().cwiseProduct(knot_now_[i]);
+    out = b.knot_gamma(moment_spans_, [&](int f) { return gather_span(x, ctx.map, b, f); });
   }
   /// Span e's Gamma stresses at its points, lane by lane.
   void gamma_sigma_lanes(const Beam& b, int e, double (&lanes)[3][kernels::kSpanLanes]) const {
     for (int g = 0; g < b.n_gp(); ++g) {
-      const double t = b.gp(e, g).t;
-      const Vec3 v = (1.0 - t) * knot_sigma_[static_cast<size_t>(e)] + t * knot_sigma_[static_cast<size_t>(e + 1)];
+      const Vec3 v = point_gamma_sigma(b, e, g);
       for (int k = 0; k < 3; ++k) lanes[k][g] = v(k);
     }
   }
-  /// The spans on both sides of knot i, and the first control point of their union.
+  /// The spans on both sides of knot i (-1: none).
   static void knot_spans(const Beam& b, int i, int& left, int& right) {
     left = i >= 1 ? i - 1 : -1;
     right = i < b.n_spans() ? i : -1;

@@ -173,11 +173,22 @@ double beam_gp_energy(const StrainTable& T0, const Stiffness& C, const Vec6& eps
   return 0.5 * gp.w * de.dot(C.cwiseProduct(de));
 }
 
-void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                              const VecEl& q, VecEl& r, MatEl* K) {
+namespace {
+// The stiffness of a point's own strains: without the Gamma rows when their stresses are given.
+Stiffness pointwise_stiffness(const Stiffness& C, const Eigen::Vector3d* gamma_sigma) {
+  Stiffness Cp = C;
+  if (gamma_sigma) Cp.head<3>().setZero();
+  return Cp;
+}
+}  // namespace
+
+void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C0, const Vec6& eps0, const GaussPoint& gp,
+                              const VecEl& q, VecEl& r, MatEl* K, const Eigen::Vector3d* gamma_sigma) {
   const StrainTable T = point_table(T0, gp);
+  const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z = apply_P(gp, q);
-  const Vec6 sigma = C.cwiseProduct(strains(T, z) - eps0);
+  Vec6 sigma = C.cwiseProduct(strains(T, z) - eps0);
+  if (gamma_sigma) sigma.head<3>() = *gamma_sigma;
   add_Pt(gp, gp.w, weighted_gradient(T, sigma, z), r);
   if (K) {
     Mat6Z B;
@@ -188,12 +199,15 @@ void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C, const V
   }
 }
 
-void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi) {
+void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, const Vec6& eps0, const GaussPoint& gp,
+                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi,
+                                 const Eigen::Vector3d* gamma_sigma) {
   const StrainTable T = point_table(T0, gp);
+  const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
   // averaged strain, shifted by xi/2 (eps1 - eps0) towards the end of the step
-  const Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
+  Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
+  if (gamma_sigma) sigma.head<3>() = *gamma_sigma;
   add_Pt(gp, gp.w, weighted_gradient(T, sigma, zm), r);
   if (K) {
     Mat6Z Bm;
@@ -257,52 +271,15 @@ double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* g
 
 void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
                            const Eigen::Vector3d* gamma_sigma, const VecEl& q, VecEl& r, MatEl* K) {
-  if (!gamma_sigma) {
-    for (int g = 0; g < n; ++g) beam_gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K);
-    return;
-  }
-  Stiffness Ck = C;  // the pointwise (torsion and bending) part
-  Ck.head<3>().setZero();
-  for (int g = 0; g < n; ++g) {
-    const StrainTable Tg = point_table(T, gps[g]);
-    const VecZ z = apply_P(gps[g], q);
-    Vec6 sigma = Ck.cwiseProduct(strains(Tg, z) - eps0[g]);
-    sigma.head<3>() = gamma_sigma[g];
-    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg, sigma, z), r);
-    if (!K) continue;
-    Mat6Z B;
-    for (int k = 0; k < 6; ++k) form_gradient<kNz>(Tg[k], z, B.row(k));
-    MatZ Kz = weighted_product(gps[g], B, Ck, B, 1.0);
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[k], sigma(k), Kz);
-    add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
-  }
+  for (int g = 0; g < n; ++g)
+    beam_gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K, gamma_sigma ? gamma_sigma + g : nullptr);
 }
 
 void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0,
                               int n, const Eigen::Vector3d* gamma_sigma, const VecEl& q0, const VecEl& q1, VecEl& r,
                               MatEl* K, double xi) {
-  if (!gamma_sigma) {
-    for (int g = 0; g < n; ++g) beam_gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K, xi);
-    return;
-  }
-  Stiffness Ck = C;
-  Ck.head<3>().setZero();
-  for (int g = 0; g < n; ++g) {
-    const StrainTable Tg = point_table(T, gps[g]);
-    const VecZ z0 = apply_P(gps[g], q0), z1 = apply_P(gps[g], q1), zm = 0.5 * (z0 + z1);
-    Vec6 sigma = Ck.cwiseProduct(0.5 * (1.0 - xi) * strains(Tg, z0) + 0.5 * (1.0 + xi) * strains(Tg, z1) - eps0[g]);
-    sigma.head<3>() = gamma_sigma[g];
-    add_Pt(gps[g], gps[g].w, weighted_gradient(Tg, sigma, zm), r);
-    if (!K) continue;
-    Mat6Z Bm, B1;
-    for (int k = 0; k < 6; ++k) {
-      form_gradient<kNz>(Tg[k], zm, Bm.row(k));
-      form_gradient<kNz>(Tg[k], z1, B1.row(k));
-    }
-    MatZ Kz = weighted_product(gps[g], Bm, Ck, B1, 0.5 * (1.0 + xi));
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(Tg[k], 0.5 * sigma(k), Kz);
-    add_Pt_K_P(gps[g], gps[g].w, Kz, *K);
-  }
+  for (int g = 0; g < n; ++g)
+    beam_gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K, xi, gamma_sigma ? gamma_sigma + g : nullptr);
 }
 
 namespace {

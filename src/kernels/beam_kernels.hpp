@@ -134,8 +134,10 @@ double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0
 
 /// Internal force of one quadrature point, r += w B(q)^T C (eps(q) - eps0) with B = d eps/dq,
 /// and (if K is given) the exact tangent K += d r/dq = w [B^T C B + sum_k sigma_k d^2 eps_k/dq^2].
+/// gamma_sigma (may be null): the point's Gamma stresses given from outside (the knots' assumed
+/// strains); they replace its own, and the tangent keeps only their geometric terms.
 void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                              const VecEl& q, VecEl& r, MatEl* K);
+                              const VecEl& q, VecEl& r, MatEl* K, const Eigen::Vector3d* gamma_sigma = nullptr);
 
 /// Energy-momentum internal force of one quadrature point (formulation.md section 6): the
 /// gradient at the midpoint q_m = (q0 + q1)/2 with the AVERAGED strain,
@@ -144,8 +146,10 @@ void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Ve
 /// xi > 0 (energy-decaying variant): the strain in sigma becomes eps_avg + xi/2 (eps(q1) - eps(q0)),
 /// so the step dissipates xi/2 w (deps)^T C deps >= 0, most in the fast (stiff) modes, and still
 /// conserves momentum (the force is still B(q_m)^T sigma of frame-indifferent strains).
+/// gamma_sigma: as for beam_gp_residual_tangent (the step's Gamma stresses).
 void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
-                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0);
+                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi = 0.0,
+                                 const Eigen::Vector3d* gamma_sigma = nullptr);
 
 /// The assumed membrane and shear strains (quadrature = "assumed_strain"). The first three
 /// strains, Gamma (axial and the two shears), enter the energy only through their weighted means

@@ -143,15 +143,9 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
 }
 
 std::vector<Eigen::Vector3d> Beam::knot_gamma(const std::vector<double>& q) const {
-  std::vector<Eigen::Vector3d> b(static_cast<size_t>(n_spans() + 1), Eigen::Vector3d::Zero());
-  for (int e = 0; e < n_spans(); ++e) {
-    const auto m = kernels::span_gamma_moments(strain_table(), &gp(e, 0), &eps0(e, 0), n_gp(),
-                                               Eigen::Map<const kernels::VecEl>(q.data() + 12 * e));
-    b[static_cast<size_t>(e)] += m.left;
-    b[static_cast<size_t>(e + 1)] += m.right;
-  }
-  for (int i = 0; i <= n_spans(); ++i) b[static_cast<size_t>(i)] /= knot_mass(i);
-  return b;
+  std::vector<int> all(static_cast<size_t>(n_spans()));
+  for (int e = 0; e < n_spans(); ++e) all[static_cast<size_t>(e)] = e;
+  return knot_gamma(all, [&q](int e) { return kernels::VecEl(Eigen::Map<const kernels::VecEl>(q.data() + 12 * e)); });
 }
 
 int Beam::ancf_element_at(double s, double& x) const {

@@ -10,7 +10,6 @@
 #include "kernels/bspline.hpp"
 
 #include <string>
-#include <cstdlib>
 #include <vector>
 
 namespace slidebeam {
@@ -70,7 +69,8 @@ struct PositionStencil {
 /// spatial curvature vector; force = EA eps t, moment = EI r' x (r'' - r0'').
 /// tension: the axial force, sigma_0 = EA Gamma_1 (director) or EA eps (ANCF).
 /// Director beams with the assumed-strain quadrature report the element's own membrane and shear
-/// strains (the span's projection evaluated at s), so force and tension are what the element uses.
+/// strains (the knots' values interpolated along the span), so force and tension are what the
+/// element uses.
 struct BeamSamples {
   std::vector<double> s, position, velocity, d1, d2, d3, strain, force, moment, tension;
 };
@@ -120,6 +120,19 @@ class Beam {
   double knot_mass(int i) const { return knot_mass_[static_cast<size_t>(i)]; }
   /// The knots' assumed membrane and shear strains b_i in the configuration q (n_cp x 12).
   std::vector<Eigen::Vector3d> knot_gamma(const std::vector<double>& q) const;
+  /// The same from the given spans only, span_q(e) their coordinates: the entries of the knots
+  /// next to them that have both neighbours' spans among them (the rest hold partial sums).
+  template <class SpanCoordinates>
+  std::vector<Eigen::Vector3d> knot_gamma(const std::vector<int>& spans, SpanCoordinates&& span_q) const {
+    std::vector<Eigen::Vector3d> b(static_cast<size_t>(n_spans() + 1), Eigen::Vector3d::Zero());
+    for (int e : spans) {
+      const auto m = kernels::span_gamma_moments(strain_table(), &gp(e, 0), &eps0(e, 0), n_gp(), span_q(e));
+      b[static_cast<size_t>(e)] += m.left;
+      b[static_cast<size_t>(e + 1)] += m.right;
+    }
+    for (int i = 0; i <= n_spans(); ++i) b[static_cast<size_t>(i)] /= knot_mass(i);
+    return b;
+  }
   /// Whether the stiffness points carry the director-interpolation correction: the
   /// assumed-strain quadrature with the Simo-Reissner measure.
   bool corrected() const {
