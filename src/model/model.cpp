@@ -397,6 +397,17 @@ PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const
 PetscErrorCode Model::assemble_effects_residual(const StepEval& ev, Vec x, Vec F) const {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(ev_residual_, 0, 0, 0, 0));
+  PetscCall(assemble_residual_of(ev, x, F, -1));
+  PetscCall(PetscLogEventEnd(ev_residual_, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::effect_residual(size_t k, const StepEval& ev, Vec x, Vec F) const {
+  return assemble_residual_of(ev, x, F, static_cast<long>(k));
+}
+
+PetscErrorCode Model::assemble_residual_of(const StepEval& ev, Vec x, Vec F, long only) const {
+  PetscFunctionBeginUser;
   PetscCall(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
     PetscFunctionBeginUser;
     // r_local_ after the ghosts are ready: a rebuild replaces it
@@ -405,6 +416,7 @@ PetscErrorCode Model::assemble_effects_residual(const StepEval& ev, Vec x, Vec F
     PetscCall(VecGetArray(r_local_, &ra));
     const LocalValues rv(ghost_dofs_, ra);
     for (size_t k = 0; k < effects_.size(); ++k) {
+      if (only >= 0 && k != static_cast<size_t>(only)) continue;
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
       PetscCall(effects_[k]->residual(ctx, rv));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
@@ -415,7 +427,6 @@ PetscErrorCode Model::assemble_effects_residual(const StepEval& ev, Vec x, Vec F
   PetscCall(VecZeroEntries(F));
   PetscCall(VecScatterBegin(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(PetscLogEventEnd(ev_residual_, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -501,23 +512,6 @@ std::vector<double> Model::effect_energies(double t, Vec x) const {
   return e;
 }
 
-PetscErrorCode Model::effect_residual(size_t k, const StepEval& ev, Vec x, Vec F) const {
-  PetscFunctionBeginUser;
-  PetscCall(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
-    PetscFunctionBeginUser;
-    PetscCall(VecZeroEntries(r_local_));
-    PetscScalar* ra = nullptr;
-    PetscCall(VecGetArray(r_local_, &ra));
-    PetscCall(effects_[k]->residual(ctx, LocalValues(ghost_dofs_, ra)));
-    PetscCall(VecRestoreArray(r_local_, &ra));
-    PetscFunctionReturn(0);
-  }));
-  PetscCall(VecZeroEntries(F));
-  PetscCall(VecScatterBegin(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(scatter_, r_local_, F, ADD_VALUES, SCATTER_REVERSE));
-  PetscFunctionReturn(0);
-}
-
 std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x, Vec F_raw, double scale) const {
   std::vector<std::pair<int, Reaction>> out;
   Vec own = nullptr;
@@ -540,16 +534,25 @@ std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x
     SB_CHECK(VecRestoreArrayRead(own, &ow));
     SB_CHECK(VecRestoreArrayRead(x, &xa));
     SB_CHECK(VecRestoreArrayRead(F_raw, &raw));
-    double buf[7] = {r.force[0], r.force[1], r.force[2], r.moment[0], r.moment[1], r.moment[2], r.has_moment ? 1.0 : 0.0};
-    MPI_Allreduce(MPI_IN_PLACE, buf, 7, MPI_DOUBLE, MPI_SUM, comm_);
-    for (int c = 0; c < 3; ++c) {
-      r.force[c] = buf[c];
-      r.moment[c] = buf[3 + c];
-    }
-    r.has_moment = buf[6] > 0.0;
     out.emplace_back(static_cast<int>(k), r);
   }
   SB_CHECK(VecDestroy(&own));
+  // each rank added the terms of its rows: one sum over ranks for all of them
+  std::vector<double> buf;
+  for (const auto& [k, r] : out) {
+    buf.insert(buf.end(), r.force.begin(), r.force.end());
+    buf.insert(buf.end(), r.moment.begin(), r.moment.end());
+    buf.push_back(r.has_moment ? 1.0 : 0.0);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, buf.data(), static_cast<int>(buf.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  for (size_t j = 0; j < out.size(); ++j) {
+    Reaction& r = out[j].second;
+    for (int c = 0; c < 3; ++c) {
+      r.force[c] = buf[7 * j + c];
+      r.moment[c] = buf[7 * j + 3 + c];
+    }
+    r.has_moment = buf[7 * j + 6] > 0.0;
+  }
   return out;
 }
 

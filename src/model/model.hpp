@@ -150,6 +150,8 @@ class Model {
   /// Ghost x (and, for two-state rules, the step start); if an effect's unknowns moved out of
   /// its ghosts (refresh_needed_dofs), rebuild the ghosts on all ranks and ghost again.
   PetscErrorCode prepare_ghosts(const StepEval& ev, Vec x) const;
+  /// The residual of all effects (only < 0) or of effect `only` alone.
+  PetscErrorCode assemble_residual_of(const StepEval& ev, Vec x, Vec F, long only) const;
   /// Ghost x, build the evaluation context of a step rule (x, x_f, x_old) and call body(ctx).
   template <class Body>
   PetscErrorCode with_context(const StepEval& ev, Vec x, Body&& body) const;
