@@ -2,11 +2,12 @@
 """Irvine's elastic catenary (Irvine, Cable Structures, 1981, section 2.3): a cable of
 unstretched length L0, axial stiffness EA and weight w per unstretched length hanging between two
 supports at the same height, a horizontal distance l apart. The reference for hanging ropes
-(docs/verification.md; scripts/catenary.py, tests/python/test_catenary.py)."""
+(docs/verification.md; scripts/convergence_table.py, tests/python/test_catenary.py)."""
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -27,9 +28,9 @@ class ElasticCatenary:
         """x(L0) for a horizontal tension H."""
         return H * self.length / self.EA + 2.0 * H / self.w * math.asinh(self.V / H)
 
-    @property
+    @cached_property
     def H(self) -> float:
-        """Horizontal tension: the root of x(L0) = l (bisection; x grows with H)."""
+        """Horizontal tension: the root of x(L0) = l (bisection, once; x grows with H)."""
         if self.horizontal_span(1e-12 * self.w * self.length) > self.span:
             raise ValueError("the supports are further apart than the cable reaches")
         lo, hi = 1e-12 * self.w * self.length, self.w * self.length

@@ -279,9 +279,8 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
         "reactions": [r.as_dict() for r in last.reactions],
     }
     if scene.sliding_joints:
-        from .results import joint_names
-        summary["sliding_joints"] = {name: {"final_s": j.s, "final_reaction": list(j.reaction), "final_gap": j.gap}
-                                     for name, j in zip(joint_names(sim), last.joints)}
+        from .results import sliding_joint_summary
+        summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
     _finish_costs(sim, summary, t0, rank, args.quiet)
     with output_phase():
         write_results(sim, out, records, summary, rank)
@@ -358,10 +357,8 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                                    "newton_iterations": sim.settled.newton_iterations,
                                    "residual_initial": sim.settled.residual0, "residual": sim.settled.residual}
     if scene.sliding_joints:
-        from .results import joint_names
-        summary["sliding_joints"] = {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction),
-                                            "final_gap": j.gap}
-                                     for name, j in zip(joint_names(sim), last.joints)}
+        from .results import sliding_joint_summary
+        summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
     summary["reactions"] = [r.as_dict() for r in last.reactions]
     _finish_costs(sim, summary, t0, rank, args.quiet)
     with output_phase():

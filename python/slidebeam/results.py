@@ -10,7 +10,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from .dynamics import DynamicRecord
+from .dynamics import DynamicRecord, JointState
 from .simulation import Simulation, StepRecord
 
 
@@ -70,6 +70,12 @@ def joint_names(sim: Simulation) -> list[str]:
     """Column prefix of each sliding joint: <slider>_on_<carrier>, numbered when repeated."""
     names = [f"{sim.scene.beams[j.slider].name}_on_{sim.scene.beams[j.carrier].name}" for j in sim.scene.sliding_joints]
     return [n if names.count(n) == 1 else f"{n}_{i + 1}" for i, n in enumerate(names)]
+
+
+def sliding_joint_summary(sim: Simulation, joints: list[JointState]) -> dict[str, dict[str, object]]:
+    """summary.json's `sliding_joints`: the final s, ds/dt (statics: 0), reaction and gap per joint."""
+    return {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction), "final_gap": j.gap}
+            for name, j in zip(joint_names(sim), joints)}
 
 
 def configuration_csv(sim: Simulation) -> str:
