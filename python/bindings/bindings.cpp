@@ -10,6 +10,7 @@
 #include "solvers/static_solver.hpp"
 #include "solvers/time_integrator.hpp"
 #include "util/petsc_check.hpp"
+#include "util/stop_signal.hpp"
 
 #include <mpi4py/mpi4py.h>
 #include <pybind11/numpy.h>
@@ -192,6 +193,10 @@ PYBIND11_MODULE(_core, m) {
       .def_property("time", &StaticSolver::time, &StaticSolver::set_time)
       .def_property_readonly("snes", &StaticSolver::snes, "the SNES (petsc4py, shared with the core)");
 
+  m.def("install_stop_handlers", &install_stop_handlers,
+        "SIGINT/SIGTERM: the first is recorded (see stop_signal), the second ends the process at once");
+  m.def("stop_signal", py::overload_cast<>(&stop_signal), "the signal received since install_stop_handlers, or 0");
+
   py::class_<EquilibriumResult>(m, "EquilibriumResult")
       .def_readonly("converged", &EquilibriumResult::converged)
       .def_readonly("pseudo_steps", &EquilibriumResult::pseudo_steps)
@@ -199,7 +204,8 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("residual0", &EquilibriumResult::residual0)
       .def_readonly("residual", &EquilibriumResult::residual)
       .def_readonly("polished", &EquilibriumResult::polished)
-      .def_readonly("at_roundoff", &EquilibriumResult::at_roundoff);
+      .def_readonly("at_roundoff", &EquilibriumResult::at_roundoff)
+      .def_readonly("interrupted", &EquilibriumResult::interrupted, "the signal that stopped it, or 0");
 
   py::class_<EquilibriumSolver>(m, "EquilibriumSolver")
       .def(py::init<Model&>(), py::arg("model"), py::keep_alive<1, 2>())
@@ -236,7 +242,10 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("h_prev", &TimeIntegrator::h_prev, "the last step size (predictor memory)")
       .def_property_readonly("pivoting_lu", &TimeIntegrator::pivoting_lu, "time steps use the pivoting LU")
       .def("restore", &TimeIntegrator::restore, py::arg("t"), py::arg("h_prev"), py::arg("pivoting_lu"),
+           py::arg("segment_start") = 0.0, py::arg("segment_steps") = 0,
            "resume from a checkpoint (the state vectors already loaded)")
+      .def_property_readonly("time_segment", &TimeIntegrator::time_segment,
+                             "(start, steps) of the current run of equal steps h_prev: t = start + steps h_prev")
       .def_property_readonly("mass", &TimeIntegrator::mass)
       .def_property_readonly("snes", &TimeIntegrator::snes)
       .def_property_readonly("jacobian_evaluations", &TimeIntegrator::jacobian_evaluations)

@@ -60,6 +60,7 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
             meta = {
                 "format": FORMAT, "scene": sim.scene.name, "unknowns": sim.x.getSize(),
                 "t": integ.time, "h_prev": integ.h_prev, "pivoting_lu": bool(integ.pivoting_lu),
+                "segment_start": integ.time_segment[0], "segment_steps": integ.time_segment[1],
                 "integrator": sim.scene.analysis.integrator,
                 "dt": state.dt, "step": state.step, "rejected": state.rejected,
                 "rejected_since_record": state.rejected_since_record, "newton": state.newton,
@@ -120,7 +121,8 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
         vec.setName(name)
         vec.load(viewer)
     viewer.destroy()
-    sim.integrator.restore(float(meta["t"]), float(meta["h_prev"]), bool(meta["pivoting_lu"]))
+    sim.integrator.restore(float(meta["t"]), float(meta["h_prev"]), bool(meta["pivoting_lu"]),
+                           float(meta.get("segment_start", meta["t"])), int(meta.get("segment_steps", 0)))
     from .dynamics import RunState
 
     records = [_record(r) for r in json.loads(meta["records"])]

@@ -14,6 +14,7 @@ import time
 import traceback
 from pathlib import Path
 
+from . import interrupts
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
@@ -235,9 +236,10 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     try:
         output = (XdmfOutput(sim, out, rank, resume_after=sim.t if restart else None) if scene.output.xdmf
                   else NoOutput())
-        if scene.analysis.type == "dynamic":
-            return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0, output, state)
-        return _run_static(sim, scene, out, args, rank, comm.Get_size(), t0, output)
+        with interrupts.stop_on_signals():
+            if scene.analysis.type == "dynamic":
+                return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0, output, state)
+            return _run_static(sim, scene, out, args, rank, comm.Get_size(), t0, output)
     except OutputFailure as err:
         _say(rank, f"slidebeam: error: {err}; the run stopped at t = {sim.t:.6g} and its results are incomplete",
              sys.stderr)
@@ -262,29 +264,41 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
         output.close()
     wall = time.perf_counter() - t0
     last = records[-1]
-    complete = last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
-    message = ("converged" if complete else
-               f"Newton failed at load step {last.step} (t = {last.t:.6g}, after halving the increment 8 times): {last.reason}, "
-               f"residual norm {last.residual_norm:.3e}; results hold the last converged state "
-               f"and are marked incomplete")
+    complete = sim.stopped is None and last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
+    newton_failed = sim.stopped is None and not last.converged
+    if complete:
+        message = "converged"
+    elif not newton_failed:
+        message = f"{sim.stopped}; results are marked incomplete"
+    else:
+        message = (f"Newton failed at load step {last.step} (t = {last.t:.6g}, after halving the increment 8 times): "
+                   f"{last.reason}, residual norm {last.residual_norm:.3e}; results hold the last converged state "
+                   f"and are marked incomplete")
+    good = [r for r in records if r.converged]
     summary = {
         "scene": scene.name, "scene_file": os.path.abspath(scene.file),
-        "analysis": scene.analysis.type, "complete": complete, "converged": complete, "message": message,
+        "analysis": scene.analysis.type, "complete": complete, "converged": not newton_failed, "message": message,
+        "stopped": sim.stopped,
         "active_effects": [e.label for e in sim.active_effects],
-        "steps": last.step, "steps_requested": scene.analysis.steps,
+        "steps": good[-1].step, "steps_requested": scene.analysis.steps,
         "newton_iterations": sum(r.newton_iterations for r in records),
         "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
         "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
-        "final_energy": {"strain": last.strain_energy, "potential": last.potential_energy},
-        "reactions": [r.as_dict() for r in last.reactions],
+        "final_energy": {"strain": good[-1].strain_energy, "potential": good[-1].potential_energy},
+        "reactions": [r.as_dict() for r in good[-1].reactions],
     }
     if scene.sliding_joints:
         from .results import sliding_joint_summary
-        summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
+        summary["sliding_joints"] = sliding_joint_summary(sim, good[-1].joints)
     _finish_costs(sim, summary, t0, rank, args.quiet)
     with output_phase():
         write_results(sim, out, records, summary, rank)
-    if complete:
+    if sim.stop_signal:
+        _say(rank, f"slidebeam: {message}", sys.stderr)
+        return interrupts.exit_code(sim.stop_signal)
+    if complete or (sim.stopped and not sim.stop_is_failure):
+        if sim.stopped:
+            _say(rank, message)
         _say(rank, f"done in {wall:.3f} s: {sum(r.newton_iterations for r in records)} Newton iterations; "
                    f"results in {out}/")
         return EXIT_OK
@@ -328,8 +342,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         try:
             eq = sim.settle()
         except EquilibriumFailure as err:
-            _say(rank, f"slidebeam: error: {err}; nothing was stepped", sys.stderr)
-            return EXIT_SOLVE_FAILED
+            return _equilibrium_failed(sim, scene, out, args, rank, ranks, t0, output, err)
         _say(rank, f"static start: equilibrium after {eq.pseudo_steps} continuation steps, {eq.newton_iterations} "
                    f"Newton iterations (|F| {eq.residual0:.3e} -> {eq.residual:.3e})")
     outcome = sim.run_dynamic(progress, state, save)
@@ -339,10 +352,11 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
     wall = time.perf_counter() - t0
     recs = outcome.records
     last = recs[-1] if recs[-1].converged else recs[-2]
+    newton_failed = outcome.failed and outcome.stopped is None
     summary = {
         "scene": scene.name, "scene_file": os.path.abspath(scene.file), "analysis": "dynamic",
-        "integrator": a.integrator, "complete": outcome.complete, "converged": outcome.complete,
-        "message": outcome.message, "active_effects": [e.label for e in sim.active_effects],
+        "integrator": a.integrator, "complete": outcome.complete, "converged": not newton_failed,
+        "message": outcome.message, "stopped": outcome.stopped, "active_effects": [e.label for e in sim.active_effects],
         "t_end": a.t_end, "t_reached": sim.t, "dt": a.dt, "dt_min": a.dt_min,
         "steps": outcome.steps, "rejected_steps": outcome.rejected_steps,
         "newton_iterations": outcome.newton_iterations,
@@ -363,6 +377,9 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
     _finish_costs(sim, summary, t0, rank, args.quiet)
     with output_phase():
         write_results(sim, out, recs, summary, rank)
+    if outcome.signal:
+        _say(rank, f"slidebeam: {outcome.message}; results in {out}/", sys.stderr)
+        return interrupts.exit_code(outcome.signal)
     if not outcome.failed:
         if not outcome.complete:
             _say(rank, outcome.message)
@@ -370,6 +387,57 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"results in {out}/")
         return EXIT_OK
     _say(rank, f"slidebeam: error: {outcome.message}", sys.stderr)
+    return EXIT_SOLVE_FAILED
+
+
+def _likely_causes(scene: Scene) -> list[str]:
+    """What most often keeps a scene from an equilibrium, as far as the scene shows it."""
+    causes = []
+    if not scene.supports:
+        causes.append("the scene has no [[support]]: nothing holds the structure against its loads")
+    soft = [b.get("name", f"#{i + 1}") for i, b in enumerate(scene.data.get("beam", []))
+            if isinstance(b.get("section", {}).get("E"), (int, float)) and 0 < b["section"]["E"] < 1e6]
+    if soft:
+        causes.append(f"E of beam {', '.join(repr(n) for n in soft)} is below 1e6 Pa: moduli are in Pa "
+                      f"(steel: E = 2.1e11), not GPa or MPa")
+    causes.append("a mechanism: a beam, joint or free slider that can move without resistance "
+                  "(add a support, or hold the slider with static = \"held\")")
+    return causes
+
+
+def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
+                        output: XdmfOutput, err: Exception) -> int:
+    """The static start found no equilibrium: nothing is stepped; the folder still gets the XDMF
+    (the initial state), a history with that state, and a summary saying what happened."""
+    from .results import write_results
+
+    signum = sim.settled.interrupted
+    causes = [] if signum else _likely_causes(scene)
+    message = (f"interrupted by {interrupts.describe(signum)} during the static start; nothing was stepped"
+               if signum else f"{err}; nothing was stepped. Likely causes: " + "; ".join(causes))
+    with output_phase():
+        output.close()
+    rec = sim.record_dynamic(0, None, 0.0, 0)
+    summary = {
+        "scene": scene.name, "scene_file": os.path.abspath(scene.file), "analysis": "dynamic",
+        "integrator": scene.analysis.integrator, "complete": False, "converged": False, "message": message,
+        "stopped": message.split(";")[0], "likely_causes": causes,
+        "active_effects": [e.label for e in sim.active_effects], "t_end": scene.analysis.t_end, "t_reached": 0.0,
+        "steps": 0, "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": time.perf_counter() - t0,
+        "static_start": {"continuation_steps": sim.settled.pseudo_steps,
+                         "newton_iterations": sim.settled.newton_iterations,
+                         "residual_initial": sim.settled.residual0, "residual": sim.settled.residual},
+        "checkpoint": None,
+    }
+    with output_phase():
+        write_results(sim, out, [rec], summary, rank)
+    if signum:
+        _say(rank, f"slidebeam: {message} (results in {out}/ hold the initial state)", sys.stderr)
+        return interrupts.exit_code(signum)
+    _say(rank, f"slidebeam: error: {err}; nothing was stepped (results in {out}/ hold the initial state)",
+         sys.stderr)
+    for cause in causes:
+        _say(rank, f"  likely cause: {cause}", sys.stderr)
     return EXIT_SOLVE_FAILED
 
 

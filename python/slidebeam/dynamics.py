@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 from petsc4py import PETSc
 
+from . import interrupts
+
 if TYPE_CHECKING:
     from .simulation import Simulation
 
@@ -136,20 +138,105 @@ class RunOutcome:
     newton_iterations: int        # over all attempts
     failed: bool = False          # stopped by an error (not: reached t_end, or a scene-requested stop)
     state: RunState | None = None  # where the run stands (for a checkpoint)
+    stopped: str | None = None    # why a run that did not fail ended before t_end (carrier end, signal)
+    signal: int | None = None     # the signal (SIGINT, SIGTERM) that stopped it
 
 
-def _carrier_end(sim: "Simulation", joints: list[JointState], step: int) -> tuple[str, str] | None:
-    """(behaviour, message) if a slider has left its carrier, else None."""
-    for j, state in zip(sim.scene.sliding_joints, joints):
+class _Snapshot:
+    """The integrator's state at t_n (taken before each step), to take a step again with another
+    size: buffers allocated once, filled by take()."""
+
+    def __init__(self, sim: "Simulation") -> None:
+        from .checkpoint import VECTORS
+
+        self._integ = sim.integrator
+        self._vecs = {name: getattr(self._integ, name) for name in VECTORS}
+        self.copies = {name: vec.duplicate() for name, vec in self._vecs.items()}
+        self._time: tuple = ()
+
+    def take(self) -> None:
+        integ = self._integ
+        for name, vec in self._vecs.items():
+            vec.copy(self.copies[name])
+        self._time = (integ.time, integ.h_prev, bool(integ.pivoting_lu), *integ.time_segment)
+
+    def restore(self) -> None:
+        for name, vec in self._vecs.items():
+            self.copies[name].copy(vec)
+        t, h_prev, pivoting, seg_start, seg_steps = self._time
+        self._integ.restore(t, h_prev, pivoting, seg_start, seg_steps)
+
+    def destroy(self) -> None:
+        for vec in self.copies.values():
+            vec.destroy()
+
+
+def carrier_end(sim: "Simulation", joints: list[JointState]) -> tuple[int, float] | None:
+    """(joint, the end's s) of the first sliding joint whose slider is beyond an end of its
+    carrier, else None."""
+    for k, (j, state) in enumerate(zip(sim.scene.sliding_joints, joints)):
         length = sim.scene.beams[j.carrier].geometry.length
-        if -1e-12 * length <= state.s <= length * (1 + 1e-12):
-            continue
-        slider, carrier = sim.scene.beams[j.slider].name, sim.scene.beams[j.carrier].name
-        end = "start" if state.s < 0 else "end"
-        return j.at_carrier_end, (f"the slider of beam '{slider}' reached the {end} of carrier '{carrier}' "
-                                  f"(s = {state.s:.6g}, carrier length {length:g}) at step {step}, "
-                                  f"t = {sim.t:.6g}; run stopped (at_carrier_end = '{j.at_carrier_end}')")
+        if state.s < -1e-12 * length:
+            return k, 0.0
+        if state.s > length * (1 + 1e-12):
+            return k, length
     return None
+
+
+def carrier_end_message(sim: "Simulation", joint: int, s: float, when: str) -> str:
+    j = sim.scene.sliding_joints[joint]
+    slider, carrier = sim.scene.beams[j.slider].name, sim.scene.beams[j.carrier].name
+    end = "start" if s <= 0 else "end"
+    return (f"the slider of beam '{slider}' reached the {end} of carrier '{carrier}' (s = {s:.9g}) {when}; "
+            f"run stopped (at_carrier_end = '{j.at_carrier_end}')")
+
+
+# An arrival at a carrier end is accepted within this fraction of the carrier's length
+ARRIVAL_TOLERANCE = 1e-9
+
+
+def _arrive(sim: "Simulation", snapshot: _Snapshot, h: float, joint: int, s_end: float, s_out: float,
+            st: RunState) -> tuple[object | None, float]:
+    """Take the step that ended beyond a carrier end again, shortened so that the slider arrives
+    at the end (Illinois regula falsi on the step size, from the state at t_n). Returns the
+    accepted step's result and size, with the slider on the carrier within ARRIVAL_TOLERANCE of
+    its length from the end, or the closest inside try; (None, 0) if no try stayed inside (the
+    state at t_n is kept)."""
+    integ = sim.integrator
+    k = sim.sliding_joint_effects()[joint]
+    length = sim.scene.beams[sim.scene.sliding_joints[joint].carrier].geometry.length
+    s0 = float(sim._model.extra_values(k, snapshot.copies["x"])[3])
+    inward = 1.0 if s0 <= s_end else -1.0  # distance to the end is inward * (s_end - s)
+
+    h_in, d_in = 0.0, inward * (s_end - s0)        # d >= 0 on the carrier
+    h_out, d_out = h, inward * (s_end - s_out)     # < 0 beyond the end
+    best: float | None = None
+    side = 0
+    for _ in range(16):
+        snapshot.restore()
+        h_try = h_in + (h_out - h_in) * d_in / (d_in - d_out)
+        h_try = min(max(h_try, h_in + 1e-4 * (h_out - h_in)), h_out - 1e-4 * (h_out - h_in))
+        result = integ.step(h_try)
+        st.newton += result.iterations
+        st.rejected += 0 if result.converged else 1
+        d = inward * (s_end - float(sim._model.extra_values(k, integ.x)[3])) if result.converged else -1.0
+        if d >= 0:
+            best = h_try
+            if d <= ARRIVAL_TOLERANCE * length:
+                return result, h_try
+            h_in, d_in = h_try, d
+            d_out *= 0.5 if side == 1 else 1.0  # Illinois: the same side twice halves the other end
+            side = 1
+        else:
+            h_out, d_out = h_try, (d if result.converged else 0.5 * d_out)
+            d_in *= 0.5 if side == -1 else 1.0
+            side = -1
+    snapshot.restore()
+    if best is None:
+        return None, 0.0
+    result = integ.step(best)
+    st.newton += result.iterations
+    return result, best
 
 
 def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None,
@@ -165,45 +252,99 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
     ``output.checkpoint_every`` accepted steps.
     """
     a = sim.scene.analysis
-    integ = sim.integrator
     assert a.dt is not None and a.dt_min is not None
-    every = max(1, sim.scene.output.every)
-    ckpt_every = sim.scene.output.checkpoint_every
     if state is None:
         state = RunState([sim.record_dynamic(0, None, 0.0, 0)], a.dt)
         if on_step:
             on_step(state.records[0])
     st = state
     st.dt = min(st.dt, a.dt)  # a restart may ask for smaller steps
-    t_end = a.t_end
 
     def outcome(complete: bool, message: str, failed: bool = False, extra: list[DynamicRecord] | None = None):
         return RunOutcome(st.records + (extra or []), complete, message, st.step, st.rejected, st.newton, failed, st)
+
+    snapshot = _Snapshot(sim) if sim.scene.sliding_joints else None
+    try:
+        return _step_loop(sim, st, on_step, on_checkpoint, outcome, snapshot)
+    finally:
+        if snapshot is not None:
+            snapshot.destroy()
+
+
+def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome, snapshot) -> RunOutcome:
+    a = sim.scene.analysis
+    integ = sim.integrator
+    every = max(1, sim.scene.output.every)
+    ckpt_every = sim.scene.output.checkpoint_every
+    t_end = a.t_end
+    last_accepted: tuple[object, float] | None = None  # (result, h) of the last accepted step, if not recorded
+
+    def interrupted(signum: int) -> RunOutcome:
+        if last_accepted is not None:  # the last good state goes to the history
+            rec = sim.record_dynamic(st.step, last_accepted[0], last_accepted[1], st.rejected_since_record)
+            st.rejected_since_record = 0
+            st.records.append(rec)
+            if on_step:
+                on_step(rec)
+        reason = f"interrupted by {interrupts.describe(signum)}"
+        res = outcome(False, f"{reason} at t = {integ.time:.6g} (step {st.step}); results hold the state at "
+                             f"t = {integ.time:.6g} and are marked incomplete")
+        res.stopped, res.signal = reason, signum
+        return res
 
     while t_end - integ.time > 1e-9 * a.dt:
         # The step is dt unless less remains; a remainder within roundoff of dt is taken as dt,
         # so that a run stopped at t_end and restarted takes exactly the steps of one that went on.
         remaining = t_end - integ.time
         h = st.dt if remaining >= st.dt * (1 - 1e-9) else remaining
+        if snapshot is not None:
+            snapshot.take()
         t_step = time.perf_counter()
         result = integ.step(h)
         sim.step_wall_times.append(time.perf_counter() - t_step)
         st.newton += result.iterations
         if result.converged:  # the core already counts NaN/Inf in F or x as a failure
+            joints = sim.joint_states(gaps=False) if sim.scene.sliding_joints else []
+            ended = carrier_end(sim, joints) if joints else None
+            if ended:
+                # end the run with the slider at the carrier end: the step again, shortened
+                joint, s_end = ended
+                result, h = _arrive(sim, snapshot, h, joint, s_end, joints[joint].s, st)
+                if result is None:  # no shortened step stayed on the carrier: t_n is the arrival
+                    if last_accepted is not None:
+                        st.records.append(sim.record_dynamic(st.step, last_accepted[0], last_accepted[1],
+                                                             st.rejected_since_record))
+                        if on_step:
+                            on_step(st.records[-1])
+                    joints = sim.joint_states(gaps=False)
+                else:
+                    st.step += 1
+                    joints = sim.joint_states(gaps=False)
+                    st.records.append(sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints))
+                    if on_step:
+                        on_step(st.records[-1])
+                st.rejected_since_record = 0
+                j = sim.scene.sliding_joints[joint]
+                message = carrier_end_message(sim, joint, joints[joint].s,
+                                              f"at t = {integ.time:.9g} (step {st.step}, a shortened last step)")
+                res = outcome(False, message, failed=j.at_carrier_end == "fail")
+                res.stopped = message
+                return res
             st.step += 1
             last = t_end - integ.time <= 1e-9 * a.dt
-            joints = sim.joint_states(gaps=False) if sim.scene.sliding_joints else []
-            ended = _carrier_end(sim, joints, st.step) if joints else None
-            if st.step % every == 0 or last or ended:
+            if st.step % every == 0 or last:
                 rec = sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints)
                 st.rejected_since_record = 0
                 st.records.append(rec)
+                last_accepted = None
                 if on_step:
                     on_step(rec)
+            else:
+                last_accepted = (result, h)
             st.dt = min(2 * st.dt, a.dt)
-            if ended:
-                behaviour, message = ended
-                return outcome(False, message, failed=behaviour == "fail")
+            signum = interrupts.requested()
+            if signum:
+                return interrupted(signum)
             if on_checkpoint and ckpt_every and st.step % ckpt_every == 0 and not last:
                 on_checkpoint(st)
             continue
@@ -221,4 +362,7 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
                        f"(t = {integ.time:.6g}) and are marked incomplete")
             return outcome(False, message, failed=True, extra=[fail])
         st.dt = h / 2
+        signum = interrupts.requested()
+        if signum:
+            return interrupted(signum)
     return outcome(True, "completed")

@@ -19,7 +19,8 @@ import difflib
 import math
 import os
 import tomllib
-from dataclasses import dataclass
+import copy
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
@@ -258,6 +259,8 @@ class Scene:
     output: Output
     rigid_joints: tuple[RigidJoint, ...] = ()
     sliding_joints: tuple[SlidingJoint, ...] = ()
+    # the scene as read, overrides applied (what a checkpoint keeps, to restart the same run)
+    data: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -530,6 +533,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         output=output,
         rigid_joints=joints,
         sliding_joints=sliders,
+        data=copy.deepcopy(data),
     )
 
 

@@ -15,8 +15,9 @@ from typing import Callable
 import numpy as np
 from petsc4py import PETSc
 
-from . import _core
-from .dynamics import DynamicRecord, JointState, Reaction, RunOutcome, RunState, initial_velocity, run_dynamic
+from . import _core, interrupts
+from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end, carrier_end_message,
+                       initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
 
@@ -116,6 +117,9 @@ class Simulation:
         self.integrator: _core.TimeIntegrator | None = None
         self.settled: _core.EquilibriumResult | None = None  # the static start, once done (settle)
         self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
+        self.stopped: str | None = None  # why the last solve_static ended early without failing
+        self.stop_signal: int | None = None  # the signal that stopped it, if one did
+        self.stop_is_failure = False  # a slider left its carrier with at_carrier_end = "fail"
         a = scene.analysis
         if a.type == "dynamic":
             self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,
@@ -304,8 +308,18 @@ class Simulation:
                 self._model.project_directors(self.x)
             result = self.solve_step(t_new)
             if result.converged and np.isfinite(result.residual_norm):
+                rec = self.record(step + 1, result)
+                ended = carrier_end(self, rec.joints) if rec.joints else None
+                if ended:  # back to the last load step with every slider on its carrier
+                    joint, _ = ended
+                    x_last.copy(self.x)
+                    self.t = t_last
+                    self.stopped = carrier_end_message(self, joint, rec.joints[joint].s,
+                                                       f"in load step {step + 1} (t = {t_new:.6g}); results hold "
+                                                       f"load step {step} (t = {t_last:.6g})")
+                    self.stop_is_failure = self.scene.sliding_joints[joint].at_carrier_end == "fail"
+                    break
                 step += 1
-                rec = self.record(step, result)
                 records.append(rec)
                 if on_step:
                     on_step(rec)
@@ -313,6 +327,12 @@ class Simulation:
                 self.x.copy(x_last)
                 t_last, dt_last = t_new, t_new - t_last
                 dt = min(2 * dt, dt_nominal)  # recover the nominal increment after cuts
+                signum = interrupts.requested()
+                if signum:
+                    self.stop_signal = signum
+                    self.stopped = (f"interrupted by {interrupts.describe(signum)} after load step {step} "
+                                    f"(t = {t_last:.6g})")
+                    break
                 continue
             x_last.copy(self.x)  # back to the last converged state
             if dt < dt_nominal / 2**max_cuts:

@@ -2,6 +2,7 @@
 #include "solvers/equilibrium_solver.hpp"
 
 #include "util/petsc_check.hpp"
+#include "util/stop_signal.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -130,6 +131,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   int cuts = 0;
   bool polish_tried = false;
   while (r > target && res.pseudo_steps < max_steps) {
+    if ((res.interrupted = stop_signal(model_.comm())) != 0) break;
     SB_CHECK(VecCopy(x, x_start));
     if (!newton(1.0 / (h * h))) {
       SB_CHECK(VecCopy(x_start, x));
@@ -179,7 +181,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   }
   c_ = 0.0;
   res.residual = r;
-  res.converged = r <= target || res.polished || res.at_roundoff;
+  res.converged = res.interrupted == 0 && (r <= target || res.polished || res.at_roundoff);
   SB_CHECK(VecDestroy(&x_start));
   return res;
 }

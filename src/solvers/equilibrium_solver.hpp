@@ -29,6 +29,7 @@ struct EquilibriumResult {
   double residual = 0.0;      ///< ||F|| of the final state
   bool polished = false;      ///< the final plain Newton solve converged
   bool at_roundoff = false;   ///< stopped at the residual's roundoff floor, the state at rest
+  int interrupted = 0;        ///< the signal (SIGINT, SIGTERM) that stopped the continuation, or 0
 };
 
 class EquilibriumSolver {

@@ -121,14 +121,17 @@ TimeIntegrator::~TimeIntegrator() {
 
 StepEval TimeIntegrator::step_eval() const {
   switch (params_.kind) {
-    case IntegratorKind::EnergyMomentum: return {StepRule::EnergyMomentum, t_ + 0.5 * h_, 0.5, params_.dissipation};
-    case IntegratorKind::Midpoint: return {StepRule::Theta, t_ + 0.5 * h_, 0.5};
-    default: return {StepRule::Endpoint, t_ + h_, 1.0};
+    case IntegratorKind::EnergyMomentum:
+      return {StepRule::EnergyMomentum, 0.5 * (t_ + next_time(h_)), 0.5, params_.dissipation};
+    case IntegratorKind::Midpoint: return {StepRule::Theta, 0.5 * (t_ + next_time(h_)), 0.5};
+    default: return {StepRule::Endpoint, next_time(h_), 1.0};
   }
 }
 
 void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   t_ = t;
+  t_seg0_ = t;
+  n_seg_ = 0;
   SB_CHECK(VecCopy(x, x_));
   model_.apply_prescribed(x_);
   SB_CHECK(VecPointwiseMult(v_, v, model_.coordinate_mask()));
@@ -456,6 +459,13 @@ SolveResult TimeIntegrator::step(double h) {
   if (r.converged()) {
     Vec mask = model_.coordinate_mask();
     SB_CHECK(VecCopy(v_, v_prev_));
+    const double t_next = next_time(h);
+    if (h == h_prev_ && n_seg_ > 0) {
+      ++n_seg_;
+    } else {
+      t_seg0_ = t_;
+      n_seg_ = 1;
+    }
     h_prev_ = h;
     if (is_midpoint_type(params_.kind)) {
       // v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n
@@ -476,15 +486,17 @@ SolveResult TimeIntegrator::step(double h) {
     }
     SB_CHECK(VecCopy(x_, x_start_));
     SB_CHECK(VecCopy(x1_, x_));
-    t_ += h;
+    t_ = t_next;
   }
   SB_CHECK(PetscLogEventEnd(ev_step_, 0, 0, 0, 0));
   return r;
 }
 
-void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu) {
+void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double segment_start, long segment_steps) {
   t_ = t;
   h_prev_ = h_prev;
+  t_seg0_ = segment_steps > 0 ? segment_start : t;
+  n_seg_ = segment_steps > 0 ? segment_steps : 0;
   last_failed_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
   if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();

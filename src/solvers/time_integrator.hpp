@@ -65,7 +65,12 @@ class TimeIntegrator {
   /// Advance by h. On failure (Newton did not converge, NaN/Inf) the state stays at t_n.
   SolveResult step(double h);
 
+  /// t_n. Within a run of equal steps it is t_0 + n h (from the segment's start), not a sum of
+  /// steps, so that t_end and the output times carry no accumulated roundoff.
   double time() const { return t_; }
+  /// The current segment of equal steps: its start time and the number of steps taken in it
+  /// (with h_prev its step size); a checkpoint keeps it so that a restart has the same times.
+  std::pair<double, long> time_segment() const { return {t_seg0_, n_seg_}; }
   Vec x() const { return x_; }
   Vec v() const { return v_; }
   Vec a() const { return a_; }
@@ -78,7 +83,8 @@ class TimeIntegrator {
   bool pivoting_lu() const { return !fast_lu_ && !schwarz_; }
   /// Resume from a checkpoint: x, v, a, v_prev and sliding_rate have been loaded into this
   /// integrator's vectors; set the time, the predictor memory and the linear solver state.
-  void restore(double t, double h_prev, bool pivoting_lu);
+  /// segment_steps > 0 continues a segment of equal steps h_prev that started at segment_start.
+  void restore(double t, double h_prev, bool pivoting_lu, double segment_start = 0.0, long segment_steps = 0);
   Mat mass() const { return M_; }
   Mat jacobian() const { return J_; }
   SNES snes() const { return snes_; }
@@ -114,6 +120,8 @@ class TimeIntegrator {
   static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                   SNESConvergedReason* reason, void* ctx);
   StepEval step_eval() const;
+  /// t_{n+1} after a step of size h (see time()).
+  double next_time(double h) const { return h == h_prev_ && n_seg_ > 0 ? t_seg0_ + double(n_seg_ + 1) * h : t_ + h; }
   /// The step residual before the prescribed rows are replaced: the effects' forces (HHT: scaled,
   /// with the history term) and the inertia c0 M (x1 - x~).
   PetscErrorCode step_forces(Vec x1, Vec F);
@@ -138,6 +146,8 @@ class TimeIntegrator {
   double h_prev_ = 0.0;                           // 0: no previous step
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
+  double t_seg0_ = 0.0;  // start of the current run of equal steps h_prev_
+  long n_seg_ = 0;       // steps taken in it
   bool has_history_force_ = false;
   // modified Newton bookkeeping
   PetscBool reuse_ = PETSC_FALSE;

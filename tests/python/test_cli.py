@@ -238,14 +238,18 @@ def test_seed_benchmark_scenes_run_with_every_integrator(run_cli, root, tmp_path
 
 def test_slider_reaching_the_carrier_end_stops_the_run(run_cli, root, tmp_path):
     """S2-incl: C slides down the inclined carrier and reaches B at t = 0.81 s. By default the run
-    stops there (exit 0, message); at_carrier_end = "fail" makes it an error (exit 1)."""
+    stops there (exit 0, message), with a shortened last step that ends with C at B: the last
+    record, the final configuration and the checkpoint hold C on the carrier, within 1e-9 of its
+    length from the end; the run is converged, not complete, and says why it stopped.
+    at_carrier_end = "fail" makes it an error (exit 1)."""
     scene = str(root / "runs" / "seed" / "free_fall_inclined_1+4.toml")
     out = run_cli("run", scene, "--out", "stop", "-q", "--set", "analysis.dt=0.002")
     assert out.returncode == 0, out.stderr
     assert "reached the end of carrier 'AB'" in out.stdout
     summary = json.loads((tmp_path / "stop" / "summary.json").read_text())
     assert summary["complete"] is False and 0.7 < summary["t_reached"] < 0.9
-    assert summary["sliding_joints"]["CM_on_AB"]["final_s"] >= 2.0
+    assert summary["converged"] is True and "reached the end of carrier 'AB'" in summary["stopped"]
+    assert 2.0 - 2e-9 <= summary["sliding_joints"]["CM_on_AB"]["final_s"] <= 2.0
     rows = list(csv.DictReader((tmp_path / "stop" / "history.csv").open()))
     for col in ("CM_on_AB.s", "CM_on_AB.ds_dt", "CM_on_AB.reaction.x", "CM_on_AB.reaction.y", "CM_on_AB.reaction.z"):
         assert col in rows[0]
@@ -253,6 +257,8 @@ def test_slider_reaching_the_carrier_end_stops_the_run(run_cli, root, tmp_path):
     assert float(rows[-1]["CM_on_AB.ds_dt"]) > 1.0  # sliding fast at the end
     s = [float(r["CM_on_AB.s"]) for r in rows]
     assert all(b >= a for a, b in zip(s, s[1:]))  # C only slides down
+    assert 2.0 - 2e-9 <= s[-1] <= 2.0 and float(rows[-1]["t"]) == summary["t_reached"]
+    assert float(rows[-1]["dt"]) < 0.002  # the shortened last step
     fail = run_cli("run", scene, "--out", "fail", "-q", "--set", "analysis.dt=0.002",
                    "--set", 'sliding_joint.0.at_carrier_end="fail"')
     assert fail.returncode == 1 and "reached the end of carrier 'AB'" in fail.stderr
