@@ -35,6 +35,19 @@ def _rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.eye(3) + K + K @ K / (1.0 + c)
 
 
+def _arc_rotation(beam: Beam, s: float) -> np.ndarray:
+    """Rotation about the arc's normal by the angle swept at arc length s. Parallel transport
+    along a circle is exactly this rotation, for any angle: the minimal rotation between the
+    start and current tangents is undefined where they are antiparallel (half a turn) and loses
+    orthogonality near it (4e-3 at the end of a 180-degree arc, issue 22)."""
+    g = beam.geometry
+    assert g.kind == "arc" and g.radius is not None and g.angle_deg is not None and g.normal is not None
+    phi = float(np.copysign(s / g.radius, g.angle_deg))
+    n = np.asarray(g.normal)
+    K = np.array([[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]])
+    return np.eye(3) + np.sin(phi) * K + (1.0 - np.cos(phi)) * (K @ K)
+
+
 def _tangent(beam: Beam, s: float, h: float) -> np.ndarray:
     g = beam.geometry
     a, b = max(s - h, 0.0), min(s + h, g.length)
@@ -78,9 +91,12 @@ def reference_coordinates(beam: Beam) -> np.ndarray:
     h = 1e-7 * L
     for a, x in enumerate(xi):
         s = float(x) * L
-        # Exact tangent of lines and arcs; at polyline corners the mean of both sides.
-        t = t0 if beam.geometry.kind == "line" else _tangent(beam, s, h)
-        frame = _rotation_between(t0, t) @ frame0
+        if beam.geometry.kind == "arc":
+            frame = _arc_rotation(beam, s) @ frame0
+        else:
+            # Exact tangent of lines; at polyline corners the mean of both sides.
+            t = t0 if beam.geometry.kind == "line" else _tangent(beam, s, h)
+            frame = _rotation_between(t0, t) @ frame0
         q[a, 0:3] = P[a]
         q[a, 3:12] = frame.T.reshape(-1)
     return q

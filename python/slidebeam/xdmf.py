@@ -18,13 +18,18 @@ Files in the output folder (names are stable):
   carrier on the slider) and ``joint_id``.
 
 meshio's ``TimeSeriesWriter`` opens the ``.h5`` in the current directory; ``_Series`` puts it
-beside its ``.xdmf`` instead. The XDMF text is written at every ``flush`` by a temporary file and a
+beside its ``.xdmf`` instead. meshio also writes the mesh as a grid of its own beside the temporal
+collection and XIncludes it into every step: ParaView's legacy ``XDMFReader`` then shows that
+reference grid as a second copy of everything, frozen at the first record (issue 22). ``_Series``
+writes no such grid: every step's grid names the same reference ``Geometry`` and ``Topology``
+datasets itself, which all three ParaView readers and meshio's ``TimeSeriesReader`` understand. The XDMF text is written at every ``flush`` by a temporary file and a
 rename, so the ``.xdmf`` on disk always describes complete steps (every ``FLUSH_EVERY`` records, at checkpoints and at the end). Sampling is collective;
 rank 0 writes.
 """
 from __future__ import annotations
 
 import contextlib
+import copy
 import os
 import re
 import sys
@@ -40,6 +45,7 @@ if TYPE_CHECKING:
 BEAMS = "beams"
 SLIDERS = "sliders"
 _ABANDONED: list = []  # writers whose files failed (see XdmfOutput._abandon)
+_XINCLUDE = "{http://www.w3.org/2003/XInclude}include"  # as meshio writes it
 FLUSH_EVERY = 100  # records between rewrites of the .xdmf text (and at the end, and checkpoints)
 
 
@@ -103,19 +109,58 @@ def _series_class():
                 time = grid.find("Time")
                 if time is not None and float(time.get("Value")) > self._resume_after * (1 + 1e-12) + 1e-300:
                     self.collection.remove(grid)
-            self.has_mesh = True
+            self._adopt_mesh()
             self.h5_file = h5py.File(self.h5_filename, "a")
             used = [int(m.group(1)) for k in self.h5_file.keys() if (m := re.fullmatch(r"data(\d+)", k))]
             self.data_counter = max(used, default=-1) + 1
 
+        def _adopt_mesh(self) -> None:
+            """On resume: take the reference Geometry and Topology from the file. A series written
+            before issue 22 keeps them in a separate ``mesh`` grid that every step XIncludes:
+            that grid is dropped and the steps get their own copies, so the continued file has one
+            structure throughout."""
+            mesh = next((g for g in self.domain.findall("Grid") if g.get("GridType") == "Uniform"), None)
+            if mesh is not None:
+                self.domain.remove(mesh)
+            else:
+                mesh = next((g for g in self.collection if g.find("Geometry") is not None), None)
+            if mesh is None:  # no step left to take it from: the caller writes it anew
+                self.has_mesh = False
+                return
+            self._mesh_items = [mesh.find("Topology"), mesh.find("Geometry")]
+            for grid in self.collection:
+                self._own_mesh(grid)
+            self.has_mesh = True
+
         def write_points_cells(self, points, cells) -> None:
-            super().write_points_cells(points, cells)
+            # meshio's helpers fill a detached grid: only copies of its children enter the file
+            mesh = ET.Element("Grid")
+            self.points(mesh, np.asarray(points))
+            self.cells(cells, mesh)
+            topo = mesh.find("Topology")
             # XDMF 3 (ParaView's Xdmf3 readers) requires NodesPerElement on Polyline and
             # Polyvertex topologies; meshio leaves it out
-            for topo in self.domain.iter("Topology"):
-                kind = topo.get("TopologyType")
-                if kind in ("Polyline", "Polyvertex") and topo.get("NodesPerElement") is None:
-                    topo.set("NodesPerElement", "2" if kind == "Polyline" else "1")
+            kind = topo.get("TopologyType")
+            if kind in ("Polyline", "Polyvertex") and topo.get("NodesPerElement") is None:
+                topo.set("NodesPerElement", "2" if kind == "Polyline" else "1")
+            self._mesh_items = [topo, mesh.find("Geometry")]
+            self.has_mesh = True
+
+        def write_data(self, t, point_data=None, cell_data=None) -> None:
+            super().write_data(t, point_data, cell_data)
+            self._own_mesh(self.collection[-1])
+
+        def _own_mesh(self, grid: ET.Element) -> None:
+            """Replace meshio's XInclude of the mesh grid by the reference Topology and Geometry
+            (the same datasets in every step). GridType is explicit because meshio's reader
+            looks for a grid marked Uniform to read the points and cells from."""
+            include = grid.find(_XINCLUDE)
+            if include is not None:
+                grid.remove(include)
+            if grid.find("Geometry") is None:
+                for k, item in enumerate(self._mesh_items):
+                    grid.insert(k, copy.deepcopy(item))
+            grid.set("GridType", "Uniform")
 
         def flush(self) -> None:
             # data first: the .xdmf may only name datasets that are on disk
@@ -150,7 +195,7 @@ def bytes_per_record(scene) -> int:
         return 0
     n = sum(b.spans * scene.output.samples_per_span + 1 for b in scene.beams)
     values = n * (3 * 10 + 6 + 1) + n // 2 + len(scene.sliding_joints) * 8
-    return 8 * values + 4000
+    return 8 * values + 4500  # XDMF text: ~4.4 kB a record, each naming the reference mesh too
 
 
 class XdmfOutput:

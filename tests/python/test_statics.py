@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""Static benchmarks (benchmarks.md B1, B3) against closed-form and published values."""
+"""Static benchmarks (benchmarks.md B1, B3) against closed-form and published values, and unloaded
+arcs of any angle that stay stress-free (issue 22)."""
 from __future__ import annotations
 
 import math
@@ -86,3 +87,67 @@ def test_distributed_equals_serial(root):
         for a, b in zip(rec_w, rec_s):
             assert np.abs(np.array(a.tracked) - np.array(b.tracked)).max() < 1e-10
             assert abs(a.strain_energy - b.strain_energy) <= 1e-10 * max(1.0, abs(b.strain_energy))
+
+
+ARC_NORMAL = np.array([1.0, 2.0, 2.0]) / 3.0  # an arc in a tilted plane, about an off-origin centre
+ARC_CENTER = np.array([0.5, -1.0, 2.0])
+ARC_START = ARC_CENTER + 1.5 * np.array([2.0, -1.0, 0.0]) / math.sqrt(5.0)  # radius 1.5
+
+
+def arc_scene(angle: float, spans: int, analysis: dict) -> slidebeam.Scene:
+    """An unloaded arc clamped at its start, nothing else: it must not move."""
+    return slidebeam.scene_from_dict({
+        "analysis": analysis,
+        "beam": [{"name": "arc", "spans": spans,
+                  "arc": {"center": ARC_CENTER.tolist(), "radius": 1.5, "normal": ARC_NORMAL.tolist(),
+                          "start": ARC_START.tolist(), "angle": angle},
+                  "section": {"EA": 1e4, "kGA": 5e3, "GJ": 8.0, "EI2": 10.0, "EI3": 12.0,
+                              "rhoA": 1.0, "rhoI2": 0.01, "rhoI3": 0.012}}],
+        "support": [{"type": "clamp", "beam": "arc", "at": "start"}],
+        "output": {"track": [{"beam": "arc", "at": "end"}]},
+    })
+
+
+# Issue 22: at +-180 degrees the last director was the minimal rotation between antiparallel
+# tangents (ill-conditioned: not orthonormal by 4e-3); 33 spans put a Greville point exactly at
+# the half turn of a full circle (the frame construction refused it)
+ARC_CASES = [(a, n) for a in (180.0, -180.0, 179.0, 270.0, -270.0, 360.0, -360.0) for n in (32, 33)]
+
+
+@pytest.mark.parametrize("angle, spans", ARC_CASES)
+def test_arc_reference_frames_are_exact_at_any_angle(angle, spans):
+    from slidebeam.geometry import reference_coordinates
+
+    beam = arc_scene(angle, spans, {"steps": 1}).beams[0]
+    q = reference_coordinates(beam)
+    frames = q[:, 3:12].reshape(-1, 3, 3)  # rows d1, d2, d3
+    t0 = np.asarray(beam.geometry.tangent_at_start())
+    for a, frame in enumerate(frames):
+        assert np.abs(frame @ frame.T - np.eye(3)).max() < 1e-14, a
+        phi = math.copysign(slidebeam._core.greville(spans, a) * beam.geometry.length / 1.5, angle)
+        tangent = t0 * math.cos(phi) + np.cross(ARC_NORMAL, t0) * math.sin(phi)
+        assert np.abs(frame[0] - tangent).max() < 1e-14, a
+        # transported about the arc's axis: the section keeps its angle to the normal
+        assert frame[1] @ ARC_NORMAL == pytest.approx(frames[0][1] @ ARC_NORMAL, abs=1e-14), a
+
+
+@pytest.mark.parametrize("angle, spans", ARC_CASES)
+def test_an_unloaded_arc_is_stress_free_and_stays_put(angle, spans):
+    sim = slidebeam.Simulation(arc_scene(angle, spans, {"type": "static", "steps": 2}))
+    reference = sim.control_points(0).copy()
+    assert sim.residual(t=1.0).norm() < 1e-11
+    records = sim.solve_static()
+    assert all(r.converged for r in records)
+    assert np.abs(sim.control_points(0) - reference).max() < 1e-12
+
+
+@pytest.mark.parametrize("angle", [180.0, -180.0, 360.0])
+def test_an_unloaded_arc_stays_at_rest(angle):
+    sim = slidebeam.Simulation(arc_scene(angle, 33, {"type": "dynamic", "dt": 0.01, "t_end": 0.05}))
+    outcome = sim.run_dynamic()
+    assert outcome.complete
+    start = np.array(outcome.records[0].tracked[0])
+    for rec in outcome.records:
+        assert rec.constraint_residual < 1e-12
+        assert np.abs(np.array(rec.tracked[0]) - start).max() < 1e-12
+        assert rec.kinetic_energy < 1e-20

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """XDMF/HDF5 output as users open it (issue 5): read back with meshio against history.csv, the
-.h5 beside its .xdmf whatever the working directory, 1 rank = 2 ranks, ParaView's own reader,
-and a clean stop when the disk fills."""
+.h5 beside its .xdmf whatever the working directory, 1 rank = 2 ranks, ParaView's three readers
+(one copy of the beams in each, issue 22), and a clean stop when the disk fills."""
 from __future__ import annotations
 
 import csv
@@ -144,6 +144,79 @@ print(json.dumps({{"times": times, "points": info.GetNumberOfPoints(), "cells": 
     assert set(BEAM_FIELDS) <= set(info["arrays"])
     assert info["ribbon_points"] > 17
     assert {"s", "reaction", "displacement"} <= set(info["slider_arrays"])
+
+
+_READERS_SCRIPT = """
+import json, sys
+from paraview import simple, servermanager
+from vtkmodules.util.numpy_support import vtk_to_numpy
+path, t = sys.argv[1], float(sys.argv[2])
+seen = {}
+for reader in ("XDMFReader", "Xdmf3ReaderS", "Xdmf3ReaderT"):
+    # the legacy reader's file property is FileNames, the XDMF3 readers' FileName
+    source = getattr(simple, reader)(**{("FileNames" if reader == "XDMFReader" else "FileName"): [path]})
+    source.UpdatePipelineInformation()
+    source.UpdatePipeline(t)
+    info = source.GetDataInformation()
+    data = servermanager.Fetch(source)
+    blocks = data.GetNumberOfBlocks() if data.IsA("vtkMultiBlockDataSet") else 1
+    disp = data.GetPointData().GetArray("displacement") if blocks == 1 else None
+    seen[reader] = {"times": list(source.TimestepValues), "points": info.GetNumberOfPoints(),
+                    "cells": info.GetNumberOfCells(), "blocks": blocks,
+                    "displacement": None if disp is None else vtk_to_numpy(disp).tolist()}
+print(json.dumps(seen))
+"""
+
+
+@pytest.mark.skipif(not _paraview_available(), reason="python3-paraview is not installed")
+def test_every_paraview_reader_shows_one_copy(run_cli, root, tmp_path):
+    """Issue 22: the legacy XDMFReader showed a separate reference-mesh grid beside the time
+    series, so every beam (and slider) twice, the copy frozen at the reference. All three
+    readers must see one grid per time step holding that step's data."""
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
+    assert out.returncode == 0, out.stderr
+    k = 7  # a step away from the start: the displacement is not zero there
+    for series, points, cells in (("beams.xdmf", 17, 15), ("sliders.xdmf", 1, 1)):
+        _, steps = read_series(tmp_path / "res" / series)
+        t, data = steps[k]
+        assert np.abs(data["displacement"]).max() > 1e-4
+        res = subprocess.run(["/usr/bin/python3", "-c", _READERS_SCRIPT, str(tmp_path / "res" / series), repr(t)],
+                             capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr
+        seen = json.loads(res.stdout.strip().splitlines()[-1])
+        for reader, got in seen.items():
+            assert got["times"] == pytest.approx([0.005 * j for j in range(11)]), (series, reader)
+            assert (got["blocks"], got["points"], got["cells"]) == (1, points, cells), (series, reader)
+            assert np.array(got["displacement"]) == pytest.approx(data["displacement"], abs=1e-15), (series, reader)
+
+
+def test_a_series_written_before_issue_22_is_continued_in_the_new_structure(tmp_path, monkeypatch):
+    """A restart may continue a series written with meshio's structure (a separate reference
+    grid XIncluded by every step): the continued file has no separate grid and every step,
+    old and new, carries the reference mesh."""
+    import xml.etree.ElementTree as ET
+
+    from meshio.xdmf import TimeSeriesWriter
+    from slidebeam.xdmf import _series_class
+
+    monkeypatch.chdir(tmp_path)  # meshio's own writer puts the .h5 in the working directory
+    points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    with TimeSeriesWriter("old.xdmf") as old:
+        old.write_points_cells(points, [("line", np.array([[0, 1], [1, 2]]))])
+        for t in (0.0, 0.1, 0.2):
+            old.write_data(t, point_data={"displacement": np.full((3, 3), t)})
+    series = _series_class()(tmp_path / "old.xdmf", resume_after=0.1).__enter__()
+    assert series.has_mesh
+    series.write_data(0.15, point_data={"displacement": np.full((3, 3), 0.15)})
+    series.__exit__(None, None, None)
+    domain = ET.parse(tmp_path / "old.xdmf").getroot().find("Domain")
+    assert [g.get("GridType") for g in domain.findall("Grid")] == ["Collection"]
+    text = (tmp_path / "old.xdmf").read_text()
+    assert "XInclude" not in text and 'Name="mesh"' not in text
+    got_points, steps = read_series(tmp_path / "old.xdmf")
+    assert np.array_equal(got_points, points)
+    assert [t for t, _ in steps] == [0.0, 0.1, 0.15]
+    assert [d["displacement"][0, 0] for _, d in steps] == [0.0, 0.1, 0.15]
 
 
 def _small_file_limit() -> None:
