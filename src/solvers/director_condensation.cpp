@@ -258,6 +258,11 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   };
   // Null-space bases from the multiplier columns (G(x_f)^T: force state) and the constraint
   // rows (C(x): end state). Column k < 3 of G^T holds d_k on its own director: 1/2 d.d - 1/2.
+  // Both carry the residual's scale s (HHT: 1 + alpha on every row, the constraints' included),
+  // so the end-state triad of the co-rotation is C's d_k / s: with s left in, R = D_now D_then^T
+  // was s times a rotation, and every co-rotated Newton step came out (1 + alpha)^2 too short on
+  // positions and (1 + alpha) on rotations (HHT converged linearly, at 0.19 per iteration).
+  scale_at_setup_ = scale_;
   for (size_t t = 0; t < triads_.size(); ++t) {
     const PetscInt q0 = triads_[t];
     Eigen::Matrix<double, kQ, 6, Eigen::RowMajor> Gt;
@@ -273,7 +278,7 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
       const Eigen::Vector3d a = Gt.block<3, 1>(3 + 3 * i, i), c = C.block<1, 3>(i, 3 + 3 * i).transpose();
       S_[t].block<3, 3>(3 * i, 0) = minus_skew(a.data());
       Sp_[t].block<3, 3>(3 * i, 0) = minus_skew(c.data());
-      triad_at_setup_[t].col(i) = c;
+      triad_at_setup_[t].col(i) = c / scale_at_setup_;
     }
     // N^T G^T = 0 and C N' = 0 must hold to roundoff, or this is not an orthonormal triad's block
     const double gn = Gt.cwiseAbs().maxCoeff() + 1e-300, cn = C.cwiseAbs().maxCoeff() + 1e-300;
@@ -403,6 +408,9 @@ PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
   // with R = D_now D_then^T per triad, and N, N' come from the current directors. An old
   // Jacobian then loses only to deformation, not to the rotation since it was built: the stiff
   // pendulum's first iteration contracts 1e-4 instead of 5e-2.
+  // The factors' rows and columns carry the residual's scale s of the set-up (N from G^T, N'
+  // from C; HHT: 1 + alpha): N^T b has it on the rotation rows, and the rotation of N' a is
+  // s a_w. With a fresh Jacobian R = I and this is the plain path's exact Newton step.
   const bool rotate = corotate_ && snes_;
   const PetscScalar *xx = nullptr, *xo = nullptr;
   Vec X = nullptr;
@@ -443,7 +451,7 @@ PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
     Rs[t] = D * triad_at_setup_[t].transpose();
     Eigen::Map<Eigen::Vector3d>(r + G.base) = Rs[t].transpose() * Eigen::Map<const Eigen::Vector3d>(bb + G.first);
     // (J's multiplier columns, and so N, carry the residual's scale s: HHT's 1 + alpha)
-    Eigen::Map<Eigen::Vector3d>(r + G.base + 3) = scale_ * (Rs[t].transpose() * rw);
+    Eigen::Map<Eigen::Vector3d>(r + G.base + 3) = scale_at_setup_ * (Rs[t].transpose() * rw);
   }
   PetscCall(VecRestoreArrayWrite(rr_, &r));
   PetscCall(MatSolve(F_, rr_, a_));
@@ -460,9 +468,9 @@ PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
       for (int k = 0; k < 3; ++k) yy[G.first + k] = a[G.base + k];
       Eigen::Map<Eigen::Matrix<double, 9, 1>>(yy + G.first + 3) = Sp_[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3);
     } else {
-      // R a, then N' with the current directors: (a_u, a_w x d_i)
+      // R a, then N' with the current directors: (a_u, s a_w x d_i)
       Eigen::Map<Eigen::Vector3d>(yy + G.first) = Rs[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base);
-      const Eigen::Vector3d w = Rs[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3);
+      const Eigen::Vector3d w = scale_at_setup_ * (Rs[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3));
       for (int i = 0; i < 3; ++i) {
         const PetscInt j = G.first + 3 + 3 * i;
         Eigen::Map<Eigen::Vector3d>(yy + j) = w.cross(Eigen::Map<const Eigen::Vector3d>(xx + j));

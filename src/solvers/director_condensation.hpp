@@ -110,6 +110,7 @@ class DirectorCondensation {
   // Co-rotated reuse (Manifold mode): the triads (columns d1, d2, d3, end state) of the
   // factored Jacobian, and the SNES whose current iterate the solve rotates the factors to.
   std::vector<Eigen::Matrix3d> triad_at_setup_;
+  double scale_at_setup_ = 1.0;        // the residual's scale s when the factored Jacobian was built
   SNES snes_ = nullptr;
   PetscBool corotate_ = PETSC_TRUE;
   std::vector<Eigen::Matrix3d> rotation_;  // work: R per triad in apply()
