@@ -244,6 +244,8 @@ PYBIND11_MODULE(_core, m) {
       .def("restore", &TimeIntegrator::restore, py::arg("t"), py::arg("h_prev"), py::arg("pivoting_lu"),
            py::arg("segment_start") = 0.0, py::arg("segment_steps") = 0,
            "resume from a checkpoint (the state vectors already loaded)")
+      .def("forget_jacobian", &TimeIntegrator::forget_jacobian,
+           "build a fresh step Jacobian at the next step (as after a restart)")
       .def_property_readonly("time_segment", &TimeIntegrator::time_segment,
                              "(start, steps) of the current run of equal steps h_prev: t = start + steps h_prev")
       .def_property_readonly("mass", &TimeIntegrator::mass)

@@ -6,9 +6,9 @@ with PETSc's HDF5 viewer (x: coordinates, sliding coordinates and multipliers; v
 sliding_rate, the predictor's memory) and, in the group ``slidebeam``, the time, the last step
 size, the linear-solver state, the step controller (current dt, counters) and the records so
 far. Restarting from it continues the run as if it had not stopped: the same predictor, the
-same step sizes, so the same Newton iterates and the same history (to roundoff). Reusing the
-Jacobian across steps (``sb_jacobian_reuse``) is the exception: the restarted run starts from a
-fresh Jacobian, so it agrees to the Newton tolerance only.
+same step sizes, so the same Newton iterates and the same history (to roundoff). Writing a checkpoint makes the run
+that goes on build a fresh Jacobian at its next step, as the restarted one does, so that this
+holds with Jacobian reuse too.
 
 The file is written whole (a temporary file, then a rename), so a checkpoint on disk is always
 complete. Vectors are loaded by global index, so a run may restart on another number of ranks.
@@ -70,6 +70,9 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
             g.attrs["records"] = json.dumps([dataclasses.asdict(r) for r in state.records])
         os.replace(tmp, path)
     comm.Barrier()
+    # A restart starts with a fresh Jacobian; so does the run that goes on, so that both take the
+    # same Newton iterates (with Jacobian reuse, old Jacobians would otherwise make them differ).
+    integ.forget_jacobian()
 
 
 def _record(d: dict) -> "DynamicRecord":

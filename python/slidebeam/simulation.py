@@ -299,8 +299,11 @@ class Simulation:
         dt_nominal = a.t_end / a.steps
         dt = dt_nominal
         step = 0
+        seg_t0, seg_dt, seg_n = 0.0, dt_nominal, 0  # a run of equal increments: t = seg_t0 + n seg_dt
         while t_last < a.t_end * (1 - 1e-12):
-            t_new = t_last + dt
+            if dt != seg_dt:
+                seg_t0, seg_dt, seg_n = t_last, dt, 0
+            t_new = seg_t0 + (seg_n + 1) * seg_dt
             if t_new > a.t_end - 1e-9 * dt_nominal:  # land exactly on t_end despite rounding
                 t_new = a.t_end
             if dt_last > 0 and self.use_predictor:  # secant predictor, directors projected back onto rotations
@@ -326,6 +329,7 @@ class Simulation:
                 x_last.copy(x_prev)
                 self.x.copy(x_last)
                 t_last, dt_last = t_new, t_new - t_last
+                seg_n += 1
                 dt = min(2 * dt, dt_nominal)  # recover the nominal increment after cuts
                 signum = interrupts.requested()
                 if signum:

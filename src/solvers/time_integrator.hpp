@@ -85,6 +85,9 @@ class TimeIntegrator {
   /// integrator's vectors; set the time, the predictor memory and the linear solver state.
   /// segment_steps > 0 continues a segment of equal steps h_prev that started at segment_start.
   void restore(double t, double h_prev, bool pivoting_lu, double segment_start = 0.0, long segment_steps = 0);
+  /// Build a fresh step Jacobian at the next step, as a restart does: a run that writes a
+  /// checkpoint then goes on exactly as a restart from it.
+  void forget_jacobian() { jac_solve_ = -1; }
   Mat mass() const { return M_; }
   Mat jacobian() const { return J_; }
   SNES snes() const { return snes_; }

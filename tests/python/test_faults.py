@@ -1,0 +1,230 @@
+# SPDX-License-Identifier: MIT
+"""Faults a new user meets (issue 22): interrupts, sliders leaving their carriers in static runs,
+failed static starts and time roundoff. Every way a run ends leaves a consistent folder:
+history, summary saying what happened, the XDMF series and (dynamic runs) a checkpoint."""
+from __future__ import annotations
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+from test_xdmf import read_series
+
+pytestmark = pytest.mark.skip_in_parallel  # each test starts its own processes
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def rows(path: Path) -> list[dict[str, str]]:
+    return list(csv.DictReader(path.open()))
+
+
+def start(*args: str, cwd: Path) -> subprocess.Popen:
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_COMM", "PMIX", "OMPI_MCA_ess", "OMPI_FILE"))}
+    return subprocess.Popen([str(ROOT / "scripts" / "slidebeam"), *args], cwd=cwd, env=env, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+
+def wait_for_steps(proc: subprocess.Popen) -> None:
+    """Until the run prints its first step line (the model is built, stepping has begun)."""
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if line.lstrip().startswith("step"):
+            return
+    raise AssertionError(f"the run ended before stepping: {proc.wait()} {proc.stderr.read() if proc.stderr else ''}")
+
+
+LONG = ["--set", "analysis.t_end=1000", "--set", "output.every=50"]  # far longer than any test waits
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_ends_the_run_with_a_consistent_folder(tmp_path, sig, code):
+    """SIGINT / SIGTERM during a dynamic run: the run ends after the current step with exit
+    128 + signal, and the folder holds history, checkpoint, XDMF and a summary marked incomplete
+    with the reason, all at the same last good state."""
+    proc = start("run", str(ROOT / "runs" / "pendulum16.toml"), "--out", "o", *LONG, cwd=tmp_path)
+    wait_for_steps(proc)
+    time.sleep(1.0)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == code, err
+    assert "Traceback" not in err and "interrupted by SIG" in err
+    out = tmp_path / "o"
+    for name in ("history.csv", "summary.json", "checkpoint.h5", "final_configuration.csv", "beams.xdmf", "beams.h5"):
+        assert (out / name).is_file(), name
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"] is False and summary["converged"] is True
+    assert summary["stopped"].startswith(f"interrupted by {signal.Signals(sig).name}")
+    t = summary["t_reached"]
+    assert 0 < t < 1000
+    assert float(rows(out / "history.csv")[-1]["t"]) == t
+    _, steps = read_series(out / "beams.xdmf")
+    assert steps[-1][0] == pytest.approx(t, abs=1e-12)
+    # the checkpoint holds that state: a restart goes on from there
+    cont = subprocess.run([str(ROOT / "scripts" / "slidebeam"), "run", str(ROOT / "runs" / "pendulum16.toml"),
+                           "--restart", "o/checkpoint.h5", "-q", "--set", "output.every=50",
+                           "--set", f"analysis.t_end={t + 0.1}"], cwd=tmp_path, capture_output=True, text=True)
+    assert cont.returncode == 0, cont.stderr
+    assert f"at t = {t:.6g}" in cont.stdout
+
+
+def test_a_second_sigint_aborts_at_once(tmp_path):
+    """The first Ctrl-C asks for a clean stop; a second one ends the process at once (killed by
+    SIGINT, no clean-up), even when the first has not been acted on yet."""
+    proc = start("run", str(ROOT / "runs" / "pendulum16.toml"), "--out", "o", *LONG, cwd=tmp_path)
+    wait_for_steps(proc)
+    proc.send_signal(signal.SIGINT)
+    time.sleep(0.02)  # two signals sent at once arrive as one
+    proc.send_signal(signal.SIGINT)
+    t0 = time.perf_counter()
+    proc.communicate(timeout=60)
+    assert proc.returncode == -signal.SIGINT
+    assert time.perf_counter() - t0 < 5.0
+
+
+def test_a_run_killed_with_sigkill_restarts_to_the_uninterrupted_history(tmp_path):
+    """With checkpoint_every, a run killed outright (no clean-up at all) restarts from its last
+    checkpoint and ends with the history of the run that was never interrupted."""
+    scene = str(ROOT / "runs" / "pendulum16.toml")
+    common = ["-q", "--set", "analysis.t_end=30", "--set", "output.every=100", "--set", "output.checkpoint_every=3000"]
+    whole = subprocess.run([str(ROOT / "scripts" / "slidebeam"), "run", scene, "--out", "whole", *common],
+                           cwd=tmp_path, capture_output=True, text=True)
+    assert whole.returncode == 0, whole.stderr
+    proc = start("run", scene, "--out", "killed", *common, cwd=tmp_path)
+    deadline = time.perf_counter() + 120
+    while not (tmp_path / "killed" / "checkpoint.h5").is_file():
+        assert proc.poll() is None, "the run ended before its first checkpoint"
+        assert time.perf_counter() < deadline
+        time.sleep(0.02)
+    time.sleep(0.3)
+    proc.send_signal(signal.SIGKILL)
+    proc.communicate(timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+    assert not (tmp_path / "killed" / "summary.json").exists()  # killed before the end
+    again = subprocess.run([str(ROOT / "scripts" / "slidebeam"), "run", scene, "--restart", "killed/checkpoint.h5",
+                            *common], cwd=tmp_path, capture_output=True, text=True)
+    assert again.returncode == 0, again.stderr
+    a, b = rows(tmp_path / "whole" / "history.csv"), rows(tmp_path / "killed" / "history.csv")
+    assert len(a) == len(b) == 301
+    for ra, rb in zip(a, b):
+        for key in ra:
+            if key == "reason":
+                assert ra[key] == rb[key]
+                continue
+            x, y = float(ra[key]), float(rb[key])
+            assert abs(x - y) <= 1e-12 * max(1.0, abs(x)), (ra["t"], key, x, y)
+    _, steps = read_series(tmp_path / "killed" / "beams.xdmf")
+    assert [round(t, 9) for t, _ in steps] == [round(0.1 * k, 9) for k in range(301)]
+
+
+RAIL = """
+[scene]
+name = "rail_static"
+[analysis]
+type = "static"
+steps = 4
+[[beam]]
+name = "rail"
+start = [0.0, 0.0, 0.0]
+end = [4.0, 0.0, 0.0]
+d2 = [0.0, 1.0, 0.0]
+spans = 16
+section = { shape = "rectangle", b = 0.05, h = 0.05, E = 2.0e11, nu = 0.3, rho = 7800.0 }
+[[beam]]
+name = "hanger"
+start = [3.9, 0.0, 0.0]
+end = [3.9, 0.0, -1.0]
+d2 = [1.0, 0.0, 0.0]
+spans = 4
+section = { shape = "rectangle", b = 0.02, h = 0.02, E = 2.0e11, nu = 0.3, rho = 7800.0 }
+[[support]]
+type = "clamp"
+beam = "rail"
+at = "start"
+[[support]]
+type = "clamp"
+beam = "rail"
+at = "end"
+[[sliding_joint]]
+slider = "hanger"
+carrier = "rail"
+[gravity]
+g = [0.0, 0.0, -9.81]
+"""
+
+
+def test_a_static_run_stops_when_a_slider_leaves_its_carrier(run_cli, tmp_path):
+    """A pendulum on a clamped rail, static: Newton's first load step puts the slider beyond the
+    rail's end (s = 4.008 on a 4 m rail), an equilibrium of the extrapolated spline. The run stops
+    there as a dynamic run does: exit 0, converged but not complete, the reason said; the results
+    hold the last load step with the slider on the rail. at_carrier_end = "fail": exit 1."""
+    (tmp_path / "rail.toml").write_text(RAIL)
+    out = run_cli("run", "rail.toml", "--out", "stop", "-q")
+    assert out.returncode == 0, out.stderr
+    summary = json.loads((tmp_path / "stop" / "summary.json").read_text())
+    assert summary["complete"] is False and summary["converged"] is True
+    assert "reached the end of carrier 'rail'" in summary["stopped"]
+    assert 0.0 <= summary["sliding_joints"]["hanger_on_rail"]["final_s"] <= 4.0
+    assert all(0.0 <= float(r["hanger_on_rail.s"]) <= 4.0 for r in rows(tmp_path / "stop" / "history.csv"))
+    fail = run_cli("run", "rail.toml", "--out", "fail", "-q", "--set", 'sliding_joint.0.at_carrier_end="fail"')
+    assert fail.returncode == 1 and "reached the end of carrier 'rail'" in fail.stderr
+    assert json.loads((tmp_path / "fail" / "summary.json").read_text())["complete"] is False
+
+
+UNSUPPORTED = """
+[scene]
+name = "unsupported"
+[analysis]
+type = "dynamic"
+start = "equilibrium"
+t_end = 0.01
+dt = 1e-3
+[[beam]]
+name = "rod"
+start = [0.0, 0.0, 0.0]
+end = [1.0, 0.0, 0.0]
+spans = 4
+section = { shape = "circle", r = 0.01, E = 210.0, nu = 0.3, rho = 7800.0 }
+[gravity]
+g = [0.0, 0.0, -9.81]
+"""
+
+
+def test_a_failed_static_start_leaves_a_consistent_folder_and_names_likely_causes(run_cli, tmp_path):
+    """No supports and E typed in GPa: the static start finds no equilibrium. Exit 1, and the
+    folder holds the XDMF pair, a history with the initial state and a summary saying what
+    happened, with the likely causes (here: no support, E in GPa)."""
+    (tmp_path / "s.toml").write_text(UNSUPPORTED)
+    out = run_cli("run", "s.toml", "--out", "o", "-q")
+    assert out.returncode == 1 and "Traceback" not in out.stderr
+    assert "no equilibrium" in out.stderr and "no [[support]]" in out.stderr and "not GPa" in out.stderr
+    folder = tmp_path / "o"
+    for name in ("beams.xdmf", "beams.h5", "history.csv", "summary.json", "final_configuration.csv"):
+        assert (folder / name).is_file(), name
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["complete"] is False and summary["converged"] is False and summary["steps"] == 0
+    assert len(summary["likely_causes"]) >= 2
+    assert len(rows(folder / "history.csv")) == 1
+
+
+def test_times_are_multiples_of_the_step(run_cli, root, tmp_path):
+    """t_n = n dt, not a running sum: the last time is t_end exactly and every recorded time is
+    the step number times dt, in the history and in the XDMF series (static load steps too)."""
+    out = run_cli("run", str(root / "runs" / "pendulum16.toml"), "--out", "d", "-q", "--set", "analysis.t_end=3",
+                  "--set", "analysis.dt=0.002", "--set", "output.every=100")
+    assert out.returncode == 0, out.stderr
+    assert json.loads((tmp_path / "d" / "summary.json").read_text())["t_reached"] == 3.0
+    hist = rows(tmp_path / "d" / "history.csv")
+    assert [float(r["t"]) for r in hist] == [int(r["step"]) * 0.002 for r in hist]
+    _, steps = read_series(tmp_path / "d" / "beams.xdmf")
+    assert [t for t, _ in steps] == [int(r["step"]) * 0.002 for r in hist]
+    out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "s", "-q", "--set", "analysis.steps=10",
+                  "--set", "beam.0.spans=8")
+    assert out.returncode == 0, out.stderr
+    assert [float(r["t"]) for r in rows(tmp_path / "s" / "history.csv")] == [k * 0.1 for k in range(11)]
