@@ -68,11 +68,52 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
             for key, value in meta.items():
                 g.attrs[key] = value
             g.attrs["records"] = json.dumps([dataclasses.asdict(r) for r in state.records])
+            # the scene as run (file + overrides), so that a restart runs the same scene
+            g.attrs["scene_file"] = sim.scene.file
+            g.attrs["overrides"] = json.dumps(list(sim.scene.overrides))
+            g.attrs["scene_data"] = json.dumps(sim.scene.data, default=str)
         os.replace(tmp, path)
     comm.Barrier()
     # A restart starts with a fresh Jacobian; so does the run that goes on, so that both take the
     # same Newton iterates (with Jacobian reuse, old Jacobians would otherwise make them differ).
     integ.forget_jacobian()
+
+
+def scene_of_checkpoint(path: Path) -> tuple[list[str], dict] | None:
+    """(the --set overrides, the effective scene) of the run that wrote a checkpoint, or None
+    if it does not keep them (collective: rank 0 reads)."""
+    from mpi4py import MPI
+
+    found = None
+    if MPI.COMM_WORLD.Get_rank() == 0:
+        try:
+            import h5py
+
+            with h5py.File(path, "r") as f:
+                g = f.get("slidebeam")
+                if g is not None and "overrides" in g.attrs:
+                    found = (json.loads(g.attrs["overrides"]), json.loads(g.attrs["scene_data"]))
+        except OSError:
+            found = None  # read_checkpoint reports an unreadable file
+    return MPI.COMM_WORLD.bcast(found, root=0)
+
+
+def scene_differences(before: dict, after: dict, prefix: str = "") -> list[tuple[str, object, object]]:
+    """(dotted key, value before, value after) for every value that differs between two raw
+    scenes (keys as --set spells them: beam.0.spans)."""
+    out: list[tuple[str, object, object]] = []
+    if isinstance(before, dict) and isinstance(after, dict):
+        for key in sorted(set(before) | set(after), key=str):
+            out += scene_differences(before.get(key), after.get(key), f"{prefix}{key}.")
+        return out
+    if isinstance(before, list) and isinstance(after, list) and len(before) == len(after) and \
+            any(isinstance(v, dict) for v in before + after):
+        for i, (a, b) in enumerate(zip(before, after)):
+            out += scene_differences(a, b, f"{prefix}{i}.")
+        return out
+    if json.dumps(before, default=str) != json.dumps(after, default=str):
+        out.append((prefix.rstrip("."), before, after))
+    return out
 
 
 def _record(d: dict) -> "DynamicRecord":

@@ -46,7 +46,9 @@ def _parser() -> argparse.ArgumentParser:
                      help="continue a dynamic run from its checkpoint.h5 (results go to the checkpoint's folder "
                           "unless --out is given; the XDMF series there is continued)")
     chk = sub.add_parser("check", help="validate a scene without running it",
-                         description="Validate a scene file and print what it contains.")
+                         description="Validate a scene as a run would, short of solving: the file, then the "
+                                    "model built from it (reference geometry, sliders placed on their carriers); "
+                                    "print what it contains and any warnings.")
     chk.add_argument("scene", help="scene file (TOML)")
     chk.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override a scene value")
     st = sub.add_parser("study", help="work-precision study: a grid of variants against a reference",
@@ -187,9 +189,62 @@ def _exit_after_output_failure(code: int) -> None:
         os._exit(code)
 
 
-def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
+# Keys a restart may change and still continue the same run (the end time, what is written)
+_RESTART_CHANGES_OK = ("analysis.t_end", "output.")
+
+
+def _restart_scene(args: argparse.Namespace, restart: Path, rank: int) -> Scene:
+    """The scene of a restart: the file with the overrides of the run that wrote the checkpoint,
+    then this command's; say what differs from that run."""
+    from .checkpoint import scene_differences, scene_of_checkpoint
+
+    kept = scene_of_checkpoint(restart) if restart.is_file() else None
+    if kept is None:  # a checkpoint that does not keep its scene
+        return load_scene(args.scene, args.set)
+    overrides, data = kept
+    scene = load_scene(args.scene, [*overrides, *args.set])
+    if overrides:
+        _say(rank, f"restart: the checkpoint's run had --set {' --set '.join(overrides)}; applied again")
+    changes = scene_differences(data, scene.data)
+    if changes:
+        listed = "; ".join(f"{k}: {a!r} -> {b!r}" for k, a, b in changes)
+        odd = [k for k, _, _ in changes if not k.startswith(_RESTART_CHANGES_OK)]
+        if odd:
+            _say(rank, f"slidebeam: warning: the restarted scene differs from the run that wrote the checkpoint "
+                       f"({listed}); with {', '.join(odd)} changed the run does not go on as that run would have",
+                 sys.stderr)
+        else:
+            _say(rank, f"restart: changed since the checkpoint: {listed}")
+    return scene
+
+
+def _say_warnings(scene: Scene, rank: int) -> None:
+    for w in scene.warnings:
+        _say(rank, f"slidebeam: warning: {scene.file}: {w}", sys.stderr)
+
+
+def _check(args: argparse.Namespace, rank: int) -> int:
+    """Validate a scene as a run would, short of solving: the file, then the model built from it
+    (reference geometry, sliders placed on their carriers)."""
     scene = load_scene(args.scene, args.set)
+    import petsc4py
+
+    petsc4py.init([sys.argv[0]])
+    from .model import build_model
+
+    model, effects = build_model(scene)
+    del model
+    _say(rank, _describe(scene))
+    _say(rank, _effects_line(effects))
+    _say_warnings(scene, rank)
+    _say(rank, "scene is valid" + (f" ({len(scene.warnings)} warning{'s' * (len(scene.warnings) > 1)})"
+                                   if scene.warnings else ""))
+    return EXIT_OK
+
+
+def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     restart = Path(args.restart) if args.restart else None
+    scene = _restart_scene(args, restart, rank) if restart is not None else load_scene(args.scene, args.set)
     if restart is not None and scene.analysis.type != "dynamic":
         raise SceneError("--restart continues dynamic runs only", scene.file, "[analysis]", "type")
     out = Path(args.out) if args.out else (restart.parent if restart else Path("out") / scene.name)
@@ -222,6 +277,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     sim = Simulation(scene)
     _say(rank, _describe(scene))
     _say(rank, _effects_line(sim.active_effects))
+    _say_warnings(scene, rank)
     state = None
     if restart is not None:
         from .checkpoint import read_checkpoint
@@ -464,9 +520,7 @@ def main(argv: list[str] | None = None) -> int:
             args.jobs = args.jobs or 1
             return main_study(args, petsc_args)
         if args.command == "check":
-            scene = load_scene(args.scene, args.set)
-            _say(rank, _describe(scene) + "\nscene is valid")
-            return EXIT_OK
+            return _check(args, rank)
         return _run(args, petsc_args, rank)
     except SceneError as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)

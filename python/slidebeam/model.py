@@ -43,10 +43,14 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
 
     for b in scene.beams:
         sec = b.section
+        try:
+            reference = reference_coordinates(b)
+        except ValueError as exc:  # a centre line the section frame cannot follow
+            raise SceneError(str(exc), scene.file, f"[[beam]] #{b.index + 1} ('{b.name}')", b.geometry.kind) from exc
         model.add_beam(
             b.name, b.spans, b.geometry.length,
             {k: getattr(sec, k) for k in ("EA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI2", "rhoI3")},
-            "simo-reissner" if b.formulation == "ancf" else b.strain, b.quadrature, reference_coordinates(b),
+            "simo-reissner" if b.formulation == "ancf" else b.strain, b.quadrature, reference,
             b.formulation,
         )
     dynamic = scene.analysis.type == "dynamic"

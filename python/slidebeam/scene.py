@@ -20,6 +20,7 @@ import math
 import os
 import tomllib
 import copy
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
@@ -261,6 +262,9 @@ class Scene:
     sliding_joints: tuple[SlidingJoint, ...] = ()
     # the scene as read, overrides applied (what a checkpoint keeps, to restart the same run)
     data: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+    overrides: tuple[str, ...] = ()  # the --set overrides applied to the file, in order
+    # what is allowed but probably not meant (a support that repeats another): for the user to read
+    warnings: tuple[str, ...] = ()
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -473,7 +477,8 @@ def load_scene(path: str | os.PathLike[str], overrides: list[str] | None = None)
         raise SceneError(f"TOML syntax error: {exc}", file) from exc
     for override in overrides or []:
         apply_override(data, override, file)
-    return scene_from_dict(data, file=file, base_dir=str(Path(file).resolve().parent))
+    scene = scene_from_dict(data, file=file, base_dir=str(Path(file).resolve().parent))
+    return dataclasses.replace(scene, overrides=tuple(overrides or ()))
 
 
 def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = ".") -> Scene:
@@ -534,7 +539,30 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         rigid_joints=joints,
         sliding_joints=sliders,
         data=copy.deepcopy(data),
+        warnings=_support_warnings(supports, beams),
     )
+
+
+def _support_warnings(supports: tuple[Support, ...], beams: tuple[Beam, ...]) -> tuple[str, ...]:
+    """Supports that repeat what another already holds: allowed (the motion is the same), but
+    both report the reaction of the point they share, so the reactions count it twice."""
+    holds = {"fixed": 3, "clamp": 2, "spherical": 1}  # fixed holds everything, a clamp a spherical's point
+    out = []
+    for j, b in enumerate(supports):
+        for i, a in enumerate(supports[:j]):
+            if a.beam != b.beam:
+                continue
+            same_point = a.type == "fixed" or b.type == "fixed" or (
+                abs(a.at - b.at) <= 1e-12 * beams[a.beam].geometry.length)
+            if not same_point:
+                continue
+            wider, narrower = (a, b) if holds[a.type] >= holds[b.type] else (b, a)
+            where = "" if wider.type == "fixed" else f" at s = {narrower.at:g}"
+            out.append(f"[[support]] #{j + 1} ({b.type}) repeats what [[support]] #{i + 1} ({a.type}) holds on beam "
+                       f"'{beams[a.beam].name}'{where}: the {narrower.type} adds nothing to the {wider.type}, and "
+                       f"both report the reaction there (remove one)")
+            break
+    return tuple(out)
 
 
 # ----------------------------------------------------------------------------

@@ -228,3 +228,46 @@ def test_times_are_multiples_of_the_step(run_cli, root, tmp_path):
                   "--set", "beam.0.spans=8")
     assert out.returncode == 0, out.stderr
     assert [float(r["t"]) for r in rows(tmp_path / "s" / "history.csv")] == [k * 0.1 for k in range(11)]
+
+
+def test_check_places_the_sliders_as_run_does(run_cli, root):
+    """`check` builds the model: a slider 5 cm off its carrier is refused by check (exit 2, the
+    joint named) as by run, not only when the run starts."""
+    scene = str(root / "runs" / "seed" / "free_fall_1+4.toml")
+    off = ["--set", "beam.1.start=[0.4,0.05,0.0]", "--set", "beam.1.end=[0.4,-0.95,0.0]"]
+    out = run_cli("check", scene, *off)
+    assert out.returncode == 2 and "[[sliding_joint]] #1" in out.stderr and "0.05 from carrier 'AB'" in out.stderr
+    assert "Traceback" not in out.stderr
+    assert run_cli("check", scene).returncode == 0
+
+
+def test_supports_that_repeat_each_other_are_warned_about(run_cli, root, tmp_path):
+    """A spherical support where a clamp already holds, or one support twice: a warning naming
+    both tables, by check and by run (both would report the same reaction)."""
+    text = (root / "runs" / "rollup.toml").read_text()
+    (tmp_path / "dup.toml").write_text(text + '\n[[support]]\ntype = "spherical"\nbeam = "strip"\nat = "start"\n')
+    out = run_cli("check", "dup.toml")
+    assert out.returncode == 0
+    assert "warning" in out.stderr and "[[support]] #2 (spherical) repeats what [[support]] #1 (clamp)" in out.stderr
+    (tmp_path / "twice.toml").write_text(text + '\n[[support]]\ntype = "clamp"\nbeam = "strip"\nat = "start"\n')
+    out = run_cli("run", "twice.toml", "--out", "o", "-q", "--set", "analysis.steps=2", "--set", "beam.0.spans=8")
+    assert out.returncode == 0 and "[[support]] #2 (clamp) repeats what [[support]] #1 (clamp)" in out.stderr
+    assert "warning" not in run_cli("check", str(root / "runs" / "rollup.toml")).stderr
+
+
+def test_a_restart_runs_the_scene_of_its_checkpoint(run_cli, root, tmp_path):
+    """The checkpoint keeps the effective scene: a restart applies the first run's --set overrides
+    again (here output.every = 5, the file says 10) and says what changed; a changed dt is
+    warned about, since the run then does not go on as the first one would have."""
+    scene = str(root / "runs" / "seed" / "free_fall_inclined_1+4.toml")
+    first = run_cli("run", scene, "--out", "r", "-q", "--set", "output.every=5", "--set", "analysis.t_end=0.05")
+    assert first.returncode == 0, first.stderr
+    again = run_cli("run", scene, "--restart", "r/checkpoint.h5", "-q", "--set", "analysis.t_end=0.1")
+    assert again.returncode == 0, again.stderr
+    assert "--set output.every=5" in again.stdout and "analysis.t_end: 0.05 -> 0.1" in again.stdout
+    steps = [int(r["step"]) for r in rows(tmp_path / "r" / "history.csv")]
+    assert steps == list(range(0, 101, 5))
+    dt = run_cli("run", scene, "--restart", "r/checkpoint.h5", "-q", "--set", "analysis.t_end=0.12",
+                 "--set", "analysis.dt=5e-4")
+    assert dt.returncode == 0, dt.stderr
+    assert "warning" in dt.stderr and "analysis.dt: 0.001 -> 0.0005" in dt.stderr

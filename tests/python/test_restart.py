@@ -58,7 +58,8 @@ def test_restarted_run_equals_the_uninterrupted_one(run_cli, root, tmp_path, int
 
 def test_periodic_checkpoints_and_the_last_good_state(run_cli, root, tmp_path):
     """checkpoint_every writes along the run; after a Newton failure the checkpoint holds the
-    last good state, from which a restart with smaller steps goes on."""
+    last good state, from which a restart with smaller steps goes on (the first run's overrides
+    apply again, so its dt_min = 0.05 is lowered too)."""
     scene = str(root / "runs" / "flying_spaghetti_2d.toml")
     out = run_cli("run", scene, "--out", "nm", "-q", "--set", 'analysis.integrator="newmark"',
                   "--set", "analysis.dt_min=0.05", "--set", "output.checkpoint_every=5")
@@ -71,7 +72,7 @@ def test_periodic_checkpoints_and_the_last_good_state(run_cli, root, tmp_path):
         assert f["slidebeam"].attrs["t"] == pytest.approx(summary["t_reached"])
     again = run_cli("run", scene, "--restart", "nm/checkpoint.h5", "--out", "nm2", "-q",
                     "--set", 'analysis.integrator="newmark"', "--set", "analysis.t_end=" + str(summary["t_reached"] + 0.05),
-                    "--set", "analysis.dt=0.01")
+                    "--set", "analysis.dt=0.01", "--set", "analysis.dt_min=1e-4")
     assert again.returncode == 0, again.stderr
     resumed = json.loads((tmp_path / "nm2" / "summary.json").read_text())
     assert resumed["complete"] and resumed["steps"] > summary["steps"]
