@@ -193,6 +193,9 @@ PYBIND11_MODULE(_core, m) {
       .def_property("time", &StaticSolver::time, &StaticSolver::set_time)
       .def_property_readonly("snes", &StaticSolver::snes, "the SNES (petsc4py, shared with the core)");
 
+  m.def("effect_specs_json", [] { return EffectRegistry::instance().specs_json(); },
+        "every registered effect type: its scene table, parameters (kind, unit, default, bounds), role in "
+        "the energy balance and reports, as JSON");
   m.def("install_stop_handlers", &install_stop_handlers,
         "SIGINT/SIGTERM: the first is recorded (see stop_signal), the second ends the process at once");
   m.def("stop_signal", py::overload_cast<>(&stop_signal), "the signal received since install_stop_handlers, or 0");
@@ -244,6 +247,17 @@ PYBIND11_MODULE(_core, m) {
       .def("restore", &TimeIntegrator::restore, py::arg("t"), py::arg("h_prev"), py::arg("pivoting_lu"),
            py::arg("segment_start") = 0.0, py::arg("segment_steps") = 0,
            "resume from a checkpoint (the state vectors already loaded)")
+      .def_property_readonly("energy_flows",
+                             [](const TimeIntegrator& s) {
+                               py::list out;
+                               for (const auto& f : s.energy_flows())
+                                 out.append(py::make_tuple(f.effect, energy_role_name(f.role), f.work));
+                               return out;
+                             },
+                             "(effect index, role, work done on the structure since the start) of every effect "
+                             "whose work is counted")
+      .def("set_energy_flows", &TimeIntegrator::set_energy_flows, py::arg("work"),
+           "restore the summed works (a restart), in the order of energy_flows")
       .def("forget_jacobian", &TimeIntegrator::forget_jacobian,
            "build a fresh step Jacobian at the next step (as after a restart)")
       .def_property_readonly("time_segment", &TimeIntegrator::time_segment,

@@ -61,6 +61,8 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
                 "format": FORMAT, "scene": sim.scene.name, "unknowns": sim.x.getSize(),
                 "t": integ.time, "h_prev": integ.h_prev, "pivoting_lu": bool(integ.pivoting_lu),
                 "segment_start": integ.time_segment[0], "segment_steps": integ.time_segment[1],
+                "energy_flows": json.dumps([w for _, _, w in integ.energy_flows]),
+                "initial_energy": sim.initial_energy,
                 "integrator": sim.scene.analysis.integrator,
                 "dt": state.dt, "step": state.step, "rejected": state.rejected,
                 "rejected_since_record": state.rejected_since_record, "newton": state.newton,
@@ -167,6 +169,9 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
     viewer.destroy()
     sim.integrator.restore(float(meta["t"]), float(meta["h_prev"]), bool(meta["pivoting_lu"]),
                            float(meta.get("segment_start", meta["t"])), int(meta.get("segment_steps", 0)))
+    if "energy_flows" in meta:
+        sim.integrator.set_energy_flows(json.loads(meta["energy_flows"]))
+        sim.initial_energy = float(meta["initial_energy"])
     from .dynamics import RunState
 
     records = [_record(r) for r in json.loads(meta["records"])]

@@ -70,6 +70,14 @@ class DynamicRecord:
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
     joints: list[JointState] = field(default_factory=list)
     reactions: list[Reaction] = field(default_factory=list)
+    # The energy balance since the start: work put in from outside W (loads that vary or do not
+    # derive from a potential, drives), energy dissipated D (damping, friction), and
+    # |H - H_0 - W + D|: the Newton tolerance under energy-momentum, the numerical dissipation
+    # of the other schemes.
+    work: float = 0.0
+    dissipated: float = 0.0
+    energy_balance_error: float = 0.0
+    flows: list[float] = field(default_factory=list)  # per counted effect (Simulation.energy_flow_labels)
 
     @property
     def total_energy(self) -> float:
@@ -79,13 +87,15 @@ class DynamicRecord:
     def header() -> list[str]:
         return ["step", "t", "dt", "converged", "reason", "newton_iterations", "rejected_steps", "residual_norm",
                 "kinetic_energy", "strain_energy", "potential_energy", "total_energy",
+                "work", "dissipated", "energy_balance_error",
                 "linear_momentum.x", "linear_momentum.y", "linear_momentum.z",
                 "angular_momentum.x", "angular_momentum.y", "angular_momentum.z", "constraint_residual"]
 
     def row(self) -> list[object]:
         return [self.step, repr(self.t), repr(self.dt), int(self.converged), self.reason, self.newton_iterations,
                 self.rejected_steps, repr(self.residual_norm), repr(self.kinetic_energy), repr(self.strain_energy),
-                repr(self.potential_energy), repr(self.total_energy), *[repr(v) for v in self.linear_momentum],
+                repr(self.potential_energy), repr(self.total_energy), repr(self.work), repr(self.dissipated),
+                repr(self.energy_balance_error), *[repr(v) for v in self.linear_momentum],
                 *[repr(v) for v in self.angular_momentum], repr(self.constraint_residual)]
 
 
@@ -159,12 +169,14 @@ class _Snapshot:
         for name, vec in self._vecs.items():
             vec.copy(self.copies[name])
         self._time = (integ.time, integ.h_prev, bool(integ.pivoting_lu), *integ.time_segment)
+        self._flows = [w for _, _, w in integ.energy_flows]
 
     def restore(self) -> None:
         for name, vec in self._vecs.items():
             self.copies[name].copy(vec)
         t, h_prev, pivoting, seg_start, seg_steps = self._time
         self._integ.restore(t, h_prev, pivoting, seg_start, seg_steps)
+        self._integ.set_energy_flows(self._flows)
 
     def destroy(self) -> None:
         for vec in self.copies.values():

@@ -32,6 +32,18 @@ def _where(scene: Scene, beam: int, s: float) -> str:
     return f"{b.name}@s={s:g}"
 
 
+def _reference_point(beam, q, s: float) -> list[float]:
+    """The point at arc length s of a beam's discretised reference centre line (control points q)."""
+    if beam.formulation == "ancf":
+        le = beam.geometry.length / beam.spans
+        e = min(max(int(s // le), 0), beam.spans - 1)
+        S, _, _ = _core.hermite_basis(min(max(s - e * le, 0.0), le), le)
+        blocks = [q[e][:3], q[e][3:6], q[e + 1][:3], q[e + 1][3:6]]
+        return [float(sum(w * y[k] for w, y in zip(S, blocks))) for k in range(3)]
+    span, N, _, _ = _core.bspline_basis(beam.spans, min(max(s / beam.geometry.length, 0.0), 1.0))
+    return [float(sum(N[a] * q[span + a][k] for a in range(3))) for k in range(3)]
+
+
 def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, list[EffectInfo]]:
     """Create and finalize the C++ model of a scene (collective over comm)."""
     model = _core.Model(comm)
@@ -41,10 +53,12 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
         model.add_effect(kind, num or {}, vec or {}, text or {})
         effects.append(EffectInfo(kind, label))
 
+    references = []
     for b in scene.beams:
         sec = b.section
         try:
             reference = reference_coordinates(b)
+            references.append(reference)
         except ValueError as exc:  # a centre line the section frame cannot follow
             raise SceneError(str(exc), scene.file, f"[[beam]] #{b.index + 1} ('{b.name}')", b.geometry.kind) from exc
         model.add_beam(
@@ -71,8 +85,11 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
         elif sup.type == "clamp":
             add("clamp", f"clamp[{_where(scene, sup.beam, sup.at)}]", {"beam": sup.beam, "s": sup.at})
         else:
+            # the discretised reference centre line's point (a spline through a polyline's corner
+            # or along an arc passes beside the drawn one): the reference state meets the support
+            position = _reference_point(scene.beams[sup.beam], references[sup.beam], sup.at)
             add("spherical", f"spherical[{_where(scene, sup.beam, sup.at)}]", {"beam": sup.beam, "s": sup.at},
-                {"position": list(sup.position)})
+                {"position": list(position)})
     for load in scene.loads:
         num, text = _tf(load.time_function)
         text["frame"] = load.frame
@@ -90,6 +107,8 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
     for pm in scene.point_masses:
         add("point_mass", f"point_mass[{_where(scene, pm.beam, pm.at)}, {pm.mass:g} kg]",
             {"beam": pm.beam, "s": pm.at, "mass": pm.mass})
+    for entry in scene.effects:  # tables of the core's registry
+        add(entry.type, entry.label, entry.num, entry.vec, entry.text)
     if scene.gravity is not None:
         # Statics: gravity grows with the load steps like every other load; dynamics: constant.
         tf = (TimeFunction("ramp", 0.0, scene.analysis.t_end, float("inf")) if scene.analysis.type == "static"

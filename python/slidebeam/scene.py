@@ -27,6 +27,18 @@ from typing import Any, Callable
 
 import numpy as np
 
+try:
+    from .effect_tables import EffectEntry, EffectSpec, ParamSpec, table_specs
+except ImportError:  # loaded on its own, outside the package: its sibling by path
+    import importlib.util as _importlib_util
+    import sys as _sys
+
+    _et_spec = _importlib_util.spec_from_file_location("slidebeam_effect_tables", Path(__file__).with_name("effect_tables.py"))
+    _et = _importlib_util.module_from_spec(_et_spec)
+    _sys.modules[_et_spec.name] = _et
+    _et_spec.loader.exec_module(_et)
+    EffectEntry, EffectSpec, ParamSpec, table_specs = _et.EffectEntry, _et.EffectSpec, _et.ParamSpec, _et.table_specs
+
 Vec3 = tuple[float, float, float]
 
 _MISSING: Any = object()
@@ -265,6 +277,8 @@ class Scene:
     overrides: tuple[str, ...] = ()  # the --set overrides applied to the file, in order
     # what is allowed but probably not meant (a support that repeats another): for the user to read
     warnings: tuple[str, ...] = ()
+    # entries of the effect tables the core's registry declares ([[damping]], ...), in file order
+    effects: tuple[EffectEntry, ...] = ()
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -484,7 +498,8 @@ def load_scene(path: str | os.PathLike[str], overrides: list[str] | None = None)
 def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = ".") -> Scene:
     """Validate a raw scene dict (same layout as the TOML file)."""
     top = _Table(data, file, "top level")
-    top.check_keys(_TOP_KEYS)
+    registry_tables = table_specs()
+    top.check_keys(_TOP_KEYS + tuple(registry_tables))
 
     meta = _Table(top.raw("scene", {}), file, "[scene]", "scene")
     meta.check_keys(("name", "description"))
@@ -518,6 +533,11 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         _parse_sliding_joint(_Table(raw, file, f"[[sliding_joint]] #{i + 1}", "sliding_joint"), beams)
         for i, raw in enumerate(_array_of_tables(data, "sliding_joint", file))
     )
+    entries = tuple(
+        _parse_registry_entry(_Table(raw, file, f"[[{table}]] #{i + 1}", table), spec, beams)
+        for table, spec in registry_tables.items()
+        for i, raw in enumerate(_array_of_tables(data, table, file))
+    )
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
     gravity = _parse_gravity(top, file)
     output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams)
@@ -540,6 +560,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         sliding_joints=sliders,
         data=copy.deepcopy(data),
         warnings=_support_warnings(supports, beams),
+        effects=entries,
     )
 
 
@@ -1169,3 +1190,71 @@ def _parse_point_mass(t: _Table, beams: tuple[Beam, ...]) -> PointMass:
     index = _beam_ref(t, beams)
     return PointMass(index, _parse_at(t, beams[index].geometry.length),
                      t.number("mass", check=lambda m: m > 0, requirement="> 0"))
+
+
+# ----------------------------------------------------------------------------
+# tables of the core's effect registry
+
+
+def _spec_default(p: ParamSpec) -> Any:
+    return tomllib.loads(f"v = {p.default}")["v"]
+
+
+def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...]) -> EffectEntry:
+    """Validate one entry of a registry table ([[damping]], ...) against its spec (kinds, units,
+    defaults and bounds from the core) and turn it into the effect's parameters."""
+    t.check_keys(tuple(p.key for p in spec.params))
+    num: dict[str, float] = {}
+    vec: dict[str, list[float]] = {}
+    text: dict[str, str] = {}
+    beam: int | None = None
+    for p in spec.params:
+        if p.kind == "beam":
+            beam = _beam_ref(t, beams) if p.key == "beam" else None
+            if beam is None:
+                raise t.error(p.key, "internal: a beam parameter must be called 'beam'")
+            num[p.key] = float(beam)
+            continue
+        if p.kind == "point":  # key "at", on the table's beam: num["s"]
+            if beam is None or p.key != "at":
+                raise t.error(p.key, "internal: a point is the key 'at' after the table's beam")
+            if not t.has("at") and p.default:
+                t.data["at"] = _spec_default(p)
+            num["s"] = _parse_at(t, beams[beam].geometry.length)
+            continue
+        if p.kind == "time_function":
+            if t.has(p.key):
+                tf = _parse_time_function(t.sub(p.key, f"{t.label}.{p.key}"))
+            else:
+                tf = TimeFunction("constant")
+            num.update({"tf_t0": tf.t0, "tf_t1": tf.t1, "tf_t2": tf.t2})
+            text["tf_type"] = tf.type
+            continue
+        if not t.has(p.key) and not p.default:
+            raise t.error(p.key, f"missing required key ({p.meaning})")
+        value = t.raw(p.key) if t.has(p.key) else _spec_default(p)
+        if p.kind in ("number", "integer"):
+            x = t.number(p.key, value) if p.kind == "number" else float(t.integer(p.key, value, positive=False))
+            low_ok = x > p.min if p.min_open else x >= p.min
+            if not (low_ok and x <= p.max):
+                lo = f"{'>' if p.min_open else '>='} {p.min:g}" if math.isfinite(p.min) else ""
+                hi = f"<= {p.max:g}" if math.isfinite(p.max) else ""
+                raise t.error(p.key, f"must be {' and '.join(b for b in (lo, hi) if b)}"
+                                     f"{f' {p.unit}' if p.unit else ''}, got {_show(value)}")
+            num[p.key] = x
+        elif p.kind == "vector":
+            if not isinstance(value, list) or (len(value) != p.size and not (value == [] and p.default == "[]")):
+                raise t.error(p.key, f"must be an array of {p.size} numbers, got {_show(value)}")
+            xs = [t._to_float(p.key, v) for v in value]
+            if any(not (x > p.min if p.min_open else x >= p.min) or x > p.max for x in xs):
+                raise t.error(p.key, f"every entry must be >= {p.min:g}, got {_show(value)}")
+            vec[p.key] = xs
+        elif p.kind == "choice":
+            if not isinstance(value, str) or value not in p.choices:
+                hint = _did_you_mean(value, p.choices) if isinstance(value, str) else ""
+                raise t.error(p.key, f"must be one of {_quoted(p.choices)}, got {_show(value)}{hint}")
+            text[p.key] = value
+        else:
+            raise t.error(p.key, f"internal: unknown parameter kind '{p.kind}'")
+    where = f"{beams[beam].name}" if beam is not None else ""
+    return EffectEntry(spec.type, f"{spec.type}[{where}]" if where else spec.type, num, vec, text)

@@ -120,6 +120,7 @@ class Simulation:
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.stop_signal: int | None = None  # the signal that stopped it, if one did
         self.stop_is_failure = False  # a slider left its carrier with at_carrier_end = "fail"
+        self.initial_energy = 0.0  # H_0 of the energy balance (the first record of a dynamic run)
         a = scene.analysis
         if a.type == "dynamic":
             self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,
@@ -210,11 +211,15 @@ class Simulation:
         return self._model.jacobian
 
     def energies(self) -> dict[str, float]:
-        """Strain energy (beams) and potential energy of conservative external loads."""
+        """Strain energy (beams) and potential energy of conservative external loads (each effect's
+        part of H as its registry spec says)."""
+        from .effect_tables import effect_specs
+
+        specs = effect_specs()
         e = self._model.effect_energies(self.t, self.x)
-        strain = sum(v for info, v in zip(self.effects, e) if info.type in ("beam_elastic", "ancf_elastic"))
-        potential = sum(v for info, v in zip(self.effects, e) if info.type in ("gravity", "force"))
-        return {"strain": strain, "potential": potential}
+        kind = [specs[info.type].stored if info.type in specs else "" for info in self.effects]
+        return {"strain": sum(v for k, v in zip(kind, e) if k == "strain"),
+                "potential": sum(v for k, v in zip(kind, e) if k == "potential")}
 
     def control_points(self, beam: int | str, x: PETSc.Vec | None = None) -> np.ndarray:
         """(n_cp, 12) coordinates phi, d1, d2, d3 of a beam's control points (ANCF cable: (n_nodes,
@@ -419,6 +424,12 @@ class Simulation:
         assert self.integrator is not None
         e = self.energies()
         kinetic, lin, ang = self.integrator.motion()
+        flows = self.integrator.energy_flows
+        work = sum(w for _, role, w in flows if role != "dissipative")
+        dissipated = 0.0 - sum(w for _, role, w in flows if role == "dissipative")
+        total = kinetic + e["strain"] + e["potential"]
+        if step == 0 and result is None:
+            self.initial_energy = total
         return DynamicRecord(
             step=step, t=self.t, dt=dt,
             converged=True if result is None else bool(result.converged),
@@ -432,7 +443,18 @@ class Simulation:
             joints=self.joint_states() if joints is None else
             [dataclasses.replace(j, gap=g) for j, g in zip(joints, self._joint_gaps())],
             reactions=self.reactions(over_last_step=result is not None and bool(result.converged)),
+            work=work, dissipated=dissipated,
+            energy_balance_error=abs(total - self.initial_energy - work + dissipated),
+            flows=[w for _, _, w in flows],
         )
+
+    def energy_flow_labels(self) -> list[str]:
+        """History column names of the effects whose work is counted (dynamic runs):
+        <label>.work, or <label>.dissipated for damping and friction (then positive)."""
+        if self.integrator is None:
+            return []
+        return [f"{self.active_effects[k].label}.{'dissipated' if role == 'dissipative' else 'work'}"
+                for k, role, _ in self.integrator.energy_flows]
 
     def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None, state: RunState | None = None,
                     on_checkpoint: Callable[[RunState], None] | None = None) -> RunOutcome:

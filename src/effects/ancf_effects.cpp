@@ -98,6 +98,7 @@ class AncfElastic final : public AncfElementEffect {
 class AncfInertia final : public AncfElementEffect {
  public:
   AncfInertia(const Model& m, const EffectParams& p) : AncfElementEffect(m, p, "ancf_inertia") {}
+  bool has_mass() const override { return true; }
   std::string type() const override { return "ancf_inertia"; }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
@@ -115,8 +116,10 @@ class AncfInertia final : public AncfElementEffect {
 };
 
 void register_ancf_effects(EffectRegistry& r) {
-  r.add("ancf_elastic", [](const Model& m, const EffectParams& p) { return std::make_unique<AncfElastic>(m, p); });
-  r.add("ancf_inertia", [](const Model& m, const EffectParams& p) { return std::make_unique<AncfInertia>(m, p); });
+  r.add(model_effect_spec("ancf_elastic", EnergyRole::Stored, "strain energy of an ANCF cable", "strain"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<AncfElastic>(m, p); });
+  r.add(model_effect_spec("ancf_inertia", EnergyRole::Stored, "kinetic energy of an ANCF cable (its mass matrix)", "kinetic"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<AncfInertia>(m, p); });
 }
 
 }  // namespace slidebeam::effects

@@ -318,6 +318,7 @@ class DirectorConstraints final : public Effect {
 class BeamInertia final : public SpanEffect {
  public:
   BeamInertia(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_inertia") {}
+  bool has_mass() const override { return true; }
   std::string type() const override { return "beam_inertia"; }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
@@ -352,9 +353,11 @@ class BeamInertia final : public SpanEffect {
 };
 
 void register_beam_effects(EffectRegistry& r) {
-  r.add("beam_inertia", [](const Model& m, const EffectParams& p) { return std::make_unique<BeamInertia>(m, p); });
-  r.add("beam_elastic", [](const Model& m, const EffectParams& p) { return std::make_unique<BeamElastic>(m, p); });
-  r.add("director_constraints",
+  r.add(model_effect_spec("beam_inertia", EnergyRole::Stored, "kinetic energy of a director beam (its mass matrix)", "kinetic"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<BeamInertia>(m, p); });
+  r.add(model_effect_spec("beam_elastic", EnergyRole::Stored, "strain energy of a director beam", "strain"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<BeamElastic>(m, p); });
+  r.add(model_effect_spec("director_constraints", EnergyRole::Constraint, "orthonormality of a director beam's control-point triads"),
         [](const Model& m, const EffectParams& p) { return std::make_unique<DirectorConstraints>(m, p); });
 }
 

@@ -9,6 +9,7 @@ void register_load_effects(EffectRegistry& r);
 void register_support_effects(EffectRegistry& r);
 void register_joint_effects(EffectRegistry& r);
 void register_sliding_effects(EffectRegistry& r);
+void register_damping_effects(EffectRegistry& r);
 }  // namespace effects
 
 void register_builtin_effects(EffectRegistry& registry) {
@@ -18,6 +19,7 @@ void register_builtin_effects(EffectRegistry& registry) {
   effects::register_support_effects(registry);
   effects::register_joint_effects(registry);
   effects::register_sliding_effects(registry);
+  effects::register_damping_effects(registry);
 }
 
 }  // namespace slidebeam

@@ -14,6 +14,18 @@
 
 namespace slidebeam::effects {
 
+/// The spec of an effect the model creates itself (from [[beam]], or from a table the Python
+/// scene parser reads with its own rules): no table of its own here, its role in the energy balance.
+inline EffectSpec model_effect_spec(const std::string& type, EnergyRole role, const std::string& meaning,
+                                    const std::string& stored = "") {
+  EffectSpec s;
+  s.type = type;
+  s.role = role;
+  s.meaning = meaning;
+  s.stored = stored;
+  return s;
+}
+
 /// Beam index from parameters, checked against the model.
 int beam_param(const Model& model, const EffectParams& p);
 /// Beam index of an effect that exists for one formulation only ("who" names the effect in the

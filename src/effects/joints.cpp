@@ -185,7 +185,8 @@ class RigidJoint final : public Effect {
 };
 
 void register_joint_effects(EffectRegistry& r) {
-  r.add("rigid_joint", [](const Model& m, const EffectParams& p) { return std::make_unique<RigidJoint>(m, p); });
+  r.add(model_effect_spec("rigid_joint", EnergyRole::Constraint, "two beam points welded together, positions and directors"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<RigidJoint>(m, p); });
 }
 
 }  // namespace slidebeam::effects

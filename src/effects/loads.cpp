@@ -67,6 +67,7 @@ class PointMass final : public Effect {
   PointMass(const Model& m, const EffectParams& p) : point(m, p, "point_mass"), kg(p.number("mass")) {
     if (!(kg > 0)) throw std::invalid_argument("point_mass: mass must be > 0");
   }
+  bool has_mass() const override { return true; }
   std::string type() const override { return "point_mass"; }
   std::string label() const override { return "point_mass[" + std::to_string(kg) + " kg]"; }
   void distribute(const Model& m) override { owned_ = point.owned(m); }
@@ -111,6 +112,7 @@ class Gravity final : public Effect {
     const auto& g = p.vector("g", 3);
     g_ = Eigen::Vector3d(g[0], g[1], g[2]);
   }
+  bool time_dependent() const override { return f_.kind != TimeFunction::Kind::Constant; }
   std::string type() const override { return "gravity"; }
   std::string label() const override { return "gravity"; }
 
@@ -198,6 +200,7 @@ class PointLoad final : public Effect {
     if (moment && m.beam(point_.beam).is_ancf())  // the cable has no rotational unknowns to do work on
       throw std::invalid_argument("moment: beam '" + m.beam(point_.beam).name() + "' is an ANCF cable (forces only)");
   }
+  bool time_dependent() const override { return f_.kind != TimeFunction::Kind::Constant; }
   std::string type() const override { return moment_ ? "moment" : "force"; }
   std::string label() const override { return type() + "[" + std::to_string(point_.beam) + "@" + std::to_string(point_.s) + "]"; }
 
@@ -278,10 +281,14 @@ class PointLoad final : public Effect {
 };
 
 void register_load_effects(EffectRegistry& r) {
-  r.add("gravity", [](const Model& m, const EffectParams& p) { return std::make_unique<Gravity>(m, p); });
-  r.add("point_mass", [](const Model& m, const EffectParams& p) { return std::make_unique<PointMass>(m, p); });
-  r.add("force", [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, false); });
-  r.add("moment", [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, true); });
+  r.add(model_effect_spec("gravity", EnergyRole::Stored, "weight of every mass (potential energy; statics: ramped with the load steps)", "potential"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<Gravity>(m, p); });
+  r.add(model_effect_spec("point_mass", EnergyRole::Stored, "a lumped mass at a beam point (kinetic energy)", "kinetic"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<PointMass>(m, p); });
+  r.add(model_effect_spec("force", EnergyRole::Stored, "a point force with a time function (potential energy)", "potential"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, false); });
+  r.add(model_effect_spec("moment", EnergyRole::External, "a point moment with a time function (its work is counted, it has no potential)"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, true); });
 }
 
 }  // namespace slidebeam::effects

@@ -311,7 +311,8 @@ class SlidingJoint final : public Effect {
 };
 
 void register_sliding_effects(EffectRegistry& r) {
-  r.add("sliding_joint", [](const Model& m, const EffectParams& p) { return std::make_unique<SlidingJoint>(m, p); });
+  r.add(model_effect_spec("sliding_joint", EnergyRole::Constraint, "a beam point sliding along another beam's centre line"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<SlidingJoint>(m, p); });
 }
 
 }  // namespace slidebeam::effects

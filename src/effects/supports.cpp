@@ -207,9 +207,12 @@ class Spherical final : public Effect {
 };
 
 void register_support_effects(EffectRegistry& r) {
-  r.add("clamp", [](const Model& m, const EffectParams& p) { return std::make_unique<Clamp>(m, p); });
-  r.add("fixed", [](const Model& m, const EffectParams& p) { return std::make_unique<Fixed>(m, p); });
-  r.add("spherical", [](const Model& m, const EffectParams& p) { return std::make_unique<Spherical>(m, p); });
+  r.add(model_effect_spec("clamp", EnergyRole::Constraint, "a beam end held in place and orientation"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<Clamp>(m, p); });
+  r.add(model_effect_spec("fixed", EnergyRole::Constraint, "every control point of a beam held"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<Fixed>(m, p); });
+  r.add(model_effect_spec("spherical", EnergyRole::Constraint, "a beam point held in place, free to turn"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<Spherical>(m, p); });
 }
 
 }  // namespace slidebeam::effects

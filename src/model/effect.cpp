@@ -2,6 +2,8 @@
 #include "model/effect.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace slidebeam {
@@ -134,23 +136,110 @@ EffectRegistry& EffectRegistry::instance() {
   return *registry;
 }
 
-void EffectRegistry::add(const std::string& name, EffectFactory f) { factories_[name] = std::move(f); }
+const char* energy_role_name(EnergyRole role) {
+  switch (role) {
+    case EnergyRole::Stored: return "stored";
+    case EnergyRole::Constraint: return "constraint";
+    case EnergyRole::External: return "external";
+    case EnergyRole::Dissipative: return "dissipative";
+    case EnergyRole::Driving: return "driving";
+  }
+  return "stored";
+}
+
+void EffectRegistry::add(EffectSpec spec, EffectFactory f) {
+  std::string name = spec.type;
+  entries_[name] = {std::move(spec), std::move(f)};
+}
 
 std::unique_ptr<Effect> EffectRegistry::create(const std::string& name, const Model& model,
                                                const EffectParams& p) const {
-  auto it = factories_.find(name);
-  if (it == factories_.end()) {
+  auto it = entries_.find(name);
+  if (it == entries_.end()) {
     std::string known;
-    for (const auto& kv : factories_) known += (known.empty() ? "" : ", ") + kv.first;
+    for (const auto& kv : entries_) known += (known.empty() ? "" : ", ") + kv.first;
     throw std::invalid_argument("unknown effect type '" + name + "' (registered: " + known + ")");
   }
-  return it->second(model, p);
+  return it->second.second(model, p);
 }
 
 std::vector<std::string> EffectRegistry::names() const {
   std::vector<std::string> n;
-  for (const auto& kv : factories_) n.push_back(kv.first);
+  for (const auto& kv : entries_) n.push_back(kv.first);
   return n;
+}
+
+const EffectSpec& EffectRegistry::spec(const std::string& name) const {
+  auto it = entries_.find(name);
+  if (it == entries_.end()) throw std::invalid_argument("unknown effect type '" + name + "'");
+  return it->second.first;
+}
+
+namespace {
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", c);
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+std::string json_number(double v) {
+  if (std::isinf(v)) return v > 0 ? "\"inf\"" : "\"-inf\"";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+const char* kind_name(ParamSpec::Kind k) {
+  switch (k) {
+    case ParamSpec::Kind::Number: return "number";
+    case ParamSpec::Kind::Integer: return "integer";
+    case ParamSpec::Kind::Vector: return "vector";
+    case ParamSpec::Kind::Choice: return "choice";
+    case ParamSpec::Kind::Beam: return "beam";
+    case ParamSpec::Kind::Point: return "point";
+    case ParamSpec::Kind::TimeFunction: return "time_function";
+  }
+  return "number";
+}
+}  // namespace
+
+std::string EffectRegistry::specs_json() const {
+  std::string out = "[";
+  bool first = true;
+  for (const auto& kv : entries_) {
+    const EffectSpec& s = kv.second.first;
+    out += first ? "\n" : ",\n";
+    first = false;
+    out += "  {\"type\": " + json_string(s.type) + ", \"table\": " + json_string(s.table) +
+           ", \"meaning\": " + json_string(s.meaning) + ", \"role\": " + json_string(energy_role_name(s.role)) + ", \"stored\": " + json_string(s.stored) +
+           ", \"reports\": [";
+    for (size_t i = 0; i < s.reports.size(); ++i) out += (i ? ", " : "") + json_string(s.reports[i]);
+    out += "], \"params\": [";
+    for (size_t i = 0; i < s.params.size(); ++i) {
+      const ParamSpec& p = s.params[i];
+      out += std::string(i ? "," : "") + "\n    {\"key\": " + json_string(p.key) + ", \"kind\": " +
+             json_string(kind_name(p.kind)) + ", \"unit\": " + json_string(p.unit) + ", \"meaning\": " +
+             json_string(p.meaning) + ", \"default\": " + json_string(p.fallback) + ", \"min\": " + json_number(p.min) +
+             ", \"max\": " + json_number(p.max) + ", \"min_open\": " + (p.min_open ? "true" : "false") +
+             ", \"size\": " + std::to_string(p.size) + ", \"choices\": [";
+      for (size_t c = 0; c < p.choices.size(); ++c) out += (c ? ", " : "") + json_string(p.choices[c]);
+      out += "]}";
+    }
+    out += "]}";
+  }
+  return out + "\n]\n";
 }
 
 }  // namespace slidebeam

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -97,6 +98,9 @@ class LocalValues {
 /// and multipliers are always read from x.
 enum class StepRule { Endpoint, Theta, EnergyMomentum };
 
+/// The time-stepping scheme of an evaluation (Static: load steps, no rates).
+enum class StepScheme { Static, EnergyMomentum, Midpoint, Newmark, HHT };
+
 /// Evaluation state handed to effects.
 struct EvalContext {
   const Model& model;
@@ -111,6 +115,62 @@ struct EvalContext {
   /// Changes whenever x_old does (each set_step_start): effects may cache what they compute
   /// from x_old for the whole step under this key.
   unsigned long step_start = 0;
+  /// The step: from t_start (state x_old) to t_end (state x) by h = t_end - t_start, with this
+  /// scheme. h = 0 outside time steps (statics, energies, initial values): rate-dependent
+  /// effects then exert no force. Rates are mean rates over the step, (x - x_old) / h.
+  double t_start = 0.0, t_end = 0.0, h = 0.0;
+  StepScheme scheme = StepScheme::Static;
+};
+
+/// How an effect's work enters the energy balance of a dynamic run, H - H_0 = W - D (H: kinetic
+/// plus stored energy, W: work put in from outside, D: energy dissipated).
+enum class EnergyRole {
+  Stored,       ///< strain, potential or kinetic energy: part of H (its explicit time change, if
+                ///< time_dependent(), is work put in)
+  Constraint,   ///< does no work (supports, joints)
+  External,     ///< a non-conservative external force (drag, a follower load): its work is in W
+  Dissipative,  ///< damping, friction: what it takes out is in D
+  Driving,      ///< prescribed motion: the power it puts in is in W
+};
+const char* energy_role_name(EnergyRole role);
+
+/// One parameter of an effect as a scene gives it: the Python scene parser validates a table
+/// with these and the documentation lists them.
+struct ParamSpec {
+  enum class Kind {
+    Number,        ///< a float in [min, max]
+    Integer,       ///< an integer in [min, max]
+    Vector,        ///< `size` floats
+    Choice,        ///< one of `choices`
+    Beam,          ///< a beam's name (EffectParams::num gets its index)
+    Point,         ///< arc length on the table's beam: "start", "end" or a number (num: s)
+    TimeFunction,  ///< a [time_function] table (num/str: tf_*)
+  };
+  std::string key;
+  Kind kind = Kind::Number;
+  std::string unit;      ///< SI unit, "" for dimensionless
+  std::string meaning;
+  std::string fallback;  ///< the default as TOML text; "" when the key is required
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_open = false;  ///< min itself is not allowed (x > min)
+  int size = 0;           ///< Vector: its length
+  std::vector<std::string> choices;
+};
+
+/// What a scene may say about an effect type, and its place in the energy balance: given once,
+/// with the effect's registration.
+struct EffectSpec {
+  std::string type;   ///< the registered name
+  std::string table;  ///< the scene's [[table]] that creates one per entry ("": the model creates it)
+  std::string meaning;
+  std::vector<ParamSpec> params;
+  EnergyRole role = EnergyRole::Stored;
+  /// Stored effects: which part of H their energy() is ("strain", "potential" or "kinetic").
+  std::string stored;
+  /// Quantities the effect reports per step besides its energy flow (history columns
+  /// "<label>.<name>"); see Effect::report.
+  std::vector<std::string> reports;
 };
 
 /// Fast repeated assembly of one matrix in PETSc's coordinate (COO) format: the first assembly
@@ -195,6 +255,8 @@ class Effect {
   virtual PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const = 0;
   /// J += d r / d x.
   virtual PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const = 0;
+  /// True for inertia effects (beam inertia, point masses): those that add to the mass matrix.
+  virtual bool has_mass() const { return false; }
   /// M += the effect's constant mass matrix (inertia effects only).
   virtual PetscErrorCode mass(const Model&, const MatSink&) const { return 0; }
   /// This rank's share of the effect's potential energy (0 for non-potential effects).
@@ -224,6 +286,12 @@ class Effect {
   /// return only rows owned by this rank.
   virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
 
+  /// True if the effect depends on time explicitly (a load with a time function): its stored
+  /// energy then changes with time alone, and the energy balance counts that change as work.
+  virtual bool time_dependent() const { return false; }
+  /// Values of the spec's `reports` after a step (this rank's share; summed over ranks).
+  virtual void report(const EvalContext&, std::vector<double>& /*values*/) const {}
+
   /// Supports and joints: their reaction (summed over ranks by the model: add the terms of
   /// owned rows only).
   virtual bool has_reaction() const { return false; }
@@ -237,17 +305,20 @@ class Effect {
 
 using EffectFactory = std::function<std::unique_ptr<Effect>(const Model&, const EffectParams&)>;
 
-/// Name -> factory. The built-in effect types are registered on first use (explicitly, not by
-/// static initialisers, which a static library may drop).
+/// Type -> (spec, factory). The built-in effect types are registered on first use (explicitly,
+/// not by static initialisers, which a static library may drop).
 class EffectRegistry {
  public:
   static EffectRegistry& instance();
-  void add(const std::string& name, EffectFactory f);
+  void add(EffectSpec spec, EffectFactory f);
   std::unique_ptr<Effect> create(const std::string& name, const Model& model, const EffectParams& p) const;
   std::vector<std::string> names() const;
+  const EffectSpec& spec(const std::string& name) const;
+  /// Every spec as JSON (the Python scene parser's schema of effect tables).
+  std::string specs_json() const;
 
  private:
-  std::map<std::string, EffectFactory> factories_;
+  std::map<std::string, std::pair<EffectSpec, EffectFactory>> entries_;
 };
 
 /// Adds the built-in effects (effects/*.cpp) to a registry.

@@ -178,7 +178,7 @@ void Model::finalize() {
   SB_CHECK(VecAssemblyBegin(s_mask_));
   SB_CHECK(VecAssemblyEnd(s_mask_));
   for (const auto& e : effects_)
-    if (e->type() == "beam_inertia" || e->type() == "ancf_inertia" || e->type() == "point_mass") has_inertia_ = true;
+    if (e->has_mass()) has_inertia_ = true;
   finalized_ = true;
   set_reference_state(x_);
 }
@@ -371,25 +371,23 @@ PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const
   PetscCall(prepare_ghosts(ev, x));
   // Endpoint rule: one state. Otherwise x_f = (1 - theta) x_old + theta x (x_old ghosted by
   // set_step_start).
+  // Within a time step (h > 0) the step start is readable under every rule (rates).
   const bool two_states = ev.rule != StepRule::Endpoint;
+  const bool has_start = two_states || ev.h > 0.0;
   if (two_states) PetscCall(VecAXPBYPCZ(xf_local_, 1.0 - ev.theta, ev.theta, 0.0, x_old_local_, x_local_));
   PetscScalar *xa = nullptr, *oa = nullptr, *fa = nullptr;
   PetscCall(VecGetArray(x_local_, &xa));
-  if (two_states) {
-    PetscCall(VecGetArray(x_old_local_, &oa));
-    PetscCall(VecGetArray(xf_local_, &fa));
-  }
+  if (has_start) PetscCall(VecGetArray(x_old_local_, &oa));
+  if (two_states) PetscCall(VecGetArray(xf_local_, &fa));
   {
     LocalValues xv(ghost_dofs_, xa);
-    LocalValues ov(ghost_dofs_, two_states ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
-    const EvalContext ctx{*this, map_, ev.t, xv, fv, ov, ev.rule, two_states ? ev.theta : 1.0, ev.dissipation,
-                           step_starts_};
+    LocalValues ov(ghost_dofs_, has_start ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
+    const EvalContext ctx{*this,         map_,        ev.t,      xv,   fv,       ov, ev.rule, two_states ? ev.theta : 1.0,
+                          ev.dissipation, step_starts_, ev.t_start, ev.t_end, ev.h, ev.scheme};
     PetscCall(body(ctx));
   }
-  if (two_states) {
-    PetscCall(VecRestoreArray(xf_local_, &fa));
-    PetscCall(VecRestoreArray(x_old_local_, &oa));
-  }
+  if (two_states) PetscCall(VecRestoreArray(xf_local_, &fa));
+  if (has_start) PetscCall(VecRestoreArray(x_old_local_, &oa));
   PetscCall(VecRestoreArray(x_local_, &xa));
   PetscFunctionReturn(0);
 }
@@ -503,9 +501,15 @@ PetscErrorCode Model::assemble_jacobian(double t, Vec x, Mat J) const {
 }
 
 std::vector<double> Model::effect_energies(double t, Vec x) const {
-  std::vector<double> e(effects_.size(), 0.0);
+  std::vector<size_t> all(effects_.size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+  return effect_energies(t, x, all);
+}
+
+std::vector<double> Model::effect_energies(double t, Vec x, const std::vector<size_t>& which) const {
+  std::vector<double> e(which.size(), 0.0);
   SB_CHECK(with_context(StepEval{StepRule::Endpoint, t, 1.0}, x, [&](const EvalContext& ctx) -> PetscErrorCode {
-    for (size_t k = 0; k < effects_.size(); ++k) e[k] = effects_[k]->energy(ctx);
+    for (size_t i = 0; i < which.size(); ++i) e[i] = effects_[which[i]]->energy(ctx);
     return 0;
   }));
   MPI_Allreduce(MPI_IN_PLACE, e.data(), static_cast<int>(e.size()), MPI_DOUBLE, MPI_SUM, comm_);

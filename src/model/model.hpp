@@ -23,6 +23,9 @@ struct StepEval {
   double t = 0.0;      ///< load time
   double theta = 1.0;  ///< Theta rule: forces at (1 - theta) x_old + theta x
   double dissipation = 0.0;  ///< EnergyMomentum: xi of the energy-decaying variant
+  /// The time step (EvalContext): from t_start to t_end = t_start + h; h = 0 outside steps.
+  double t_start = 0.0, t_end = 0.0, h = 0.0;
+  StepScheme scheme = StepScheme::Static;
 };
 
 /// Linear and angular momentum (about the origin) of a state.
@@ -107,6 +110,8 @@ class Model {
   Momenta momenta(Vec x, Vec p) const;
   /// Potential energy of each effect at x (collective); same order as effects().
   std::vector<double> effect_energies(double t, Vec x) const;
+  /// The energies of the effects `which` only (collective).
+  std::vector<double> effect_energies(double t, Vec x, const std::vector<size_t>& which) const;
   /// Reactions of the effects that have one (Effect::has_reaction), as (effect index, reaction),
   /// in the state x under the step rule ev; F_raw: the residual of all effects (and the step's
   /// inertia) before prescribed rows are replaced; scale multiplies the effects' own residuals as

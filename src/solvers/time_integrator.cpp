@@ -33,6 +33,15 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
       throw std::invalid_argument("HHT alpha must lie in [-1/3, 0]");
   }
   PetscLogEventRegister("SBTimeStep", 0, &ev_step_);
+  for (size_t k = 0; k < model.effects().size(); ++k) {
+    const Effect& e = *model.effects()[k];
+    const EnergyRole role = EffectRegistry::instance().spec(e.type()).role;
+    const bool timed = role == EnergyRole::Stored && e.time_dependent();
+    if (role == EnergyRole::External || role == EnergyRole::Dissipative || role == EnergyRole::Driving || timed) {
+      if (timed) timed_.push_back(flows_.size());
+      flows_.push_back({k, role, 0.0});
+    }
+  }
   M_ = model.create_mass_matrix();
   SB_CHECK(VecDuplicate(model.x(), &x_));
   SB_CHECK(VecDuplicate(x_, &v_));
@@ -116,15 +125,21 @@ TimeIntegrator::~TimeIntegrator() {
   SNESDestroy(&snes_);
   MatDestroy(&M_);
   MatDestroy(&J_);
-  for (Vec* v : {&x_, &v_, &a_, &x1_, &x_start_, &v_prev_, &xt_, &w_, &f_hist_, &work_, &sdot_, &state_mask_}) VecDestroy(v);
+  for (Vec* v : {&x_, &v_, &a_, &x1_, &x_start_, &v_prev_, &xt_, &w_, &f_hist_, &work_, &sdot_, &state_mask_,
+                 &flow_dq_, &flow_r_, &flow_r0_})
+    VecDestroy(v);
 }
 
 StepEval TimeIntegrator::step_eval() const {
   switch (params_.kind) {
     case IntegratorKind::EnergyMomentum:
-      return {StepRule::EnergyMomentum, 0.5 * (t_ + next_time(h_)), 0.5, params_.dissipation};
-    case IntegratorKind::Midpoint: return {StepRule::Theta, 0.5 * (t_ + next_time(h_)), 0.5};
-    default: return {StepRule::Endpoint, next_time(h_), 1.0};
+      return {StepRule::EnergyMomentum, 0.5 * (t_ + next_time(h_)), 0.5, params_.dissipation, t_, next_time(h_), h_,
+              StepScheme::EnergyMomentum};
+    case IntegratorKind::Midpoint:
+      return {StepRule::Theta, 0.5 * (t_ + next_time(h_)), 0.5, 0.0, t_, next_time(h_), h_, StepScheme::Midpoint};
+    default:
+      return {StepRule::Endpoint, next_time(h_), 1.0, 0.0, t_, next_time(h_), h_,
+              params_.kind == IntegratorKind::HHT ? StepScheme::HHT : StepScheme::Newmark};
   }
 }
 
@@ -132,6 +147,7 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   t_ = t;
   t_seg0_ = t;
   n_seg_ = 0;
+  for (EnergyFlow& f : flows_) f.work = 0.0;
   SB_CHECK(VecCopy(x, x_));
   model_.apply_prescribed(x_);
   SB_CHECK(VecPointwiseMult(v_, v, model_.coordinate_mask()));
@@ -139,6 +155,50 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   SB_CHECK(VecZeroEntries(sdot_));
   h_prev_ = 0.0;
   if (!is_midpoint_type(params_.kind)) consistent_acceleration();
+  timed_energy_.clear();
+}
+
+void TimeIntegrator::set_energy_flows(const std::vector<double>& work) {
+  if (work.size() != flows_.size())
+    throw std::invalid_argument("energy flows: " + std::to_string(work.size()) + " values for " +
+                                std::to_string(flows_.size()) + " counted effects");
+  for (size_t i = 0; i < work.size(); ++i) flows_[i].work = work[i];
+  timed_energy_.clear();
+}
+
+void TimeIntegrator::account_energy_flows() {
+  if (flows_.empty()) return;
+  if (!flow_dq_) {
+    SB_CHECK(VecDuplicate(x_, &flow_dq_));
+    SB_CHECK(VecDuplicate(x_, &flow_r_));
+    SB_CHECK(VecDuplicate(x_, &flow_r0_));
+  }
+  // the work of the step's own force of each effect along the step: -r_e . (q_n+1 - q_n), on
+  // the state rows (coordinates and sliding coordinates; multipliers do no work)
+  SB_CHECK(VecWAXPY(flow_dq_, -1.0, x_, x1_));
+  SB_CHECK(VecPointwiseMult(flow_dq_, flow_dq_, state_mask_));
+  const StepEval ev = step_eval();
+  for (EnergyFlow& f : flows_) {
+    SB_CHECK(model_.effect_residual(f.effect, ev, x1_, flow_r_));
+    if (scale_ != 1.0) SB_CHECK(VecScale(flow_r_, scale_));
+    if (has_history_force_) {  // HHT: (1 + alpha) F(x_n+1) - alpha F(x_n)
+      SB_CHECK(model_.effect_residual(f.effect, StepEval{StepRule::Endpoint, t_, 1.0}, x_, flow_r0_));
+      SB_CHECK(VecAXPY(flow_r_, -params_.alpha, flow_r0_));
+    }
+    PetscScalar d = 0.0;
+    SB_CHECK(VecDot(flow_r_, flow_dq_, &d));
+    f.work -= d;
+  }
+  if (!timed_.empty()) {
+    // a time-dependent potential: its change over the step minus the work of its force is the
+    // work its explicit time dependence put in
+    std::vector<size_t> which;
+    for (size_t i : timed_) which.push_back(flows_[i].effect);
+    if (timed_energy_.empty()) timed_energy_ = model_.effect_energies(t_, x_, which);
+    const std::vector<double> e1 = model_.effect_energies(next_time(h_), x1_, which);
+    for (size_t j = 0; j < timed_.size(); ++j) flows_[timed_[j]].work += e1[j] - timed_energy_[j];
+    timed_energy_ = e1;
+  }
 }
 
 /// Newmark and HHT need a_0. M is singular on d1 (and on multipliers), so a_0 and the initial
@@ -457,6 +517,7 @@ SolveResult TimeIntegrator::step(double h) {
     floor_age_ = 0;
   }
   if (r.converged()) {
+    account_energy_flows();
     Vec mask = model_.coordinate_mask();
     SB_CHECK(VecCopy(v_, v_prev_));
     const double t_next = next_time(h);
@@ -497,6 +558,7 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   h_prev_ = h_prev;
   t_seg0_ = segment_steps > 0 ? segment_start : t;
   n_seg_ = segment_steps > 0 ? segment_steps : 0;
+  timed_energy_.clear();
   last_failed_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
   if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();

@@ -106,6 +106,19 @@ class TimeIntegrator {
   /// max |constraint residual| at the current state (orthonormality, supports, joints).
   double constraint_residual() const;
 
+  /// The energy flows since initialize(): per effect whose work is counted (External, Driving,
+  /// Dissipative, or time-dependent Stored; EffectRegistry spec), the work it did on the
+  /// structure, summed over the steps: W = sum of the non-dissipative ones, D = minus the sum of
+  /// the dissipative ones, so that H - H_0 = W - D (exactly under energy-momentum).
+  struct EnergyFlow {
+    size_t effect;      ///< model effect index
+    EnergyRole role;
+    double work = 0.0;  ///< work done on the structure (negative: energy taken out)
+  };
+  const std::vector<EnergyFlow>& energy_flows() const { return flows_; }
+  /// Restore the sums (a restart), in the order of energy_flows().
+  void set_energy_flows(const std::vector<double>& work);
+
   /// Set up a step of size h from the current state without solving, so that the step's
   /// residual and Jacobian can be evaluated (finite-difference tests).
   void prepare_step(double h);
@@ -131,6 +144,8 @@ class TimeIntegrator {
   /// Leave the non-pivoting LU for SuperLU (after a failure with it).
   void use_pivoting_lu();
   void consistent_acceleration();
+  /// Add the converged step's work of every counted effect to flows_ (x_: start, x1_: end).
+  void account_energy_flows();
 
   Model& model_;
   IntegratorParams params_;
@@ -149,6 +164,10 @@ class TimeIntegrator {
   double h_prev_ = 0.0;                           // 0: no previous step
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
+  std::vector<EnergyFlow> flows_;
+  std::vector<size_t> timed_;        // flows_ entries of time-dependent stored effects
+  std::vector<double> timed_energy_; // their energies at (t_n, x_n)
+  Vec flow_dq_ = nullptr, flow_r_ = nullptr, flow_r0_ = nullptr;
   double t_seg0_ = 0.0;  // start of the current run of equal steps h_prev_
   long n_seg_ = 0;       // steps taken in it
   bool has_history_force_ = false;

@@ -1,0 +1,268 @@
+// SPDX-License-Identifier: MIT
+/// @file Structural damping of a director beam (scene table [[damping]]): Kelvin-Voigt on the
+/// strain rates and mass-proportional damping.
+///
+/// Kelvin-Voigt: every strain eps_i gains the viscous stress sigma_i = tau_i C_i d eps_i/dt
+/// (tau_i: retardation time, C_i: the section stiffness), so that the damping matrix of small
+/// motions is tau K for equal tau_i (stiffness-proportional Rayleigh damping). Mass-proportional:
+/// the force alpha M v on every coordinate. Both use the mean rate over the step,
+/// (eps(q_n+1) - eps(q_n)) / h and (q_n+1 - q_n) / h. The viscous stress acts through the strain
+/// gradient at the step's force state z_f (the midpoint for energy-momentum and midpoint, the end
+/// for Newmark and HHT), at the beam's own quadrature points; with assumed strains the membrane
+/// and shear rates are the knots' as in the strain energy, so that small motions see exactly
+/// tau K (a locking Gauss-point rate would over-damp bending). The strains being quadratic forms, grad eps(z_mid) . (z_n+1 - z_n) =
+/// eps(z_n+1) - eps(z_n) exactly: under energy-momentum a step dissipates exactly
+/// sum_gp w tau C (delta eps)^2 / h + alpha dq^T M dq / h >= 0, and the energy balance
+/// H - H_0 = W - D closes to the Newton tolerance. HHT's history term leaves rate forces out
+/// (their force at t_n would need the previous step's rate): they act with weight 1 + alpha.
+
+#include "effects/common.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace slidebeam::effects {
+
+namespace {
+using kernels::kNqEl;
+using kernels::kNz;
+using kernels::MatEl;
+using kernels::MatZ;
+using kernels::StrainTable;
+using kernels::Vec6;
+using kernels::VecEl;
+using kernels::VecZ;
+using Vec3 = Eigen::Vector3d;
+
+/// Kelvin-Voigt force (and tangent d r / d q1, without the material part of the strains flagged
+/// in `from_knots`) of one quadrature point: stresses sigma (viscous, given), c = tau C per
+/// strain, theta = d z_f / d z1.
+void kelvin_voigt_point(const StrainTable& T, const Vec6& sigma, const Vec6& c, bool from_knots, double w, double h,
+                        double theta, const kernels::GaussPoint& gp, const VecEl& q0, const VecEl& q1, VecEl& r,
+                        MatEl* K) {
+  const kernels::MatZEl P = kernels::field_map(gp);
+  const VecZ z0 = P * q0, z1 = P * q1;
+  const VecZ zf = (1.0 - theta) * z0 + theta * z1;
+  Eigen::Matrix<double, 1, kNz> gf, g1;
+  VecZ force = VecZ::Zero();
+  MatZ Kz = MatZ::Zero();
+  for (int i = 0; i < 6; ++i) {
+    if (c[i] == 0.0) continue;
+    kernels::form_gradient<kNz>(T[i], zf, gf);
+    force += sigma[i] * gf.transpose();
+    if (!K) continue;
+    kernels::form_add_hessian<kNz>(T[i], sigma[i] * theta, Kz);
+    if (from_knots && i < 3) continue;  // the knot's material part couples two spans: added per knot
+    kernels::form_gradient<kNz>(T[i], z1, g1);
+    Kz += (c[i] / h) * gf.transpose() * g1;
+  }
+  r += w * P.transpose() * force;
+  if (K) *K += w * P.transpose() * Kz * P;
+}
+}  // namespace
+
+class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
+ public:
+  BeamDamping(const Model& m, const EffectParams& p)
+      : ElementEffect(director_beam_param(m, p, "damping"), m), alpha_(p.number("mass_proportional", 0.0)) {
+    const double tau = p.number("retardation_time", 0.0);
+    tau_ = Vec6::Constant(tau);
+    if (p.vec.count("retardation_times") && !p.vec.at("retardation_times").empty()) {
+      const auto& v = p.vector("retardation_times", 6);
+      for (int i = 0; i < 6; ++i) tau_[i] = v[static_cast<size_t>(i)];
+    }
+    if (!(alpha_ >= 0.0) || !(tau_.minCoeff() >= 0.0))
+      throw std::invalid_argument("damping: retardation times and mass_proportional must be >= 0");
+    c_ = tau_.cwiseProduct(m.beam(beam_).stiffness());
+    const Section& sec = m.beam(beam_).section();
+    rho_ = {sec.rhoA, 0.0, sec.rhoI3, sec.rhoI2};  // phi, d1, d2, d3: the inertia's blocks
+  }
+  std::string type() const override { return "beam_damping"; }
+
+  // With assumed strains the membrane and shear strains are the knots' (as in the strain energy,
+  // so that the damping of small motions is tau K): the same knots and coupled spans as there.
+  void distribute(const Model& m) override {
+    ElementEffect::distribute(m);
+    const Beam& b = m.beam(beam_);
+    if (!knots_used(b)) return;
+    const int n = b.n_spans();
+    std::vector<char> need(static_cast<size_t>(n), 0);
+    for (int e : elements_) {
+      for (int f = std::max(e - 1, 0); f <= std::min(e + 1, n - 1); ++f) need[static_cast<size_t>(f)] = 1;
+      knots_.push_back(e);
+      if (e == n - 1) knots_.push_back(n);
+    }
+    for (int f = 0; f < n; ++f)
+      if (need[static_cast<size_t>(f)]) moment_spans_.push_back(f);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    ElementEffect::needed_dofs(m, dofs);
+    for (int f : moment_spans_) add_cp_blocks(m.dof_map(), m.beam(beam_).first_cp() + f, 3, dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    PetscCall(ElementEffect::pattern(m, sink));
+    for (int i : knots_) {
+      const std::vector<PetscInt> d = knot_dofs(m.dof_map(), m.beam(beam_), i);
+      const std::vector<double> zero(d.size() * d.size(), 0.0);
+      PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (ctx.h <= 0.0) PetscFunctionReturn(0);  // no step, no rate
+    const Beam& b = ctx.model.beam(beam_);
+    knot_stresses(ctx, b);
+    for (int e : elements_) {
+      VecEl re = VecEl::Zero();
+      element(ctx, b, e, re, nullptr);
+      scatter_span(ctx.map, r, b, e, re);
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (ctx.h <= 0.0) PetscFunctionReturn(0);
+    const Beam& b = ctx.model.beam(beam_);
+    knot_stresses(ctx, b);
+    using RowMajorEl = Eigen::Matrix<double, kNqEl, kNqEl, Eigen::RowMajor>;
+    for (int e : elements_) {
+      VecEl re = VecEl::Zero();
+      MatEl K = MatEl::Zero();
+      element(ctx, b, e, re, &K);
+      const RowMajorEl Kr = K;
+      const Dofs d = element_dofs(ctx.map, b, e);
+      PetscCall(J.add(kNqEl, d.data(), kNqEl, d.data(), Kr.data()));
+    }
+    for (int i : knots_) PetscCall(knot_tangent(ctx, b, i, J));
+    PetscFunctionReturn(0);
+  }
+
+ protected:
+  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
+
+ private:
+  bool knots_used(const Beam& b) const { return b.gamma_at_knots() && c_.head<3>().maxCoeff() > 0.0; }
+
+  /// The knots' viscous stresses tau C (b_i(q1) - b_i(q0)) / h.
+  void knot_stresses(const EvalContext& ctx, const Beam& b) const {
+    if (!knots_used(b)) return;
+    const auto b0 = b.knot_gamma(moment_spans_, [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); });
+    const auto b1 = b.knot_gamma(moment_spans_, [&](int f) { return gather_span(ctx.x, ctx.map, b, f); });
+    knot_sigma_.resize(b1.size());
+    for (size_t i = 0; i < b1.size(); ++i) knot_sigma_[i] = c_.head<3>().cwiseProduct(b1[i] - b0[i]) / ctx.h;
+  }
+
+  void element(const EvalContext& ctx, const Beam& b, int e, VecEl& r, MatEl* K) const {
+    const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, e), q1 = gather_span(ctx.x, ctx.map, b, e);
+    const double h = ctx.h, theta = ctx.theta;
+    const bool knots = knots_used(b);
+    if (c_.maxCoeff() > 0.0) {
+      for (int g = 0; g < b.n_gp(); ++g) {
+        const kernels::GaussPoint& gp = b.gp(e, g);
+        const StrainTable T = gp.corrected ? kernels::point_table(b.strain_table(), gp) : b.strain_table();
+        const kernels::MatZEl P = kernels::field_map(gp);
+        const VecZ z0 = P * q0, z1 = P * q1;
+        Vec6 sigma;
+        for (int i = 0; i < 6; ++i)
+          sigma[i] = c_[i] * (kernels::form_value<kNz>(T[i], z1) - kernels::form_value<kNz>(T[i], z0)) / h;
+        if (knots)
+          sigma.head<3>() = (1.0 - gp.t) * knot_sigma_[static_cast<size_t>(e)] + gp.t * knot_sigma_[static_cast<size_t>(e + 1)];
+        kelvin_voigt_point(T, sigma, c_, knots, gp.w, h, theta, gp, q0, q1, r, K);
+      }
+    }
+    if (alpha_ == 0.0) return;
+    // alpha M (q1 - q0) / h, M the span's consistent mass (the inertia's blocks)
+    Eigen::Matrix3d NN = Eigen::Matrix3d::Zero();  // int N^a N^c ds over the span
+    for (int g = 0; g < 3; ++g) {
+      const kernels::GaussPoint& gp = b.gp_full(e, g);
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) NN(a, c) += gp.w * gp.N[a] * gp.N[c];
+    }
+    const VecEl dq = q1 - q0;
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c)
+        for (int blk = 0; blk < 4; ++blk) {
+          const double m = alpha_ * rho_[static_cast<size_t>(blk)] * NN(a, c) / h;
+          if (m == 0.0) continue;
+          for (int k = 0; k < 3; ++k) {
+            const int i = kernels::kNq * a + 3 * blk + k, j = kernels::kNq * c + 3 * blk + k;
+            r[i] += m * dq[j];
+            if (K) (*K)(i, j) += m;
+          }
+        }
+  }
+
+  static void knot_spans(const Beam& b, int i, int& left, int& right) {
+    left = i >= 1 ? i - 1 : -1;
+    right = i < b.n_spans() ? i : -1;
+  }
+  static std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) {
+    int left, right;
+    knot_spans(b, i, left, right);
+    const int cp0 = left >= 0 ? left : right, cp1 = (right >= 0 ? right : left) + 2;
+    std::vector<PetscInt> d;
+    for (int cp = cp0; cp <= cp1; ++cp)
+      for (int k = 0; k < kernels::kNq; ++k) d.push_back(map.q(b.first_cp() + cp, k));
+    return d;
+  }
+  /// Knot i's material tangent: tau C / (h m_i) G(q_f)^T G(q1), G the gradient of the knot's
+  /// Gamma moment (its spans' moments toward it).
+  PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {
+    PetscFunctionBeginUser;
+    int left, right;
+    knot_spans(b, i, left, right);
+    const int cp0 = left >= 0 ? left : right;
+    const int n = 12 * ((right >= 0 ? right : left) + 3 - cp0);
+    Eigen::MatrixXd Gf = Eigen::MatrixXd::Zero(3, n), G1 = Eigen::MatrixXd::Zero(3, n);
+    for (const int f : {left, right}) {
+      if (f < 0) continue;
+      const int col = 12 * (f - cp0);
+      const bool toward_right = f == left;
+      const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, f), q1 = gather_span(ctx.x, ctx.map, b, f);
+      const VecEl qf = (1.0 - ctx.theta) * q0 + ctx.theta * q1;
+      Gf.middleCols(col, kNqEl) += kernels::span_gamma_moment_gradient(b.strain_table(), &b.gp(f, 0), b.n_gp(), qf, toward_right);
+      G1.middleCols(col, kNqEl) += kernels::span_gamma_moment_gradient(b.strain_table(), &b.gp(f, 0), b.n_gp(), q1, toward_right);
+    }
+    const Eigen::Vector3d c = c_.head<3>() / (ctx.h * b.knot_mass(i));
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    const RowMajor K = Gf.transpose() * c.asDiagonal() * G1;
+    const std::vector<PetscInt> d = knot_dofs(ctx.map, b, i);
+    PetscCall(J.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), K.data()));
+    PetscFunctionReturn(0);
+  }
+
+  double alpha_;
+  Vec6 tau_, c_;
+  std::array<double, 4> rho_{};
+  std::vector<int> knots_, moment_spans_;
+  mutable std::vector<Vec3> knot_sigma_;
+};
+
+void register_damping_effects(EffectRegistry& r) {
+  using K = ParamSpec::Kind;
+  EffectSpec s;
+  s.type = "beam_damping";
+  s.table = "damping";
+  s.meaning = "structural damping of a director beam: Kelvin-Voigt on the strain rates and mass-proportional";
+  s.role = EnergyRole::Dissipative;
+  s.params = {
+      {"beam", K::Beam, "", "the beam it damps", ""},
+      {"retardation_time", K::Number, "s",
+       "Kelvin-Voigt retardation time tau of every strain: viscous stress tau C d eps/dt (a mode of angular "
+       "frequency omega gets the damping ratio tau omega / 2)",
+       "0.0", 0.0},
+      {"retardation_times", K::Vector, "s",
+       "per strain (axial, shear 2, shear 3, torsion, bending about d2, about d3), instead of retardation_time",
+       "[]", 0.0, std::numeric_limits<double>::infinity(), false, 6},
+      {"mass_proportional", K::Number, "1/s",
+       "alpha of the force alpha M v (damping ratio alpha / (2 omega); it damps rigid motion too)", "0.0", 0.0},
+  };
+  r.add(s, [](const Model& m, const EffectParams& p) { return std::make_unique<BeamDamping>(m, p); });
+}
+
+}  // namespace slidebeam::effects
