@@ -65,7 +65,7 @@ def main() -> int:
             rows.append(row)
             print(f"{scene.stem:20s} {name:28s} {ended[:60]:60s} drift {row[3]:.1e}", flush=True)
     statements = {sc.stem: tomllib.loads(sc.read_text())["scene"]["description"] for sc in scenes}
-    lines = ["| scene | integrator | run | energy drift max\\|H−H0\\|/max T | max constraint residual | rejected steps "
+    lines = ["| scene | integrator | run | energy balance error max\\|H−H0−W+D\\|/max T | max constraint residual | rejected steps "
              "| Newton iterations | wall [s] | t reached |", "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r[0]} | {r[1]} | {r[2]} | {r[3]:.1e} | {r[4]:.1e} | {r[5]} | {r[6]} | {r[7]:.1f} | {r[8]:.3g} |")

@@ -9,7 +9,8 @@ Errors, over the times both runs reached (the reference interpolated linearly in
 - ``s``: largest difference of the first sliding joint's coordinate (scenes with joints);
 - ``energy``: largest |H(t) - H_ref(t)|, divided by the reference's largest kinetic energy.
 
-Each run also reports its own energy drift max |H(t) - H(0)| / max T. Costs come from the run's
+Each run also reports its own energy drift: the energy balance's largest error
+max |H - H0 - W + D| / max T (with no work and no dissipation, max |H(t) - H(0)| / max T). Costs come from the run's
 summary.json: wall time without the output phase, steps, Newton iterations and linear solves.
 All dynamic runs record at the same times (every max(dt) of the study), so errors are taken
 where both runs have a state.
@@ -74,6 +75,7 @@ class RunData:
     H: np.ndarray = field(default_factory=lambda: np.zeros(0))
     T: np.ndarray = field(default_factory=lambda: np.zeros(0))
     summary: dict[str, Any] = field(default_factory=dict)
+    balance: np.ndarray | None = None  # |H - H0 - W + D| per row (histories that have it)
 
     @property
     def complete(self) -> bool:
@@ -93,8 +95,12 @@ class RunData:
                 "linear_solves": phases.get("KSPSolve+PCSetUp", {}).get("calls", 0)}
 
     def drift(self) -> float:
+        """The energy balance's largest error |H - H0 - W + D| (with no work done and nothing
+        dissipated: |H - H0|), relative to the largest kinetic energy."""
         if len(self.H) == 0 or self.T.max(initial=0.0) <= 0:
             return math.nan
+        if self.balance is not None and len(self.balance):
+            return float(self.balance.max() / self.T.max())
         return float(np.abs(self.H - self.H[0]).max() / self.T.max())
 
 
@@ -205,7 +211,8 @@ def load_run(variant: Variant, folder: Path, code: int, message: str) -> RunData
     tip = (np.column_stack([column(tip_cols[0][:-1] + c) for c in "xyz"]) if tip_cols
            else np.zeros((len(rows), 3)))
     return RunData(variant, folder, code in (0, 1), message if code else "completed", column("t"), tip,
-                   column(s_cols[0]) if s_cols else None, column("total_energy"), column("kinetic_energy"), summary)
+                   column(s_cols[0]) if s_cols else None, column("total_energy"), column("kinetic_energy"), summary,
+                   column("energy_balance_error") if "energy_balance_error" in cols else None)
 
 
 def errors(run: RunData, ref: RunData) -> dict[str, float]:
