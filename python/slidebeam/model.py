@@ -80,16 +80,23 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             add("beam_inertia", f"beam_inertia[{b.name}]", {"beam": b.index})
     for sup in scene.supports:
         name = scene.beams[sup.beam].name
+        num: dict = {"beam": sup.beam}
+        vec: dict = {}
+        text: dict = {}
+        if sup.motion is not None:
+            tf_num, text = _tf(sup.motion.time_function)
+            num.update(tf_num)
+            vec = {"motion_displacement": list(sup.motion.displacement), "motion_rotation": list(sup.motion.rotation)}
         if sup.type == "fixed":
-            add("fixed", f"fixed[{name}]", {"beam": sup.beam})
+            add("fixed", f"fixed[{name}]", num)
         elif sup.type == "clamp":
-            add("clamp", f"clamp[{_where(scene, sup.beam, sup.at)}]", {"beam": sup.beam, "s": sup.at})
+            add("clamp", f"clamp[{_where(scene, sup.beam, sup.at)}]", {**num, "s": sup.at}, vec, text)
         else:
             # the discretised reference centre line's point (a spline through a polyline's corner
             # or along an arc passes beside the drawn one): the reference state meets the support
             position = _reference_point(scene.beams[sup.beam], references[sup.beam], sup.at)
-            add("spherical", f"spherical[{_where(scene, sup.beam, sup.at)}]", {"beam": sup.beam, "s": sup.at},
-                {"position": list(position)})
+            add("spherical", f"spherical[{_where(scene, sup.beam, sup.at)}]", {**num, "s": sup.at},
+                {**vec, "position": list(position)}, text)
     for load in scene.loads:
         num, text = _tf(load.time_function)
         text["frame"] = load.frame

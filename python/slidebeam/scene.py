@@ -150,11 +150,22 @@ class Beam:
 
 
 @dataclass(frozen=True)
+class SupportMotion:
+    """A driven support: at time t the held point moves by f(t) displacement and (clamps) its
+    directors turn by the rotation vector f(t) rotation [rad]."""
+
+    displacement: Vec3
+    rotation: Vec3
+    time_function: "TimeFunction"
+
+
+@dataclass(frozen=True)
 class Support:
     type: str
     beam: int
     at: float | None  # None for "fixed"
     position: Vec3 | None  # reference point for spherical/clamp, None for fixed
+    motion: SupportMotion | None = None  # a driven support (winch anchor, shaking mast)
 
 
 @dataclass(frozen=True)
@@ -1065,8 +1076,9 @@ def _parse_at(t: _Table, length: float) -> float:
 
 def _parse_support(t: _Table, beams: tuple[Beam, ...]) -> Support:
     kind = t.choice("type", ("spherical", "clamp", "fixed"))
-    t.check_keys(("type", "beam", "at", "position") if kind == "spherical" else
-                 ("type", "beam", "at") if kind == "clamp" else ("type", "beam"))
+    t.check_keys(("type", "beam", "at", "position", "motion") if kind == "spherical" else
+                 ("type", "beam", "at", "motion") if kind == "clamp" else ("type", "beam"))
+    motion = _parse_motion(t.sub("motion", f"{t.label}.motion"), kind) if t.has("motion") else None
     index = _beam_ref(t, beams)
     geometry = beams[index].geometry
     if kind == "fixed":
@@ -1081,7 +1093,21 @@ def _parse_support(t: _Table, beams: tuple[Beam, ...]) -> Support:
         if gap > 1e-9 * geometry.length + 1e-12:
             raise t.error("position", f"supports must sit on their beam: {position} is {gap:.3g} away from "
                                       f"the reference point {reference} at s = {s}")
-    return Support(kind, index, s, reference)
+    return Support(kind, index, s, reference, motion)
+
+
+def _parse_motion(t: _Table, kind: str) -> SupportMotion:
+    """[[support]] motion = {displacement = [m], rotation = [rad] (clamps), time_function = {...}}."""
+    t.check_keys(("displacement", "rotation", "time_function") if kind == "clamp" else ("displacement", "time_function"))
+    if not (t.has("displacement") or t.has("rotation")):
+        raise t.error("displacement", "a motion needs a displacement (m)" + (" or a rotation (rad)" if kind == "clamp" else ""))
+    zero = [0.0, 0.0, 0.0]
+    tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"))
+    if abs(tf.value(0.0)) > 0.0:
+        raise t.error("time_function", f"a support's motion must start from the drawn state: its time function is "
+                                       f"{tf.value(0.0):g} at t = 0, not 0 (use a ramp, a hat or a step that starts "
+                                       f"after 0)")
+    return SupportMotion(t.vec3("displacement", zero), t.vec3("rotation", zero), tf)
 
 
 def _snap_to_end(t: _Table, s: float, length: float) -> float:

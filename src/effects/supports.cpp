@@ -6,6 +6,7 @@
 /// r' (so also the stretch |r'| = 1 at that point, as in Exudyn's clamped cables).
 
 #include "effects/common.hpp"
+#include "model/time_function.hpp"
 
 #include <Eigen/Dense>
 #include <stdexcept>
@@ -58,6 +59,36 @@ void add_point_reaction(const Model& m, const Beam& b, int c, bool moment, const
   out.has_moment = moment;
 }
 
+/// A support's prescribed motion (scene: [[support]] motion = {displacement, rotation,
+/// time_function}): at time t the held point is displaced by f(t) U and (clamps) its directors
+/// turned by the rotation vector f(t) Theta; f(0) = 0, so the reference state meets it.
+struct SupportMotion {
+  Eigen::Vector3d U = Eigen::Vector3d::Zero(), Theta = Eigen::Vector3d::Zero();
+  TimeFunction f;
+  bool active = false;
+
+  explicit SupportMotion(const EffectParams& p) {
+    if (p.vec.count("motion_displacement")) {
+      const auto& u = p.vector("motion_displacement", 3);
+      U = Eigen::Vector3d(u[0], u[1], u[2]);
+      active = true;
+    }
+    if (p.vec.count("motion_rotation")) {
+      const auto& r = p.vector("motion_rotation", 3);
+      Theta = Eigen::Vector3d(r[0], r[1], r[2]);
+      active = true;
+    }
+    f = TimeFunction::from(p);
+  }
+  Eigen::Vector3d displacement(double t) const { return f(t) * U; }
+  Eigen::Matrix3d rotation(double t) const {
+    const Eigen::Vector3d th = f(t) * Theta;
+    const double a = th.norm();
+    if (a == 0.0) return Eigen::Matrix3d::Identity();
+    return Eigen::AngleAxisd(a, th / a).toRotationMatrix();
+  }
+};
+
 /// Base of effects with no residual of their own (pure elimination).
 class PrescribingSupport : public Effect {
  public:
@@ -73,28 +104,48 @@ class PrescribingSupport : public Effect {
 /// multipliers are dropped too (fixed orthonormal directors satisfy the constraints identically).
 class Clamp final : public PrescribingSupport {
  public:
-  Clamp(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)) {
+  Clamp(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), motion_(p) {
     const Beam& b = m.beam(beam_);
     cp_ = end_cp(b, p.number("s"));
     if (cp_ < 0) throw std::invalid_argument("clamp on beam '" + b.name() + "': only at a beam end (s = 0 or L)");
   }
   std::string type() const override { return "clamp"; }
   std::string label() const override { return "clamp[" + std::to_string(beam_) + (cp_ == 0 ? ":start]" : ":end]"); }
+  bool drives() const override { return motion_.active; }
   void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    prescribed_at(m, 0.0, rows, vals);
+  }
+  /// The reference position displaced, the reference directors (ANCF: r') turned.
+  void prescribed_at(const Model& m, double t, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     const Beam& b = m.beam(beam_);
     const int nq = b.coordinates_per_cp();
-    prescribe_cp(m, b, cp_, 0, nq, b.q_ref().data() + nq * cp_, true, rows, vals);
+    std::vector<double> q(b.q_ref().begin() + nq * cp_, b.q_ref().begin() + nq * (cp_ + 1));
+    if (motion_.active) {
+      const Eigen::Vector3d u = motion_.displacement(t);
+      const Eigen::Matrix3d R = motion_.rotation(t);
+      for (int k = 0; k < 3; ++k) q[static_cast<size_t>(k)] += u(k);
+      for (int blk = 1; blk < nq / 3; ++blk) {
+        Eigen::Map<Eigen::Vector3d> d(q.data() + 3 * blk);
+        d = R * Eigen::Vector3d(d);
+      }
+    }
+    prescribe_cp(m, b, cp_, 0, nq, q.data(), true, rows, vals);
   }
   bool has_reaction() const override { return true; }
+  /// The force and the moment about the held point (where it is now).
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
     const Beam& b = m.beam(beam_);
-    const Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data() + b.coordinates_per_cp() * cp_);
+    Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data() + b.coordinates_per_cp() * cp_);
+    const PetscInt cp = b.first_cp() + cp_;
+    if (m.dof_map().owns_cp(cp))
+      for (int k = 0; k < 3; ++k) X(k) = in.x(m.dof_map().q(cp, k));
     add_point_reaction(m, b, cp_, true, X, in, out);
   }
 
  private:
   int beam_;
   int cp_;
+  SupportMotion motion_;
 };
 
 /// Every control point of a beam prescribed at its reference state: a rigid rail.
@@ -122,7 +173,7 @@ class Fixed final : public PrescribingSupport {
 /// Spherical support: the centre line passes through X at beam point s; directors free.
 class Spherical final : public Effect {
  public:
-  Spherical(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), s_(p.number("s")) {
+  Spherical(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), s_(p.number("s")), motion_(p) {
     const Beam& b = m.beam(beam_);
     if (s_ < -1e-12 * b.length() || s_ > b.length() * (1 + 1e-12))
       throw std::invalid_argument("spherical support: s = " + std::to_string(s_) + " outside beam '" + b.name() + "'");
@@ -134,9 +185,14 @@ class Spherical final : public Effect {
   std::string type() const override { return "spherical"; }
   std::string label() const override { return "spherical[" + std::to_string(beam_) + "@" + std::to_string(s_) + "]"; }
   PetscInt n_extra() const override { return cp_ < 0 ? 3 : 0; }
+  bool drives() const override { return motion_.active; }
 
   void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
-    if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X_.data(), false, rows, vals);
+    prescribed_at(m, 0.0, rows, vals);
+  }
+  void prescribed_at(const Model& m, double t, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    const Eigen::Vector3d X = held(t);
+    if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X.data(), false, rows, vals);
   }
   void distribute(const Model& m) override { owned_ = cp_ < 0 && owns_span(m, m.beam(beam_), stencil_.span); }
   bool has_reaction() const override { return true; }
@@ -144,7 +200,7 @@ class Spherical final : public Effect {
   /// force of the beam on the support).
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
     if (cp_ >= 0) {
-      add_point_reaction(m, m.beam(beam_), cp_, false, X_, in, out);
+      add_point_reaction(m, m.beam(beam_), cp_, false, X_, in, out);  // a force only: the point is immaterial
       return;
     }
     for (int k = 0; k < 3; ++k) out.force[k] -= in.x(extra_offset() + k);
@@ -173,7 +229,8 @@ class Spherical final : public Effect {
     if (!owned_) PetscFunctionReturn(0);
     const Eigen::Vector3d mu(ctx.x.at(extra_offset()), ctx.x.at(extra_offset() + 1), ctx.x.at(extra_offset() + 2));
     const Beam& b = ctx.model.beam(beam_);
-    const Eigen::Vector3d gap = stencil_point(ctx.x, ctx.map, b, stencil_) - X_;
+    // the constraint holds at the end of the step (a step's h > 0), else at the evaluation's time
+    const Eigen::Vector3d gap = stencil_point(ctx.x, ctx.map, b, stencil_) - held(ctx.h > 0.0 ? ctx.t_end : ctx.t);
     scatter_stencil(r, ctx.map, b, stencil_, mu);
     for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += gap(k);
     PetscFunctionReturn(0);
@@ -198,12 +255,14 @@ class Spherical final : public Effect {
     for (int k = 0; k < 3; ++k) d.push_back(extra_offset() + k);
     return d;
   }
+  Eigen::Vector3d held(double t) const { return motion_.active ? Eigen::Vector3d(X_ + motion_.displacement(t)) : X_; }
   int beam_;
   double s_;
   Eigen::Vector3d X_;
   int cp_ = -1;
   PositionStencil stencil_;
   bool owned_ = false;
+  SupportMotion motion_;
 };
 
 void register_support_effects(EffectRegistry& r) {

@@ -285,6 +285,14 @@ class Effect {
   /// Unknowns this effect prescribes (Dirichlet), with their values. Called on every rank;
   /// return only rows owned by this rank.
   virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
+  /// The same at time t: a support that moves (the rows stay the same, the values follow t).
+  virtual void prescribed_at(const Model& m, double /*t*/, std::vector<PetscInt>& rows,
+                             std::vector<PetscScalar>& vals) const {
+    prescribed(m, rows, vals);
+  }
+  /// A constraint that moves with time (a driven support) does work: the energy balance counts
+  /// it as driving (EnergyRole::Driving) although its type is a constraint.
+  virtual bool drives() const { return false; }
 
   /// True if the effect depends on time explicitly (a load with a time function): its stored
   /// energy then changes with time alone, and the energy balance counts that change as work.

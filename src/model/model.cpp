@@ -132,19 +132,8 @@ void Model::finalize() {
   SB_CHECK(MatSetOption(J_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   SB_CHECK(MatSetOption(J_, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
 
-  // Prescribed unknowns (supports): owned rows only, later effects win on duplicates.
-  std::map<PetscInt, PetscScalar> bc;
-  for (const auto& e : effects_) {
-    std::vector<PetscInt> rows;
-    std::vector<PetscScalar> vals;
-    e->prescribed(*this, rows, vals);
-    for (size_t i = 0; i < rows.size(); ++i)
-      if (rows[i] >= map_.owned_lo() && rows[i] < map_.owned_hi()) bc[rows[i]] = vals[i];
-  }
-  for (const auto& kv : bc) {
-    bc_rows_.push_back(kv.first);
-    bc_values_.push_back(kv.second);
-  }
+  for (const auto& e : effects_) moving_prescriptions_ |= e->drives();
+  collect_prescribed(0.0);
   // Coordinates versus multipliers/extras.
   SB_CHECK(VecDuplicate(x_, &q_mask_));
   {
@@ -314,6 +303,28 @@ PetscErrorCode Model::prepare_ghosts(const StepEval& ev, Vec x) const {
   // same step (a record's reactions after its energies) reads it without ghosting it again
   if (x_old_) PetscCall(update_ghosts(x_old_, x_old_local_));
   PetscFunctionReturn(0);
+}
+
+void Model::collect_prescribed(double t) const {
+  // Prescribed unknowns (supports): owned rows only, later effects win on duplicates.
+  std::map<PetscInt, PetscScalar> bc;
+  for (const auto& e : effects_) {
+    std::vector<PetscInt> rows;
+    std::vector<PetscScalar> vals;
+    e->prescribed_at(*this, t, rows, vals);
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (rows[i] >= map_.owned_lo() && rows[i] < map_.owned_hi()) bc[rows[i]] = vals[i];
+  }
+  bc_rows_.clear();
+  bc_values_.clear();
+  for (const auto& kv : bc) {
+    bc_rows_.push_back(kv.first);
+    bc_values_.push_back(kv.second);
+  }
+}
+
+void Model::set_prescribed_time(double t) const {
+  if (moving_prescriptions_) collect_prescribed(t);
 }
 
 void Model::apply_prescribed(Vec x) const {

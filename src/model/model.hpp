@@ -70,6 +70,8 @@ class Model {
   void set_reference_state(Vec x) const;
   /// Apply prescribed values to x.
   void apply_prescribed(Vec x) const;
+  /// Prescribed values at time t (supports that move); without moving supports nothing changes.
+  void set_prescribed_time(double t) const;
   /// Replace each control point's director triad by the nearest rotation (polar decomposition).
   /// Used after extrapolating a state: a linear extrapolation of rotating directors errs mostly
   /// off the constraint manifold, and projecting removes that part.
@@ -188,8 +190,10 @@ class Model {
   Mat J_ = nullptr;
 
   mutable CooAssembly coo_;  // assembly record of J_
-  std::vector<PetscInt> bc_rows_;
-  std::vector<PetscScalar> bc_values_;
+  void collect_prescribed(double t) const;
+  bool moving_prescriptions_ = false;
+  mutable std::vector<PetscInt> bc_rows_;
+  mutable std::vector<PetscScalar> bc_values_;
 
   std::vector<PetscLogEvent> effect_events_;
   PetscLogEvent ev_residual_ = 0, ev_jacobian_ = 0, ev_ghost_ = 0;

@@ -112,6 +112,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   EquilibriumResult res;
   t_ = t;
   Vec x = model_.x();
+  model_.set_prescribed_time(t);
   model_.apply_prescribed(x);
   Vec x_start = nullptr;
   SB_CHECK(VecDuplicate(x, &x_start));

@@ -33,6 +33,7 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec x, Mat J, Mat, void* c
 
 SolveResult StaticSolver::solve(double t) {
   t_ = t;
+  model_.set_prescribed_time(t);
   model_.apply_prescribed(model_.x());
   SB_CHECK(SNESSolve(snes_, nullptr, model_.x()));
   return solve_result(snes_);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/time_integrator.hpp"
 
+#include <algorithm>
+
 #include "solvers/schwarz.hpp"
 
 #include "util/petsc_check.hpp"
@@ -35,7 +37,8 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   PetscLogEventRegister("SBTimeStep", 0, &ev_step_);
   for (size_t k = 0; k < model.effects().size(); ++k) {
     const Effect& e = *model.effects()[k];
-    const EnergyRole role = EffectRegistry::instance().spec(e.type()).role;
+    EnergyRole role = EffectRegistry::instance().spec(e.type()).role;
+    if (role == EnergyRole::Constraint && e.drives()) role = EnergyRole::Driving;
     const bool timed = role == EnergyRole::Stored && e.time_dependent();
     if (role == EnergyRole::External || role == EnergyRole::Dissipative || role == EnergyRole::Driving || timed) {
       if (timed) timed_.push_back(flows_.size());
@@ -145,6 +148,7 @@ StepEval TimeIntegrator::step_eval() const {
 
 void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   t_ = t;
+  model_.set_prescribed_time(t);
   t_seg0_ = t;
   n_seg_ = 0;
   for (EnergyFlow& f : flows_) f.work = 0.0;
@@ -178,6 +182,31 @@ void TimeIntegrator::account_energy_flows() {
   SB_CHECK(VecWAXPY(flow_dq_, -1.0, x_, x1_));
   SB_CHECK(VecPointwiseMult(flow_dq_, flow_dq_, state_mask_));
   const StepEval ev = step_eval();
+  // A driven support that prescribes unknowns: its force there is the step's residual before the
+  // rows are replaced (inertia included), which does the work R . dq on them.
+  const bool driving = std::any_of(flows_.begin(), flows_.end(),
+                                   [](const EnergyFlow& f) { return f.role == EnergyRole::Driving; });
+  if (driving) SB_CHECK(step_forces(x1_, flow_r0_));  // collective: on every rank
+  for (EnergyFlow& f : flows_) {
+    if (f.role != EnergyRole::Driving) continue;
+    std::vector<PetscInt> rows;
+    std::vector<PetscScalar> vals;
+    model_.effects()[f.effect]->prescribed_at(model_, next_time(h_), rows, vals);
+    double w = 0.0;
+    {
+      const PetscScalar *raw = nullptr, *dq = nullptr;
+      SB_CHECK(VecGetArrayRead(flow_r0_, &raw));
+      SB_CHECK(VecGetArrayRead(flow_dq_, &dq));
+      PetscInt lo = 0, hi = 0;
+      SB_CHECK(VecGetOwnershipRange(flow_r0_, &lo, &hi));
+      for (PetscInt r : rows)
+        if (r >= lo && r < hi) w += raw[r - lo] * dq[r - lo];
+      SB_CHECK(VecRestoreArrayRead(flow_dq_, &dq));
+      SB_CHECK(VecRestoreArrayRead(flow_r0_, &raw));
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, model_.comm());
+    f.work += w;
+  }
   for (EnergyFlow& f : flows_) {
     SB_CHECK(model_.effect_residual(f.effect, ev, x1_, flow_r_));
     if (scale_ != 1.0) SB_CHECK(VecScale(flow_r_, scale_));
@@ -280,6 +309,7 @@ void TimeIntegrator::consistent_acceleration() {
 
 void TimeIntegrator::prepare_step(double h) {
   h_ = h;
+  model_.set_prescribed_time(next_time(h));  // driven supports at the step's end
   SB_CHECK(model_.set_step_start(x_));
   SB_CHECK(VecWAXPY(xt_, h, v_, x_));
   scale_ = 1.0;
@@ -555,6 +585,7 @@ SolveResult TimeIntegrator::step(double h) {
 
 void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double segment_start, long segment_steps) {
   t_ = t;
+  model_.set_prescribed_time(t);
   h_prev_ = h_prev;
   t_seg0_ = segment_steps > 0 ? segment_start : t;
   n_seg_ = segment_steps > 0 ? segment_steps : 0;
