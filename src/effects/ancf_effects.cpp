@@ -12,37 +12,6 @@ namespace slidebeam::effects {
 namespace ancf = kernels::ancf;
 using RowMajorEl = Eigen::Matrix<double, ancf::kElDofs, ancf::kElDofs, Eigen::RowMajor>;
 
-/// An effect integrated element by element over one ANCF cable: two nodes, the 12 x 12 block
-/// of their coordinates.
-class AncfElementEffect : public ElementEffect<2, ancf::kElDofs> {
- public:
-  AncfElementEffect(const Model& m, const EffectParams& p, const std::string& who)
-      : ElementEffect(ancf_beam_param(m, p, who), m) {}
-
- protected:
-  /// Global indices of element e's 12 coordinates: the 6 of node e, then the 6 of node e+1 (not
-  /// contiguous when extras are anchored at node e: DofMap slots).
-  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override {
-    Dofs d{};
-    for (int a = 0; a < 2; ++a)
-      for (int k = 0; k < ancf::kNodeDofs; ++k)
-        d[static_cast<size_t>(ancf::kNodeDofs * a + k)] = map.q(b.first_cp() + e + a, k);
-    return d;
-  }
-  static ancf::ElVec gather(const LocalValues& x, const DofMap& map, const Beam& b, int e) {
-    ancf::ElVec q;
-    for (int a = 0; a < 2; ++a)
-      q.segment<ancf::kNodeDofs>(ancf::kNodeDofs * a) =
-          Eigen::Map<const Eigen::Matrix<double, ancf::kNodeDofs, 1>>(x.cp(map, b.first_cp() + e + a));
-    return q;
-  }
-  static void scatter(const LocalValues& r, const DofMap& map, const Beam& b, int e, const ancf::ElVec& v) {
-    for (int a = 0; a < 2; ++a)
-      Eigen::Map<Eigen::Matrix<double, ancf::kNodeDofs, 1>>(r.cp(map, b.first_cp() + e + a)) +=
-          v.segment<ancf::kNodeDofs>(ancf::kNodeDofs * a);
-  }
-};
-
 /// Strain energy of one cable: Green axial strain and |r'' - r0''|^2 bending. Endpoint and Theta
 /// rules: the force at x_f (tangent times theta); EnergyMomentum: the averaged-strain force, an
 /// exact discrete gradient (with the optional xi dissipation, as beam_elastic).

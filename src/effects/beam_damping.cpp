@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @file Structural damping of a director beam (scene table [[damping]]): Kelvin-Voigt on the
-/// strain rates and mass-proportional damping.
+/// @file Structural damping of a beam (scene table [[damping]]): Kelvin-Voigt on the strain rates
+/// and mass-proportional damping, for director beams and ANCF cables.
 ///
 /// Kelvin-Voigt: every strain eps_i gains the viscous stress sigma_i = tau_i C_i d eps_i/dt
 /// (tau_i: retardation time, C_i: the section stiffness), so that the damping matrix of small
@@ -243,12 +243,98 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   mutable std::vector<Vec3> knot_sigma_;
 };
 
+/// The same damping of an ANCF cable: Kelvin-Voigt on its two strains, the Green axial strain
+/// eps = 1/2 (r'.r' - r0'.r0') (stress tau EA d eps/dt) and the bending vector r'' (tau EI d r''/dt:
+/// the bending retardation time is the fifth, about d2, of retardation_times), and alpha M v.
+/// eps is quadratic and r'' linear in the coordinates, so under energy-momentum the step
+/// dissipates exactly int (tau EA deps^2 + tau EI |dr''|^2) / h dx + alpha dq^T M dq / h.
+class AncfDamping final : public AncfElementEffect {
+  using ElVec = kernels::ancf::ElVec;
+  using ElMat = kernels::ancf::ElMat;
+
+ public:
+  AncfDamping(const Model& m, const EffectParams& p) : AncfElementEffect(m, p, "damping") {
+    const double tau = p.number("retardation_time", 0.0);
+    double tau_axial = tau, tau_bend = tau;
+    if (p.vec.count("retardation_times") && !p.vec.at("retardation_times").empty()) {
+      const auto& v = p.vector("retardation_times", 6);
+      tau_axial = v[0];
+      tau_bend = v[4];
+    }
+    alpha_ = p.number("mass_proportional", 0.0);
+    if (!(alpha_ >= 0.0 && tau_axial >= 0.0 && tau_bend >= 0.0))
+      throw std::invalid_argument("damping: retardation times and mass_proportional must be >= 0");
+    const auto sec = m.beam(beam_).ancf_section();
+    c_axial_ = tau_axial * sec.EA;
+    c_bend_ = tau_bend * sec.EI;
+  }
+  std::string type() const override { return "beam_damping"; }
+
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (ctx.h <= 0.0) PetscFunctionReturn(0);
+    const Beam& b = ctx.model.beam(beam_);
+    for (int e : elements_) {
+      ElVec f = ElVec::Zero();
+      element(ctx, b, e, f, nullptr);
+      scatter(r, ctx.map, b, e, f);
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (ctx.h <= 0.0) PetscFunctionReturn(0);
+    const Beam& b = ctx.model.beam(beam_);
+    using RowMajor = Eigen::Matrix<double, kernels::ancf::kElDofs, kernels::ancf::kElDofs, Eigen::RowMajor>;
+    for (int e : elements_) {
+      ElVec f = ElVec::Zero();
+      ElMat K = ElMat::Zero();
+      element(ctx, b, e, f, &K);
+      const RowMajor Kr = K;
+      const auto d = element_dofs(ctx.map, b, e);
+      PetscCall(J.add(kernels::ancf::kElDofs, d.data(), kernels::ancf::kElDofs, d.data(), Kr.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
+ private:
+  void element(const EvalContext& ctx, const Beam& b, int e, ElVec& f, ElMat* K) const {
+    namespace ancf = kernels::ancf;
+    const ancf::AncfElement& el = b.ancf_element(e);
+    const ElVec q0 = gather(ctx.x_old, ctx.map, b, e), q1 = gather(ctx.x, ctx.map, b, e);
+    const ElVec qf = (1.0 - ctx.theta) * q0 + ctx.theta * q1;
+    const double h = ctx.h, theta = ctx.theta;
+    if (c_axial_ > 0.0)
+      for (const ancf::AxialPoint& g : el.axial) {
+        const ancf::Mat3x12 B = ancf::shape_matrix(g.dS);  // r' = B q
+        const Eigen::Vector3d s0 = B * q0, s1 = B * q1, sf = B * qf;
+        const double sigma = c_axial_ * 0.5 * (s1.squaredNorm() - s0.squaredNorm()) / h;
+        const Eigen::Matrix<double, 1, 12> gf = sf.transpose() * B;  // d eps / dq at q_f
+        f += g.w * sigma * gf.transpose();
+        if (K) *K += g.w * (sigma * theta * B.transpose() * B + (c_axial_ / h) * gf.transpose() * (s1.transpose() * B));
+      }
+    if (c_bend_ > 0.0)
+      for (const ancf::BendPoint& g : el.bend) {
+        const ancf::Mat3x12 B = ancf::shape_matrix(g.ddS);  // r'' = B q
+        f += g.w * (c_bend_ / h) * B.transpose() * (B * (q1 - q0));
+        if (K) *K += g.w * (c_bend_ / h) * B.transpose() * B;
+      }
+    if (alpha_ > 0.0) {
+      const ElMat M = ancf::mass_matrix(b.ancf_section(), el);
+      f += (alpha_ / h) * M * (q1 - q0);
+      if (K) *K += (alpha_ / h) * M;
+    }
+  }
+
+  double alpha_ = 0.0, c_axial_ = 0.0, c_bend_ = 0.0;
+};
+
 void register_damping_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
   EffectSpec s;
   s.type = "beam_damping";
   s.table = "damping";
-  s.meaning = "structural damping of a director beam: Kelvin-Voigt on the strain rates and mass-proportional";
+  s.meaning = "structural damping of a beam or cable: Kelvin-Voigt on the strain rates and mass-proportional";
   s.role = EnergyRole::Dissipative;
   s.params = {
       {"beam", K::Beam, "", "the beam it damps", ""},
@@ -262,7 +348,10 @@ void register_damping_effects(EffectRegistry& r) {
       {"mass_proportional", K::Number, "1/s",
        "alpha of the force alpha M v (damping ratio alpha / (2 omega); it damps rigid motion too)", "0.0", 0.0},
   };
-  r.add(s, [](const Model& m, const EffectParams& p) { return std::make_unique<BeamDamping>(m, p); });
+  r.add(s, [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
+    if (m.beam(beam_param(m, p)).is_ancf()) return std::make_unique<AncfDamping>(m, p);
+    return std::make_unique<BeamDamping>(m, p);
+  });
 }
 
 }  // namespace slidebeam::effects

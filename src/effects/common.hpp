@@ -3,6 +3,7 @@
 /// @file Helpers shared by effects: which items a rank owns, gathering a span's coordinates,
 /// and the global indices of its unknowns.
 
+#include "kernels/ancf_kernels.hpp"
 #include "kernels/beam_kernels.hpp"
 #include "model/model.hpp"
 
@@ -100,6 +101,37 @@ class ElementEffect : public Effect {
   int beam_;
   std::string name_;
   std::vector<int> elements_;
+};
+
+/// An effect integrated element by element over one ANCF cable: two nodes, the 12 x 12 block
+/// of their coordinates.
+class AncfElementEffect : public ElementEffect<2, kernels::ancf::kElDofs> {
+ public:
+  AncfElementEffect(const Model& m, const EffectParams& p, const std::string& who)
+      : ElementEffect(ancf_beam_param(m, p, who), m) {}
+
+ protected:
+  /// Global indices of element e's 12 coordinates: the 6 of node e, then the 6 of node e+1 (not
+  /// contiguous when extras are anchored at node e: DofMap slots).
+  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override {
+    Dofs d{};
+    for (int a = 0; a < 2; ++a)
+      for (int k = 0; k < kernels::ancf::kNodeDofs; ++k)
+        d[static_cast<size_t>(kernels::ancf::kNodeDofs * a + k)] = map.q(b.first_cp() + e + a, k);
+    return d;
+  }
+  static kernels::ancf::ElVec gather(const LocalValues& x, const DofMap& map, const Beam& b, int e) {
+    kernels::ancf::ElVec q;
+    for (int a = 0; a < 2; ++a)
+      q.segment<kernels::ancf::kNodeDofs>(kernels::ancf::kNodeDofs * a) =
+          Eigen::Map<const Eigen::Matrix<double, kernels::ancf::kNodeDofs, 1>>(x.cp(map, b.first_cp() + e + a));
+    return q;
+  }
+  static void scatter(const LocalValues& r, const DofMap& map, const Beam& b, int e, const kernels::ancf::ElVec& v) {
+    for (int a = 0; a < 2; ++a)
+      Eigen::Map<Eigen::Matrix<double, kernels::ancf::kNodeDofs, 1>>(r.cp(map, b.first_cp() + e + a)) +=
+          v.segment<kernels::ancf::kNodeDofs>(kernels::ancf::kNodeDofs * a);
+  }
 };
 
 }  // namespace slidebeam::effects
