@@ -1260,7 +1260,8 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...]) 
             raise t.error(p.key, f"missing required key ({p.meaning})")
         value = t.raw(p.key) if t.has(p.key) else _spec_default(p)
         if p.kind in ("number", "integer"):
-            x = t.number(p.key, value) if p.kind == "number" else float(t.integer(p.key, value, positive=False))
+            x = (t.number(p.key, value, allow_inf=math.isinf(p.max)) if p.kind == "number"
+                 else float(t.integer(p.key, value, positive=False)))
             low_ok = x > p.min if p.min_open else x >= p.min
             if not (low_ok and x <= p.max):
                 lo = f"{'>' if p.min_open else '>='} {p.min:g}" if math.isfinite(p.min) else ""

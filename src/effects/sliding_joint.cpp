@@ -78,6 +78,7 @@ class SlidingJoint final : public Effect {
   // whose elimination gives its pivot (s first: a zero pivot while mu = 0)
   PetscInt n_extra() const override { return 4; }
   bool extra_is_state(PetscInt k) const override { return k == 3; }
+  int slider_beam() const override { return slider_; }
   void initial_values(const Model&, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     rows.push_back(s_index());
     vals.push_back(s0_);

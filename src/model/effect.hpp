@@ -290,6 +290,11 @@ class Effect {
                              std::vector<PetscScalar>& vals) const {
     prescribed(m, rows, vals);
   }
+  /// State unknowns this effect prescribes through its own constraint (a driven slider's s):
+  /// nothing else may hold them (the equilibrium start's held sliders).
+  virtual void constrained_state(std::vector<PetscInt>& /*rows*/) const {}
+  /// A sliding joint: the beam whose point slides (-1 for every other effect).
+  virtual int slider_beam() const { return -1; }
   /// A constraint that moves with time (a driven support) does work: the energy balance counts
   /// it as driving (EnergyRole::Driving) although its type is a constraint.
   virtual bool drives() const { return false; }

@@ -37,8 +37,11 @@ EquilibriumSolver::~EquilibriumSolver() {
 void EquilibriumSolver::set_held(const std::vector<PetscInt>& rows) {
   held_.clear();
   const DofMap& map = model_.dof_map();
+  std::vector<PetscInt> taken;  // held by an effect's own constraint already (a driven slider)
+  for (const auto& e : model_.effects()) e->constrained_state(taken);
   for (PetscInt r : rows)
-    if (r >= map.owned_lo() && r < map.owned_hi()) held_.push_back(r);
+    if (r >= map.owned_lo() && r < map.owned_hi() && std::find(taken.begin(), taken.end(), r) == taken.end())
+      held_.push_back(r);
   std::sort(held_.begin(), held_.end());
   held_.erase(std::unique(held_.begin(), held_.end()), held_.end());
 }

@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+/// @file A driven slider (scene table [[slider_drive]]): a haul rope pulling a carriage along its
+/// track rope, or a winch. The sliding joint's coordinate s (the slider point's arc length along
+/// its carrier) follows a prescribed travel, s(t) = s_0 + the integral of a speed profile that
+/// rises linearly from 0 at `start` to `speed` within `ramp` seconds, holds, and falls back to 0
+/// within `ramp` seconds so that it is 0 again at `stop`. One multiplier enforces s = s(t) at the
+/// end of each step: it is the drive force along the carrier, and its work over the step, -lambda
+/// ds, is counted as driving work (W; `<label>.work`).
+///
+/// (A prescribed force on s instead of a travel was tried: s has no mass of its own, and Newton
+/// needed 5-15 iterations per step and failed on 2 ranks; a force on the slider's mass points
+/// would be the way to it.)
+
+#include "effects/common.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace slidebeam::effects {
+
+namespace {
+/// Travel of the trapezoidal speed profile: 0 before start, rising to v within a, holding, and
+/// falling back to 0 within a so that it is 0 again at stop (a = 0: jumps). Total v (stop - start - a).
+double trapezoid_travel(double t, double v, double start, double stop, double a) {
+  auto ramp_area = [&](double tau) {  // integral of min(tau', a) / a over [0, tau]: the rising part
+    if (tau <= 0.0) return 0.0;
+    if (a <= 0.0) return tau;
+    return tau < a ? 0.5 * tau * tau / a : tau - 0.5 * a;
+  };
+  // speed(t) = v (r(t - start) - r(t - stop + a)) with r the unit ramp of length a: its integral
+  return v * (ramp_area(t - start) - ramp_area(t - stop + a));
+}
+}  // namespace
+
+class SliderDrive final : public Effect {
+ public:
+  SliderDrive(const Model& m, const EffectParams& p)
+      : slider_(beam_param(m, p)),
+        speed_(p.number("speed")),
+        start_(p.number("start", 0.0)),
+        stop_(p.number("stop", std::numeric_limits<double>::infinity())),
+        ramp_(p.number("ramp", 0.0)) {
+    if (!(stop_ > start_)) throw std::invalid_argument("slider_drive: stop must come after start");
+    if (ramp_ > 0.5 * (stop_ - start_)) throw std::invalid_argument("slider_drive: the ramps are longer than the travel");
+  }
+  std::string type() const override { return "slider_drive"; }
+  std::string label() const override { return label_; }
+  PetscInt n_extra() const override { return 1; }
+  bool time_dependent() const override { return true; }
+
+  void distribute(const Model& m) override {
+    // the sliding joint whose slider is this beam (created before the drives)
+    for (const auto& e : m.effects()) {
+      if (e.get() == this) break;
+      if (e->slider_beam() == slider_) joint_ = e.get();
+    }
+    if (!joint_)
+      throw std::invalid_argument("slider_drive: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
+    label_ = "slider_drive[" + m.beam(slider_).name() + "]";
+    std::vector<PetscInt> rows;
+    std::vector<PetscScalar> vals;
+    joint_->initial_values(m, rows, vals);  // the slider's s at the start: the travel's origin
+    if (!vals.empty()) s0_ = vals[0];
+    const PetscInt s = s_index();
+    owned_ = s >= m.dof_map().owned_lo() && s < m.dof_map().owned_hi();
+  }
+  PetscInt elimination_anchor(const Model& m) const override {
+    // with the joint's own extras: the multiplier sits next to the s it prescribes
+    for (const auto& e : m.effects())
+      if (e->slider_beam() == slider_) return e->elimination_anchor(m);
+    return -1;
+  }
+  void needed_dofs(const Model&, std::vector<PetscInt>& dofs) const override {
+    if (!owned_) return;
+    dofs.push_back(s_index());
+    dofs.push_back(extra_offset());
+  }
+  void initial_values(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const override {}
+  void constrained_state(std::vector<PetscInt>& rows) const override { rows.push_back(s_index()); }
+  PetscErrorCode pattern(const Model&, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    if (owned_) {
+      const PetscInt d[2] = {s_index(), extra_offset()};
+      const double zero[4] = {0, 0, 0, 0};
+      PetscCall(sink.add(2, d, 2, d, zero));
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const PetscInt s = s_index();
+    // s = s(t) at the end of the step (statics: at the load time); the multiplier's force on s
+    const double t = ctx.h > 0.0 ? ctx.t_end : ctx.t;
+    const PetscInt lam = extra_offset();
+    r.at(s) += ctx.x.at(lam);
+    r.at(lam) += ctx.x.at(s) - (s0_ + trapezoid_travel(t, speed_, start_, stop_, ramp_));
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const PetscInt d[2] = {s_index(), extra_offset()};
+    const double A[4] = {0.0, 1.0, 1.0, 0.0};
+    (void)ctx;
+    PetscCall(J.add(2, d, 2, d, A));
+    PetscFunctionReturn(0);
+  }
+
+ private:
+  PetscInt s_index() const { return joint_->extra_offset() + 3; }
+  int slider_;
+  double speed_, start_, stop_, ramp_;
+  const Effect* joint_ = nullptr;
+  std::string label_ = "slider_drive";
+  double s0_ = 0.0;
+  bool owned_ = false;
+};
+
+void register_slider_drive_effects(EffectRegistry& r) {
+  using K = ParamSpec::Kind;
+  EffectSpec s;
+  s.type = "slider_drive";
+  s.table = "slider_drive";
+  s.meaning = "a driven slider: its sliding coordinate follows a speed profile with start and stop ramps";
+  s.role = EnergyRole::Driving;
+  s.params = {
+      {"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""},
+      {"speed", K::Number, "m/s", "travel speed along the carrier (negative: toward its start)", ""},
+      {"start", K::Number, "s", "when the travel starts", "0.0", 0.0},
+      {"stop", K::Number, "s", "when it has stopped (the ramp down ends here)", "inf"},
+      {"ramp", K::Number, "s", "duration of the speed's rise and fall (0: a jump)", "0.0", 0.0},
+  };
+  r.add(s, [](const Model& m, const EffectParams& p) { return std::make_unique<SliderDrive>(m, p); });
+}
+
+}  // namespace slidebeam::effects
