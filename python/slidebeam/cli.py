@@ -15,6 +15,7 @@ import traceback
 from pathlib import Path
 
 from . import interrupts
+from .effect_tables import table_specs
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
@@ -106,8 +107,19 @@ def _describe(scene: Scene) -> str:
                  f"{count(len(scene.point_masses), 'point mass', 'point masses')}" +
                  (f", {count(len(scene.rigid_joints), 'rigid joint')}" if scene.rigid_joints else "") +
                  (f", {count(len(scene.sliding_joints), 'sliding joint')}" if scene.sliding_joints else "") +
-                 f", gravity {'on' if scene.gravity else 'off'}")
+                 "".join(f", {n} [[{table}]]" for table, n in _registry_counts(scene).items()) +
+                 f", gravity {'on' if scene.gravity else 'off'}" +
+                 (f" ({scene.gravity_time_function.type} time function)" if scene.gravity_time_function else ""))
     return "\n".join(lines)
+
+
+def _registry_counts(scene: Scene) -> dict[str, int]:
+    """Entries per table of the core's registry ([[damping]], [[drag]], ...), in scene order."""
+    tables = {spec.type: spec.table for spec in table_specs().values()}
+    counts: dict[str, int] = {}
+    for e in scene.effects:
+        counts[tables[e.type]] = counts.get(tables[e.type], 0) + 1
+    return counts
 
 
 def _effects_line(effects) -> str:

@@ -19,8 +19,8 @@ class EffectInfo:
     label: str
 
 
-def _tf(tf: TimeFunction) -> tuple[dict[str, float], dict[str, str]]:
-    return {"tf_t0": tf.t0, "tf_t1": tf.t1, "tf_t2": tf.t2}, {"tf_type": tf.type}
+def _tf(tf: TimeFunction) -> tuple[dict[str, float], dict[str, list[float]], dict[str, str]]:
+    return tf.params()
 
 
 def _where(scene: Scene, beam: int, s: float) -> str:
@@ -98,10 +98,10 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             add("spherical", f"spherical[{_where(scene, sup.beam, sup.at)}]", {**num, "s": sup.at},
                 {**vec, "position": list(position)}, text)
     for load in scene.loads:
-        num, text = _tf(load.time_function)
+        num, vec, text = _tf(load.time_function)
         text["frame"] = load.frame
         add(load.type, f"{load.type}[{_where(scene, load.beam, load.at)}]",
-            {"beam": load.beam, "s": load.at, **num}, {"value": list(load.value)}, text)
+            {"beam": load.beam, "s": load.at, **num}, {"value": list(load.value), **vec}, text)
     for j in scene.rigid_joints:
         add("rigid_joint", f"rigid_joint[{_where(scene, j.beam_a, j.at_a)}-{_where(scene, j.beam_b, j.at_b)}]",
             {"beam_a": j.beam_a, "s_a": j.at_a, "beam_b": j.beam_b, "s_b": j.at_b})
@@ -117,11 +117,14 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
     for entry in scene.effects:  # tables of the core's registry
         add(entry.type, entry.label, entry.num, entry.vec, entry.text)
     if scene.gravity is not None:
-        # Statics: gravity grows with the load steps like every other load; dynamics: constant.
-        tf = (TimeFunction("ramp", 0.0, scene.analysis.t_end, float("inf")) if scene.analysis.type == "static"
-              else TimeFunction("constant", 0.0, float("inf"), float("inf")))
-        num, text = _tf(tf)
-        add("gravity", "gravity", num, {"g": list(scene.gravity)}, text)
+        # By default gravity grows with the load steps in statics like every other load, and is
+        # constant in dynamics; [gravity] time_function replaces that.
+        tf = scene.gravity_time_function
+        if tf is None:
+            tf = (TimeFunction("ramp", 0.0, scene.analysis.t_end, float("inf")) if scene.analysis.type == "static"
+                  else TimeFunction("constant", 0.0, float("inf"), float("inf")))
+        num, vec, text = _tf(tf)
+        add("gravity", "gravity", num, {"g": list(scene.gravity), **vec}, text)
     try:
         model.finalize()
     except ValueError as exc:

@@ -170,16 +170,29 @@ class Support:
 
 @dataclass(frozen=True)
 class TimeFunction:
-    """Load multiplier; unused parameters are math.inf (or 0 for t0)."""
+    """Load multiplier; unused parameters are math.inf (or 0 for t0).
+
+    sine: offset + amplitude sin(2 pi frequency t + phase); table: piecewise linear through
+    (times, values), constant beyond the ends."""
 
     type: str
     t0: float = 0.0
     t1: float = math.inf
     t2: float = math.inf
+    amplitude: float = 1.0
+    frequency: float = 0.0
+    phase: float = 0.0
+    offset: float = 0.0
+    times: tuple[float, ...] = ()
+    values: tuple[float, ...] = ()
 
     def value(self, t: float) -> float:
         if self.type == "constant":
             return 1.0
+        if self.type == "sine":
+            return self.offset + self.amplitude * math.sin(2.0 * math.pi * self.frequency * t + self.phase)
+        if self.type == "table":
+            return float(np.interp(t, self.times, self.values))
         if self.type == "step":
             return 1.0 if self.t0 <= t < self.t1 else 0.0
         if t <= self.t0:
@@ -193,6 +206,17 @@ class TimeFunction:
                 return (t - self.t0) / (self.t1 - self.t0)
             return (self.t2 - t) / (self.t2 - self.t1)
         raise ValueError(f"unknown time function type {self.type!r}")
+
+    def params(self) -> tuple[dict[str, float], dict[str, list[float]], dict[str, str]]:
+        """The core's EffectParams of this function (num, vec, text: the tf_* keys)."""
+        num = {"tf_t0": self.t0, "tf_t1": self.t1, "tf_t2": self.t2}
+        vec: dict[str, list[float]] = {}
+        if self.type == "sine":
+            num.update({"tf_amplitude": self.amplitude, "tf_frequency": self.frequency, "tf_phase": self.phase,
+                        "tf_offset": self.offset})
+        if self.type == "table":
+            vec = {"tf_times": list(self.times), "tf_values": list(self.values)}
+        return num, vec, {"tf_type": self.type}
 
 
 @dataclass(frozen=True)
@@ -290,6 +314,8 @@ class Scene:
     warnings: tuple[str, ...] = ()
     # entries of the effect tables the core's registry declares ([[damping]], ...), in file order
     effects: tuple[EffectEntry, ...] = ()
+    # [gravity] time_function (None: the default, a ramp over the load steps in statics, constant in dynamics)
+    gravity_time_function: TimeFunction | None = None
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -479,7 +505,8 @@ _ANCF_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "rho")
 # beam keys that describe what a cable does not have (section frame, director strains, B-spline quadrature)
 _DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain")
 _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
-_TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1")}
+_TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
+              "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
 # sub-tables an override may create when absent
 _CREATABLE = {"scene", "analysis", "petsc", "gravity", "output", "section", "arc", "time_function"}
 
@@ -529,7 +556,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         for i, raw in enumerate(_array_of_tables(data, "support", file))
     )
     loads = tuple(
-        _parse_load(_Table(raw, file, f"[[load]] #{i + 1}", "load"), beams, analysis)
+        _parse_load(_Table(raw, file, f"[[load]] #{i + 1}", "load"), beams, analysis, base_dir)
         for i, raw in enumerate(_array_of_tables(data, "load", file))
     )
     masses = tuple(
@@ -545,12 +572,12 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         for i, raw in enumerate(_array_of_tables(data, "sliding_joint", file))
     )
     entries = tuple(
-        _parse_registry_entry(_Table(raw, file, f"[[{table}]] #{i + 1}", table), spec, beams)
+        _parse_registry_entry(_Table(raw, file, f"[[{table}]] #{i + 1}", table), spec, beams, base_dir)
         for table, spec in registry_tables.items()
         for i, raw in enumerate(_array_of_tables(data, table, file))
     )
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
-    gravity = _parse_gravity(top, file)
+    gravity, gravity_tf = _parse_gravity(top, file, base_dir)
     output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams)
 
     return Scene(
@@ -572,6 +599,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         data=copy.deepcopy(data),
         warnings=_support_warnings(supports, beams),
         effects=entries,
+        gravity_time_function=gravity_tf,
     )
 
 
@@ -749,12 +777,16 @@ def _resolve_options_file(t: _Table, base_dir: str) -> str:
     return str(path.resolve())
 
 
-def _parse_gravity(top: _Table, file: str) -> Vec3 | None:
+def _parse_gravity(top: _Table, file: str, base_dir: str) -> tuple[Vec3 | None, TimeFunction | None]:
+    """g and its time function (None: the default, ramped with the load steps in statics and
+    constant in dynamics)."""
     if not top.has("gravity"):
-        return None
+        return None, None
     t = _Table(top.raw("gravity"), file, "[gravity]", "gravity")
-    t.check_keys(("g",))
-    return t.vec3("g")
+    t.check_keys(("g", "time_function"))
+    tf = _parse_time_function(t.sub("time_function", "[gravity].time_function"), base_dir) \
+        if t.has("time_function") else None
+    return t.vec3("g"), tf
 
 
 def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
@@ -1119,7 +1151,7 @@ def _snap_to_end(t: _Table, s: float, length: float) -> float:
     raise t.error("at", f"a clamp must be at 'start' or 'end' (s = 0 or L = {length!r}), got {s!r}")
 
 
-def _parse_load(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Load:
+def _parse_load(t: _Table, beams: tuple[Beam, ...], analysis: Analysis, base_dir: str = ".") -> Load:
     t.check_keys(("type", "beam", "at", "value", "frame", "time_function"))
     kind = t.choice("type", ("force", "moment"))
     index = _beam_ref(t, beams)
@@ -1127,7 +1159,7 @@ def _parse_load(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Load:
     if frame == "material" and kind != "moment":
         raise t.error("frame", "frame = 'material' is only allowed for moments")
     if t.has("time_function"):
-        tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"))
+        tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"), base_dir)
     elif analysis.type == "static":
         tf = TimeFunction("ramp", 0.0, analysis.t_end, math.inf)
     else:
@@ -1138,9 +1170,16 @@ def _parse_load(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Load:
     return Load(kind, index, _parse_at(t, beams[index].geometry.length), t.vec3("value"), frame, tf)
 
 
-def _parse_time_function(t: _Table) -> TimeFunction:
+def _parse_time_function(t: _Table, base_dir: str = ".") -> TimeFunction:
     kind = t.choice("type", tuple(_TF_PARAMS))
     t.check_keys(("type",) + _TF_PARAMS[kind])
+    if kind == "sine":
+        return TimeFunction(kind, amplitude=t.number("amplitude", 1.0),
+                            frequency=t.number("frequency", check=lambda f: f > 0, requirement="> 0 (Hz)"),
+                            phase=t.number("phase", 0.0), offset=t.number("offset", 0.0))
+    if kind == "table":
+        times, values = _time_table(t, base_dir)
+        return TimeFunction(kind, times=times, values=values)
     t0 = t.number("t0", 0.0)
     if kind == "constant":
         return TimeFunction(kind)
@@ -1156,6 +1195,61 @@ def _parse_time_function(t: _Table) -> TimeFunction:
     if not t2 > t1:
         raise t.error("t2", f"must be > t1 = {t1}, got {t2}")
     return TimeFunction(kind, t0, t1, t2)
+
+
+def _csv_number(cell: str) -> float | None:
+    try:
+        return float(cell)
+    except ValueError:
+        return None
+
+
+def _time_table(t: _Table, base_dir: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """(times, values) of a table time function: inline arrays, or a CSV file (relative to the
+    scene) of two columns t,value (an optional header line, '#' comments and blank lines allowed)."""
+    if t.has("file"):
+        if t.has("times") or t.has("values"):
+            raise t.error("file", "give either file or times and values, not both")
+        path = Path(base_dir) / t.string("file")
+        try:
+            text = path.read_text()
+        except OSError as exc:
+            raise t.error("file", f"cannot read {path}: {exc.strerror or exc}") from exc
+        times: list[float] = []
+        values: list[float] = []
+        rows = [(n, line.split("#")[0].strip()) for n, line in enumerate(text.splitlines(), 1)]
+        rows = [(n, line) for n, line in rows if line]
+        for k, (n, line) in enumerate(rows):
+            cells = [c.strip() for c in line.split(",")]
+            numbers = [_csv_number(c) for c in cells]
+            if k == 0 and len(cells) == 2 and numbers == [None, None]:  # a header line such as "t,value"
+                continue
+            if len(cells) != 2 or None in numbers:
+                raise t.error("file", f"{path}, line {n}: expected two numbers 't,value', got '{line}'")
+            tv, vv = numbers
+            if not (math.isfinite(tv) and math.isfinite(vv)):
+                raise t.error("file", f"{path}, line {n}: expected finite numbers, got '{line}'")
+            times.append(tv)
+            values.append(vv)
+        where = f"{path}: "
+        key = "file"
+    else:
+        for key in ("times", "values"):
+            value = t.raw(key)
+            if not isinstance(value, list):
+                raise t.error(key, f"must be an array of numbers, got {_show(value)}")
+        times = [t._to_float("times", v) for v in t.raw("times")]
+        values = [t._to_float("values", v) for v in t.raw("values")]
+        if len(values) != len(times):
+            raise t.error("values", f"must have as many entries as times ({len(times)}), got {len(values)}")
+        where = ""
+        key = "times"
+    if not times:
+        raise t.error(key, f"{where}a table needs at least one point (t, value)")
+    for a, b in zip(times, times[1:]):
+        if not b > a:
+            raise t.error(key, f"{where}times must be strictly increasing, got {a:g} then {b:g}")
+    return tuple(times), tuple(values)
 
 
 def _parse_rigid_joint(t: _Table, beams: tuple[Beam, ...]) -> RigidJoint:
@@ -1226,7 +1320,7 @@ def _spec_default(p: ParamSpec) -> Any:
     return tomllib.loads(f"v = {p.default}")["v"]
 
 
-def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...]) -> EffectEntry:
+def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], base_dir: str = ".") -> EffectEntry:
     """Validate one entry of a registry table ([[damping]], ...) against its spec (kinds, units,
     defaults and bounds from the core) and turn it into the effect's parameters."""
     t.check_keys(tuple(p.key for p in spec.params))
@@ -1250,11 +1344,13 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...]) 
             continue
         if p.kind == "time_function":
             if t.has(p.key):
-                tf = _parse_time_function(t.sub(p.key, f"{t.label}.{p.key}"))
+                tf = _parse_time_function(t.sub(p.key, f"{t.label}.{p.key}"), base_dir)
             else:
                 tf = TimeFunction("constant")
-            num.update({"tf_t0": tf.t0, "tf_t1": tf.t1, "tf_t2": tf.t2})
-            text["tf_type"] = tf.type
+            tf_num, tf_vec, tf_text = tf.params()
+            num.update(tf_num)
+            vec.update(tf_vec)
+            text.update(tf_text)
             continue
         if not t.has(p.key) and not p.default:
             raise t.error(p.key, f"missing required key ({p.meaning})")

@@ -11,6 +11,7 @@ void register_joint_effects(EffectRegistry& r);
 void register_sliding_effects(EffectRegistry& r);
 void register_damping_effects(EffectRegistry& r);
 void register_slider_drive_effects(EffectRegistry& r);
+void register_drag_effects(EffectRegistry& r);
 }  // namespace effects
 
 void register_builtin_effects(EffectRegistry& registry) {
@@ -22,6 +23,7 @@ void register_builtin_effects(EffectRegistry& registry) {
   effects::register_sliding_effects(registry);
   effects::register_damping_effects(registry);
   effects::register_slider_drive_effects(registry);
+  effects::register_drag_effects(registry);
 }
 
 }  // namespace slidebeam

@@ -15,10 +15,32 @@ TimeFunction TimeFunction::from(const EffectParams& p) {
   else if (kind == "ramp") f.kind = Kind::Ramp;
   else if (kind == "hat") f.kind = Kind::Hat;
   else if (kind == "step") f.kind = Kind::Step;
+  else if (kind == "sine") f.kind = Kind::Sine;
+  else if (kind == "table") f.kind = Kind::Table;
   else throw std::invalid_argument("unknown time function '" + kind + "'");
   f.t0 = p.number("tf_t0", f.t0);
   f.t1 = p.number("tf_t1", f.t1);
   f.t2 = p.number("tf_t2", f.t2);
+  if (f.kind == Kind::Sine) {
+    f.amplitude = p.number("tf_amplitude", f.amplitude);
+    f.frequency = p.number("tf_frequency");
+    f.phase = p.number("tf_phase", f.phase);
+    f.offset = p.number("tf_offset", f.offset);
+    if (!(f.frequency > 0.0) || !std::isfinite(f.frequency) || !std::isfinite(f.amplitude) ||
+        !std::isfinite(f.phase) || !std::isfinite(f.offset))
+      throw std::invalid_argument("sine time function: frequency must be > 0 and all parameters finite");
+  }
+  if (f.kind == Kind::Table) {
+    const auto t = p.vec.find("tf_times"), v = p.vec.find("tf_values");
+    if (t == p.vec.end() || v == p.vec.end()) throw std::invalid_argument("table time function: tf_times and tf_values needed");
+    f.times = t->second;
+    f.values = v->second;
+    if (f.times.empty() || f.times.size() != f.values.size())
+      throw std::invalid_argument("table time function: times and values must have the same, nonzero length");
+    for (size_t i = 0; i < f.times.size(); ++i)
+      if (!std::isfinite(f.times[i]) || !std::isfinite(f.values[i]) || (i > 0 && !(f.times[i] > f.times[i - 1])))
+        throw std::invalid_argument("table time function: times must be finite and strictly increasing, values finite");
+  }
   return f;
 }
 

@@ -1,17 +1,25 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file Load amplitude over time: constant, ramp, hat, step (scene `time_function`).
+/// @file Load amplitude over time: constant, ramp, hat, step, sine, table (scene `time_function`).
 
 #include "model/effect.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace slidebeam {
 
 struct TimeFunction {
-  enum class Kind { Constant, Ramp, Hat, Step } kind = Kind::Constant;
+  enum class Kind { Constant, Ramp, Hat, Step, Sine, Table } kind = Kind::Constant;
   double t0 = 0.0, t1 = std::numeric_limits<double>::infinity(), t2 = std::numeric_limits<double>::infinity();
+  /// Sine: offset + amplitude sin(2 pi frequency t + phase) (frequency in Hz, phase in rad).
+  double amplitude = 1.0, frequency = 0.0, phase = 0.0, offset = 0.0;
+  /// Table: piecewise linear through (times[i], values[i]), times strictly increasing; constant
+  /// (the first or last value) beyond the ends.
+  std::vector<double> times, values;
 
   double operator()(double t) const {
     switch (kind) {
@@ -21,11 +29,21 @@ struct TimeFunction {
         if (t <= t0 || t >= t2) return 0.0;
         return t <= t1 ? (t - t0) / (t1 - t0) : (t2 - t) / (t2 - t1);
       case Kind::Step: return (t >= t0 && t < t1) ? 1.0 : 0.0;
+      case Kind::Sine: return offset + amplitude * std::sin(6.283185307179586 * frequency * t + phase);
+      case Kind::Table: {
+        if (t <= times.front()) return values.front();
+        if (t >= times.back()) return values.back();
+        const size_t i = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+        const double a = (t - times[i - 1]) / (times[i] - times[i - 1]);
+        return (1.0 - a) * values[i - 1] + a * values[i];
+      }
     }
     return 0.0;
   }
 
-  /// From effect parameters tf_type, tf_t0, tf_t1, tf_t2 (default: constant).
+  /// From effect parameters tf_type, tf_t0, tf_t1, tf_t2; sine: tf_amplitude, tf_frequency,
+  /// tf_phase, tf_offset; table: the vectors tf_times and tf_values (default: constant).
+  /// Throws std::invalid_argument for an unknown type or invalid parameters.
   static TimeFunction from(const EffectParams& p);
 };
 

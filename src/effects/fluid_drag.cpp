@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: MIT
+/// @file Fluid drag on a beam's centre line (scene table [[drag]]): ropes in wind or water.
+///
+/// Per unit (current) length, with v the centre line's velocity relative to a uniform flow u(t)
+/// (flow times an optional time function) and t = x'/|x'| the centre line's unit tangent
+/// (director beams: phi'/|phi'|, not d1, so that shear does not tilt it; ANCF cables: r'/|r'|):
+///   f = -1/2 rho D (C_n |v_n| v_n + C_t |v_t| v_t),   v_t = (t . v) t,  v_n = v - v_t,
+/// rho the fluid's density, D the diameter (the projected width), C_n and C_t the normal and
+/// tangential drag coefficients (C_t on the diameter: pi times a skin-friction coefficient on the
+/// wetted perimeter). The integral over the current length, int f |x'| dS, is taken with the
+/// mass's quadrature (3 points per span, 5 per ANCF element).
+///
+/// |w| is regularised to sqrt(w . w + eps^2) (eps: `regularization`, a velocity), so that the
+/// force is smooth at w = 0 and the step has a Jacobian there; for |w| >> eps the relative error
+/// of the force is eps^2 / (2 |w|^2).
+///
+/// Over a step the velocity is the mean rate (x_n+1 - x_n) / h, the tangent is the one at the
+/// step's force state x_f (the midpoint for energy-momentum and midpoint, the end for Newmark and
+/// HHT), the flow the one at the load time: as for beam_damping. Outside steps (h = 0: statics,
+/// Newmark's and HHT's initial acceleration, HHT's history term) there is no rate and no force.
+///
+/// Energy: the force is external (role External): its work -r . (q_n+1 - q_n) over each step is
+/// in W. Relative to still fluid (u = 0) that work is h sum w |x'| f . v <= 0 point by point
+/// (v_n . v = |v_n|^2, v_t . v = |v_t|^2), so drag then only takes energy out, exactly at the
+/// discrete level; a flow can put energy in (wind driving a rope).
+
+#include "effects/common.hpp"
+#include "model/time_function.hpp"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace slidebeam::effects {
+
+namespace {
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+struct DragLaw {
+  double k = 0.0;   ///< 1/2 rho D
+  double cn = 0.0;  ///< normal drag coefficient
+  double ct = 0.0;  ///< tangential drag coefficient
+  double eps = 0.0; ///< regularisation velocity
+};
+
+/// Drag per unit current length F(a, v) at a point of tangent vector a = x' (not normalised;
+/// |a| is the stretch) and relative velocity v; with dF/dv and dF/da if wanted.
+struct DragPoint {
+  Vec3 F;
+  Mat3 dFdv, dFda;
+};
+
+DragPoint drag_point(const DragLaw& law, const Vec3& a, const Vec3& v, bool derivatives) {
+  const double aa = a.squaredNorm(), L = std::sqrt(aa), av = a.dot(v);
+  const Vec3 vt = (av / aa) * a, vn = v - vt;
+  const double e2 = law.eps * law.eps;
+  const double gn = std::sqrt(vn.squaredNorm() + e2), gt = std::sqrt(vt.squaredNorm() + e2);
+  const Vec3 phi = law.cn * gn * vn + law.ct * gt * vt;
+  DragPoint p;
+  p.F = -law.k * L * phi;
+  if (!derivatives) return p;
+  const Mat3 I = Mat3::Identity();
+  const Mat3 Pt = a * a.transpose() / aa, Pn = I - Pt;
+  // d(g(w) w)/dw = g I + w w^T / g, with g = sqrt(w . w + eps^2)
+  const Mat3 Phin = gn * I + vn * vn.transpose() / gn, Phit = gt * I + vt * vt.transpose() / gt;
+  p.dFdv = -law.k * L * (law.cn * Phin * Pn + law.ct * Phit * Pt);
+  // d v_t / d a of v_t = (a . v) a / (a . a); d v_n / d a = -d v_t / d a; d|a|/da = a^T / |a|
+  const Mat3 dvt = (a * v.transpose() + av * I) / aa - (2.0 * av / (aa * aa)) * a * a.transpose();
+  p.dFda = -law.k * (phi * a.transpose() / L + L * (law.ct * Phit - law.cn * Phin) * dvt);
+  return p;
+}
+
+/// A quadrature point of an element: weight (reference arc length) and the W basis weights of
+/// the position x = sum_i N_i y_i and its derivative x' = sum_i dN_i y_i (y_i: 3-blocks).
+template <int W>
+struct DragQuadPoint {
+  double w = 0.0;
+  std::array<double, W> N{}, dN{};
+};
+}  // namespace
+
+/// Drag on one beam. W = 3: a director beam's quadratic span (the phi blocks of its 3 control
+/// points); W = 4: an ANCF element (r and r' of its 2 nodes, cubic Hermite).
+template <int W>
+class FluidDrag final : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
+  static constexpr int kPoints = W == 3 ? 3 : 2;
+  static constexpr int kDofs = 3 * W;
+  using Base = ElementEffect<kPoints, kDofs>;
+  using VecY = Eigen::Matrix<double, kDofs, 1>;
+  using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+  using Base::beam_;
+  using Base::elements_;
+
+ public:
+  FluidDrag(int beam, const Model& m, const EffectParams& p) : Base(beam, m), f_(TimeFunction::from(p)) {
+    const double rho = p.number("density"), D = p.number("diameter");
+    law_.cn = p.number("cd_normal", 1.2);
+    law_.ct = p.number("cd_tangential", 0.0);
+    law_.eps = p.number("regularization", 1e-3);
+    law_.k = 0.5 * rho * D;
+    const auto& u = p.vector("flow", 3);
+    flow_ = Vec3(u[0], u[1], u[2]);
+    if (!(rho > 0.0) || !(D > 0.0) || !(law_.cn >= 0.0) || !(law_.ct >= 0.0) || !(law_.eps > 0.0) || !flow_.allFinite())
+      throw std::invalid_argument("drag: density, diameter and regularization must be > 0, the coefficients >= 0");
+  }
+  std::string type() const override { return "fluid_drag"; }
+
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (ctx.h <= 0.0) PetscFunctionReturn(0);  // no step, no rate
+    const Beam& b = ctx.model.beam(beam_);
+    for (int e : elements_) {
+      VecY re = VecY::Zero();
+      element(ctx, b, e, re, nullptr);
+      scatter(ctx, r, b, e, re);
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (ctx.h <= 0.0) PetscFunctionReturn(0);
+    const Beam& b = ctx.model.beam(beam_);
+    for (int e : elements_) {
+      VecY re = VecY::Zero();
+      MatY K = MatY::Zero();
+      element(ctx, b, e, re, &K);
+      const auto d = element_dofs(ctx.map, b, e);
+      PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
+ protected:
+  typename Base::Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override {
+    typename Base::Dofs d{};
+    for (int i = 0; i < W; ++i)
+      for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(b.first_cp() + e + node(i), offset(i) + k);
+    return d;
+  }
+
+ private:
+  // block i of the element: director, the phi of control point i; ANCF, r (even i) or r' (odd i)
+  // of node i / 2
+  static int node(int i) { return W == 3 ? i : i / 2; }
+  static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
+
+  VecY gather(const EvalContext& ctx, const LocalValues& x, const Beam& b, int e) const {
+    VecY y;
+    for (int i = 0; i < W; ++i)
+      y.template segment<3>(3 * i) = Eigen::Map<const Vec3>(x.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i));
+    return y;
+  }
+  void scatter(const EvalContext& ctx, const LocalValues& r, const Beam& b, int e, const VecY& v) const {
+    for (int i = 0; i < W; ++i)
+      Eigen::Map<Vec3>(r.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i)) += v.template segment<3>(3 * i);
+  }
+
+  static int n_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
+  static DragQuadPoint<W> point(const Beam& b, int e, int g) {
+    DragQuadPoint<W> p;
+    if constexpr (W == 3) {
+      const kernels::GaussPoint& gp = b.gp_full(e, g);
+      p.w = gp.w;
+      p.N = gp.N;
+      p.dN = gp.dN;
+    } else {
+      const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
+      p.w = ap.w;
+      p.N = ap.S;
+      p.dN = ap.dS;
+    }
+    return p;
+  }
+
+  /// r += the element's generalised drag force (with the sign of a residual: -int N^T f), and
+  /// K += its derivative with respect to the step's end state.
+  void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const {
+    const VecY y0 = gather(ctx, ctx.x_old, b, e), y1 = gather(ctx, ctx.x, b, e), yf = gather(ctx, ctx.xf, b, e);
+    const Vec3 u = f_(ctx.t) * flow_;
+    const double h = ctx.h, theta = ctx.theta;
+    for (int g = 0; g < n_points(b); ++g) {
+      const DragQuadPoint<W> q = point(b, e, g);
+      Vec3 a = Vec3::Zero(), v = -u;
+      for (int i = 0; i < W; ++i) {
+        a += q.dN[static_cast<size_t>(i)] * yf.template segment<3>(3 * i);
+        v += q.N[static_cast<size_t>(i)] / h * (y1 - y0).template segment<3>(3 * i);
+      }
+      const DragPoint p = drag_point(law_, a, v, K != nullptr);
+      for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) -= q.w * q.N[static_cast<size_t>(i)] * p.F;
+      if (!K) continue;
+      for (int j = 0; j < W; ++j) {
+        const Mat3 dF = (q.N[static_cast<size_t>(j)] / h) * p.dFdv + (theta * q.dN[static_cast<size_t>(j)]) * p.dFda;
+        for (int i = 0; i < W; ++i) K->template block<3, 3>(3 * i, 3 * j) -= q.w * q.N[static_cast<size_t>(i)] * dF;
+      }
+    }
+  }
+
+  TimeFunction f_;
+  DragLaw law_;
+  Vec3 flow_;
+};
+
+void register_drag_effects(EffectRegistry& r) {
+  using K = ParamSpec::Kind;
+  const double inf = std::numeric_limits<double>::infinity();
+  EffectSpec s;
+  s.type = "fluid_drag";
+  s.table = "drag";
+  s.meaning = "fluid drag on a beam's centre line (wind, current): per length -1/2 rho D (C_n |v_n| v_n + "
+              "C_t |v_t| v_t), v the velocity relative to a uniform flow";
+  s.role = EnergyRole::External;
+  s.params = {
+      {"beam", K::Beam, "", "the beam in the flow (director beam or ANCF cable)", ""},
+      {"diameter", K::Number, "m", "D, the width the flow sees (a rope's diameter)", "", 0.0, inf, true},
+      {"density", K::Number, "kg/m^3", "rho of the fluid (air 1.225, fresh water 1000, seawater 1025)", "", 0.0, inf,
+       true},
+      {"cd_normal", K::Number, "", "C_n, drag coefficient across the centre line (circular cylinder: about 1.2)",
+       "1.2", 0.0},
+      {"cd_tangential", K::Number, "",
+       "C_t, drag coefficient along the centre line, on the diameter (pi times a skin-friction coefficient; "
+       "ropes about 0.01 to 0.03; 0: none)",
+       "0.0", 0.0},
+      {"flow", K::Vector, "m/s", "velocity of the fluid (uniform): wind or current", "[0.0, 0.0, 0.0]", -inf, inf,
+       false, 3},
+      {"time_function", K::TimeFunction, "", "scales the flow over time (a gust, a tide)", "{ type = \"constant\" }"},
+      {"regularization", K::Number, "m/s",
+       "eps of |w| ~ sqrt(w . w + eps^2): the force is smooth at rest (relative error eps^2 / (2 |w|^2))", "1e-3", 0.0,
+       inf, true},
+  };
+  r.add(s, [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
+    const int beam = beam_param(m, p);
+    if (m.beam(beam).is_ancf()) return std::make_unique<FluidDrag<4>>(beam, m, p);
+    return std::make_unique<FluidDrag<3>>(beam, m, p);
+  });
+}
+
+}  // namespace slidebeam::effects
