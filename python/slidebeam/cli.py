@@ -14,7 +14,7 @@ import time
 import traceback
 from pathlib import Path
 
-from . import interrupts
+from . import interrupts, options_check
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
@@ -197,6 +197,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     import petsc4py
 
     petsc4py.init([sys.argv[0], *petsc_args])
+    options_check.remember_command_line(petsc_args)
     _quiet_broken_pipe()
     from .costs import start_logging
 
@@ -291,6 +292,7 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
         from .results import sliding_joint_summary
         summary["sliding_joints"] = sliding_joint_summary(sim, good[-1].joints)
     _finish_costs(sim, summary, t0, rank, args.quiet)
+    options_check.report_unused(sim, summary, rank)
     with output_phase():
         write_results(sim, out, records, summary, rank)
     if sim.stop_signal:
@@ -375,6 +377,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
     summary["reactions"] = [r.as_dict() for r in last.reactions]
     _finish_costs(sim, summary, t0, rank, args.quiet)
+    options_check.report_unused(sim, summary, rank)
     with output_phase():
         write_results(sim, out, recs, summary, rank)
     if outcome.signal:
@@ -429,6 +432,7 @@ def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, 
                          "residual_initial": sim.settled.residual0, "residual": sim.settled.residual},
         "checkpoint": None,
     }
+    options_check.report_unused(sim, summary, rank)
     with output_phase():
         write_results(sim, out, [rec], summary, rank)
     if signum:
