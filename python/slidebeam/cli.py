@@ -18,6 +18,7 @@ from . import interrupts, options_check
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
+from .resources import check_memory, memory_line
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -189,6 +190,7 @@ def _exit_after_output_failure(code: int) -> None:
 
 def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     scene = load_scene(args.scene, args.set)
+    check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     restart = Path(args.restart) if args.restart else None
     if restart is not None and scene.analysis.type != "dynamic":
         raise SceneError("--restart continues dynamic runs only", scene.file, "[analysis]", "type")
@@ -469,7 +471,7 @@ def main(argv: list[str] | None = None) -> int:
             return main_study(args, petsc_args)
         if args.command == "check":
             scene = load_scene(args.scene, args.set)
-            _say(rank, _describe(scene) + "\nscene is valid")
+            _say(rank, _describe(scene) + "\n" + memory_line(check_memory(scene)) + "\nscene is valid")
             return EXIT_OK
         return _run(args, petsc_args, rank)
     except SceneError as err:
