@@ -123,7 +123,8 @@ def _sources(scene) -> list[tuple[str, set[str], bool]]:
     out: list[tuple[str, set[str], bool]] = []
     names = _option_tokens(_command_line)
     out.append(("the command line", {n.lower() for n in names if n.lower() != "options_file"}, True))
-    files = [_command_line[i + 1] for i, tok in enumerate(_command_line[:-1]) if tok.lstrip("-").lower() == "options_file"]
+    files = [_command_line[i + 1] for i, tok in enumerate(_command_line[:-1])
+             if tok.lstrip("-").lower() == "options_file"]
     for f in files:
         out.append((f"the options file {f}", {n.lower() for n in _option_tokens(_file_tokens(Path(f)))}, True))
     if scene is not None:
