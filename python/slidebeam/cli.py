@@ -14,10 +14,11 @@ import time
 import traceback
 from pathlib import Path
 
-from . import interrupts, options_check
+from . import interrupts
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
+from . import options_check
 from .resources import check_memory, memory_line
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
@@ -190,7 +191,6 @@ def _exit_after_output_failure(code: int) -> None:
 
 def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     scene = load_scene(args.scene, args.set)
-    check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     restart = Path(args.restart) if args.restart else None
     if restart is not None and scene.analysis.type != "dynamic":
         raise SceneError("--restart continues dynamic runs only", scene.file, "[analysis]", "type")
@@ -209,6 +209,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     from .results import prepare_output_dir, write_results
     from .simulation import Simulation
 
+    check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     comm = MPI.COMM_WORLD
     error = None
     if rank == 0:

@@ -19,7 +19,6 @@ from . import _core, interrupts
 from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end, carrier_end_message,
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
-from .resources import check_memory
 from .scene import Scene, SceneError
 
 
@@ -110,7 +109,6 @@ class Simulation:
 
     def __init__(self, scene: Scene, comm: object | None = None) -> None:
         self.scene = scene
-        check_memory(scene, comm)  # refuse what cannot fit before allocating (SceneError)
         _apply_petsc_options(scene)
         self._model, self.effects = build_model(scene, comm)
         self._solver = _core.StaticSolver(self._model)
