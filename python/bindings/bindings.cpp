@@ -199,6 +199,21 @@ PYBIND11_MODULE(_core, m) {
   m.def("install_stop_handlers", &install_stop_handlers,
         "SIGINT/SIGTERM: the first is recorded (see stop_signal), the second ends the process at once");
   m.def("stop_signal", py::overload_cast<>(&stop_signal), "the signal received since install_stop_handlers, or 0");
+  m.def(
+      "options_left",
+      [] {
+        // petsc4py (3.18) has no PetscOptionsLeftGet: the options no one has queried so far
+        PetscInt n = 0;
+        char** names = nullptr;
+        char** values = nullptr;
+        SB_CHECK(PetscOptionsLeftGet(nullptr, &n, &names, &values));
+        py::list out;
+        for (PetscInt i = 0; i < n; ++i)
+          out.append(py::make_tuple(std::string(names[i]), values[i] ? py::object(py::str(values[i])) : py::none()));
+        SB_CHECK(PetscOptionsLeftRestore(nullptr, &n, &names, &values));
+        return out;
+      },
+      "[(name without the leading dash, value or None)] of the options database's entries never queried");
 
   py::class_<EquilibriumResult>(m, "EquilibriumResult")
       .def_readonly("converged", &EquilibriumResult::converged)

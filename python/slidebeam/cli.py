@@ -19,6 +19,8 @@ from .effect_tables import table_specs
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
+from . import options_check
+from .resources import check_memory, memory_line
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -248,6 +250,7 @@ def _check(args: argparse.Namespace, rank: int) -> int:
     del model
     _say(rank, _describe(scene))
     _say(rank, _effects_line(effects))
+    _say(rank, memory_line(check_memory(scene)))
     _say_warnings(scene, rank)
     _say(rank, "scene is valid" + (f" ({len(scene.warnings)} warning{'s' * (len(scene.warnings) > 1)})"
                                    if scene.warnings else ""))
@@ -264,6 +267,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     import petsc4py
 
     petsc4py.init([sys.argv[0], *petsc_args])
+    options_check.remember_command_line(petsc_args)
     _quiet_broken_pipe()
     from .costs import start_logging
 
@@ -273,6 +277,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     from .results import prepare_output_dir, write_results
     from .simulation import Simulation
 
+    check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     comm = MPI.COMM_WORLD
     error = None
     if rank == 0:
@@ -359,6 +364,7 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
         from .results import sliding_joint_summary
         summary["sliding_joints"] = sliding_joint_summary(sim, good[-1].joints)
     _finish_costs(sim, summary, t0, rank, args.quiet)
+    options_check.report_unused(sim, summary, rank)
     with output_phase():
         write_results(sim, out, records, summary, rank)
     if sim.stop_signal:
@@ -443,6 +449,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
     summary["reactions"] = [r.as_dict() for r in last.reactions]
     _finish_costs(sim, summary, t0, rank, args.quiet)
+    options_check.report_unused(sim, summary, rank)
     with output_phase():
         write_results(sim, out, recs, summary, rank)
     if outcome.signal:
@@ -497,6 +504,7 @@ def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, 
                          "residual_initial": sim.settled.residual0, "residual": sim.settled.residual},
         "checkpoint": None,
     }
+    options_check.report_unused(sim, summary, rank)
     with output_phase():
         write_results(sim, out, [rec], summary, rank)
     if signum:

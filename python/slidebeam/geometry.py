@@ -67,6 +67,30 @@ def ancf_reference_coordinates(beam: Beam) -> np.ndarray:
     return q
 
 
+def _solve_banded(band: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solve A x = rhs for A with two diagonals below and two above the main one, stored as
+    band[j, 2 + c - j] = A[j, c]. Gaussian elimination without pivoting, which is stable for
+    B-spline collocation matrices (totally positive; de Boor, A Practical Guide to Splines):
+    memory and time linear in the size, where a dense solve needs (spans + 2)^2 numbers."""
+    m = band.shape[0]
+    b = band.copy()
+    y = np.array(rhs, dtype=float)
+    for j in range(m - 1):
+        for i in range(j + 1, min(j + 3, m)):
+            f = b[i, 2 + j - i] / b[j, 2]
+            if f != 0.0:
+                width = min(3, m - j)  # columns j .. j+2 of row j
+                b[i, 2 + j - i : 2 + j - i + width] -= f * b[j, 2 : 2 + width]
+                y[i] -= f * y[j]
+    x = np.zeros_like(y)
+    for j in range(m - 1, -1, -1):
+        acc = y[j].copy()
+        for c in range(j + 1, min(j + 3, m)):
+            acc -= b[j, 2 + c - j] * x[c]
+        x[j] = acc / b[j, 2]
+    return x
+
+
 def reference_coordinates(beam: Beam) -> np.ndarray:
     """(spans+2) x 12 reference coordinates (phi, d1, d2, d3) of the control points of a director
     beam, (spans+1) x 6 (r, r') of the nodes of an ANCF cable."""
@@ -75,12 +99,12 @@ def reference_coordinates(beam: Beam) -> np.ndarray:
     n, L = beam.spans, beam.geometry.length
     xi = np.array([_core.greville(n, a) for a in range(n + 2)])
     # Collocation at the Greville abscissae (Schoenberg-Whitney holds, the system is regular).
-    A = np.zeros((n + 2, n + 2))
+    band = np.zeros((n + 2, 5))  # band[j, 2 + c - j] = A[j, c]: row j couples columns j-2 .. j+2
     for j, x in enumerate(xi):
         span, N, _, _ = _core.bspline_basis(n, float(x))
-        A[j, span : span + 3] = N
+        band[j, 2 + span - j : 5 + span - j] = N
     X = np.array([beam.geometry.point_at(float(x) * L) for x in xi])
-    P = np.linalg.solve(A, X)
+    P = _solve_banded(band, X)
 
     t0 = np.asarray(beam.geometry.tangent_at_start())
     d2_0 = np.asarray(beam.d2) if beam.d2 is not None else default_d2(t0)
@@ -94,9 +118,8 @@ def reference_coordinates(beam: Beam) -> np.ndarray:
         if beam.geometry.kind == "arc":
             frame = _arc_rotation(beam, s) @ frame0
         else:
-            # Exact tangent of lines; at polyline corners the mean of both sides.
-            t = t0 if beam.geometry.kind == "line" else _tangent(beam, s, h)
-            frame = _rotation_between(t0, t) @ frame0
+            # Lines keep the start frame; at polyline corners the tangent is the mean of both sides.
+            frame = frame0 if beam.geometry.kind == "line" else _rotation_between(t0, _tangent(beam, s, h)) @ frame0
         q[a, 0:3] = P[a]
         q[a, 3:12] = frame.T.reshape(-1)
     return q

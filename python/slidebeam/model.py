@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from . import _core
 from .geometry import reference_coordinates
+from .resources import check_memory
 from .scene import Scene, SceneError, TimeFunction
 
 
@@ -45,7 +46,9 @@ def _reference_point(beam, q, s: float) -> list[float]:
 
 
 def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, list[EffectInfo]]:
-    """Create and finalize the C++ model of a scene (collective over comm)."""
+    """Create and finalize the C++ model of a scene (collective over comm). A scene that cannot
+    fit in memory is refused first (SceneError, see resources.check_memory)."""
+    check_memory(scene, comm)
     model = _core.Model(comm)
     effects: list[EffectInfo] = []
 

@@ -26,6 +26,7 @@ import itertools
 import json
 import math
 import subprocess
+import sys
 import time
 import tomllib
 from concurrent.futures import ThreadPoolExecutor
@@ -34,6 +35,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from .options_check import warnings_of_runs
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -311,6 +314,8 @@ def run_study(scene: Path, varies: list[tuple[list[str], list[str]]], out: Path,
             results[data.variant.index] = data
             progress(f"[{n:3d}/{len(todo)}] {('reference: ' if data.variant is ref_variant else '') + data.variant.label}: "
                      f"{data.summary.get('wall_time_s', math.nan):.2f} s, {data.message}")
+    for line in warnings_of_runs(r.summary for r in results.values()):  # typos in PETSc options, once
+        print(line, file=sys.stderr, flush=True)
     runs = [results[v.index] for v in variants]
     if ref_variant is not None:
         ref = results[ref_variant.index]

@@ -50,11 +50,11 @@ def run_cli(tmp_path: Path):
     """Run scripts/slidebeam in a subprocess (optionally under mpirun)."""
     import subprocess
 
-    def run(*args: str, np: int = 1, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    def run(*args: str, np: int = 1, cwd: Path | None = None, timeout: float = 600) -> subprocess.CompletedProcess:
         cmd = [str(ROOT / "scripts" / "slidebeam"), *args]
         if np > 1:
             cmd = ["mpirun", "--oversubscribe", "-n", str(np), *cmd]
         env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_COMM", "PMIX", "OMPI_MCA_ess", "OMPI_FILE"))}
-        return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd or tmp_path, env=env, timeout=600)
+        return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd or tmp_path, env=env, timeout=timeout)
 
     return run
