@@ -378,22 +378,37 @@ class Simulation:
         multipliers come just before it)."""
         return self._model.extra_offset(self.sliding_joint_effects()[joint]) + 3
 
-    def joint_states(self, gaps: bool = True) -> list[JointState]:
+    def joint_states(self, gaps: bool = True, reactions: bool = True) -> list[JointState]:
         """s, ds/dt, reaction and gap (the slider point's distance from the carrier's centre line,
         the joint's constraint residual; 0 unless gaps) of every sliding joint in the current
-        state (collective; statics: ds/dt = 0)."""
+        state (collective; statics: ds/dt = 0). The reaction is the force of the carrier on the
+        slider in the global frame: over the last time step once one was taken (the step's mean
+        force under the midpoint-type schemes), else at the current state."""
         x = self.x
         rate = self.integrator.sliding_rate if self.integrator is not None else None
         gap = self._joint_gaps() if gaps else [0.0] * len(self.scene.sliding_joints)
+        effects = self.sliding_joint_effects()
+        if not effects:
+            return []
+        forces = self._joint_forces() if reactions else [(0.0, 0.0, 0.0)] * len(effects)
         states = []
-        for k, g in zip(self.sliding_joint_effects(), gap):
-            mu_and_s = self._model.extra_values(k, x)  # mu (3), then s
+        for k, g, force in zip(effects, gap, forces):
+            s = self._model.extra_values(k, x)[3]  # multipliers (3), then s
             sdot = self._model.extra_values(k, rate)[3] if rate is not None else 0.0
-            states.append(JointState(float(mu_and_s[3]), float(sdot), tuple(float(m) for m in mu_and_s[:3]), g))
+            states.append(JointState(float(s), float(sdot), tuple(float(f) for f in force), g))
         return states
 
+    def _joint_forces(self) -> list[tuple[float, float, float]]:
+        """The reaction of every sliding joint (see joint_states; collective)."""
+        effects = self.sliding_joint_effects()
+        forces = (self.integrator.joint_forces(effects) if self.integrator is not None
+                  else self._model.joint_forces(self.t, self.x, effects))
+        return [tuple(float(f) for f in force) for force in forces]
+
     def _joint_gaps(self) -> list[float]:
-        """|phi_carrier(s) - phi_slider| per sliding joint: its constraint rows of the residual."""
+        """Distance of each sliding joint's slider point from the carrier's centre line: the norm
+        of its constraint rows (spatial form: c(s) - p; frame form: the components of c(s) - p on
+        the slider's directors, the same norm while they stay orthonormal)."""
         if not self.scene.sliding_joints:
             return []
         F = self.x.duplicate()
@@ -414,8 +429,8 @@ class Simulation:
 
     def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,
                        rejected: int, joints: list[JointState] | None = None) -> DynamicRecord:
-        """Energies, momenta, constraint residual, tracked points and sliding joints (`joints`
-        if the caller has them already) of the current state."""
+        """Energies, momenta, constraint residual, tracked points and sliding joints (`joints`:
+        their s and ds/dt if the caller has them already) of the current state."""
         assert self.integrator is not None
         e = self.energies()
         kinetic, lin, ang = self.integrator.motion()
@@ -430,7 +445,7 @@ class Simulation:
             constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
             tracked=self.tracked_points(),
             joints=self.joint_states() if joints is None else
-            [dataclasses.replace(j, gap=g) for j, g in zip(joints, self._joint_gaps())],
+            [dataclasses.replace(j, gap=g, reaction=f) for j, g, f in zip(joints, self._joint_gaps(), self._joint_forces())],
             reactions=self.reactions(over_last_step=result is not None and bool(result.converged)),
         )
 

@@ -224,6 +224,11 @@ class Effect {
   /// return only rows owned by this rank.
   virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
 
+  /// A sliding joint's force on its slider in the global frame under the evaluation's rule (the
+  /// step's force under the midpoint-type rules), on the rank that evaluates the joint (true);
+  /// false elsewhere and for every other effect.
+  virtual bool joint_force(const EvalContext&, std::array<double, 3>&) const { return false; }
+
   /// Supports and joints: their reaction (summed over ranks by the model: add the terms of
   /// owned rows only).
   virtual bool has_reaction() const { return false; }

@@ -138,6 +138,7 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   SB_CHECK(VecZeroEntries(a_));
   SB_CHECK(VecZeroEntries(sdot_));
   h_prev_ = 0.0;
+  stepped_ = false;
   if (!is_midpoint_type(params_.kind)) consistent_acceleration();
 }
 
@@ -271,6 +272,12 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
   auto r = model_.reactions(step_eval(), x_, F, scale_);
   SB_CHECK(VecDestroy(&F));
   return r;
+}
+
+std::vector<std::array<double, 3>> TimeIntegrator::joint_forces(const std::vector<int>& effects) {
+  if (!stepped_) return model_.joint_forces(StepEval{StepRule::Endpoint, t_, 1.0}, x_, effects);
+  SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
+  return model_.joint_forces(step_eval(), x_, effects);
 }
 
 PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {
@@ -486,6 +493,7 @@ SolveResult TimeIntegrator::step(double h) {
     }
     SB_CHECK(VecCopy(x_, x_start_));
     SB_CHECK(VecCopy(x1_, x_));
+    stepped_ = true;
     t_ = t_next;
   }
   SB_CHECK(PetscLogEventEnd(ev_step_, 0, 0, 0, 0));
@@ -498,6 +506,7 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   t_seg0_ = segment_steps > 0 ? segment_start : t;
   n_seg_ = segment_steps > 0 ? segment_steps : 0;
   last_failed_ = false;
+  stepped_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
   if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();
 }

@@ -116,6 +116,9 @@ class TimeIntegrator {
   /// its history term.
   std::vector<std::pair<int, Reaction>> reactions();
   PetscErrorCode step_jacobian(Vec x1, Mat J);
+  /// Model::joint_forces of the given effects: over the last step (its rule, from its start
+  /// state) once a step has been taken since initialize or restore, else at t_n (Endpoint).
+  std::vector<std::array<double, 3>> joint_forces(const std::vector<int>& effects);
 
  private:
   static PetscErrorCode form_function(SNES, Vec x, Vec F, void* ctx);
@@ -147,6 +150,7 @@ class TimeIntegrator {
   int pattern_seen_ = 0;                          // CooAssembly generation of the factorisation
   Vec state_mask_ = nullptr;                      // coordinates and sliding coordinates
   double h_prev_ = 0.0;                           // 0: no previous step
+  bool stepped_ = false;                          // a step since initialize/restore (x_start_ holds its start)
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
   double t_seg0_ = 0.0;  // start of the current run of equal steps h_prev_
