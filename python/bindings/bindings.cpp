@@ -238,6 +238,24 @@ PYBIND11_MODULE(_core, m) {
            py::keep_alive<1, 2>())
       .def("initialize", [](TimeIntegrator& s, double t, Vec x, Vec v) { s.initialize(t, x, v); },
            py::arg("t"), py::arg("x"), py::arg("v"))
+      .def_property_readonly(
+          "velocity_projection",
+          [](const TimeIntegrator& s) {
+            const auto& p = s.velocity_projection();
+            py::dict d;
+            d["solved"] = p.solved;
+            d["failed"] = p.failed;
+            d["projected"] = p.projected;
+            d["size"] = p.size;
+            d["change"] = p.change;
+            d["largest"] = p.largest;
+            d["kinetic_before"] = p.kinetic_before;
+            d["kinetic_after"] = p.kinetic_after;
+            return d;
+          },
+          "what initialize did to the initial velocity: its projection onto the constraints in the mass "
+          "metric (dict: solved, failed, projected, size and change in the mass norm, largest change of a "
+          "coordinate's rate, kinetic energy before and after)")
       .def("step", &TimeIntegrator::step, py::arg("h"))
       .def_property_readonly("time", &TimeIntegrator::time)
       .def_property_readonly("x", &TimeIntegrator::x, "state x_n (petsc4py Vec, shared with the core)")

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import shlex
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -20,6 +21,10 @@ from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
+
+
+class ConstraintWarning(UserWarning):
+    """A scene's initial state violated its constraints and was corrected."""
 
 
 class EquilibriumFailure(RuntimeError):
@@ -120,16 +125,40 @@ class Simulation:
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.stop_signal: int | None = None  # the signal that stopped it, if one did
         self.stop_is_failure = False  # a slider left its carrier with at_carrier_end = "fail"
+        self.warnings: list[str] = []  # what the start found and corrected (initial velocities)
+        # the initial velocities' projection onto the constraints (TimeIntegrator.velocity_projection)
+        self.velocity_projection: dict | None = None
         a = scene.analysis
         if a.type == "dynamic":
             self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,
                                                    gamma=a.newmark_gamma,
                                                    alpha=a.hht_alpha if a.integrator == "hht" else 0.0,
                                                    dissipation=a.em_dissipation)
-            v = self._model.x.duplicate()
-            initial_velocity(self, v)
-            self.integrator.initialize(0.0, self._model.x, v)
-            v.destroy()
+            self._start_motion()
+
+    def _start_motion(self) -> None:
+        """Start the integrator at the current state with the scene's initial velocities,
+        projected onto the constraints (see TimeIntegrator.initialize); warn if they violated
+        them."""
+        v = self._model.x.duplicate()
+        initial_velocity(self, v)
+        self.integrator.initialize(0.0, self._model.x, v)
+        v.destroy()
+        p = self.integrator.velocity_projection
+        self.velocity_projection = p if p["solved"] else None
+        message = None
+        if p["failed"]:
+            message = ("the initial velocities could not be checked against the constraints (the constrained "
+                       "mass system is singular): they are used as given, sliding rates 0")
+        elif p["projected"]:
+            rel = p["change"] / p["size"]
+            message = (f"the initial velocities violate the constraints (supports, joints, sliders on their carriers): "
+                       f"projected onto them with the mass metric, a change of {rel:.3g} of their mass norm "
+                       f"(largest change of a coordinate's rate {p['largest']:.3g}); kinetic energy "
+                       f"{p['kinetic_before']:.6g} -> {p['kinetic_after']:.6g}")
+        if message and message not in self.warnings:
+            self.warnings.append(message)
+            warnings.warn(message, ConstraintWarning, stacklevel=3)
 
     def settle(self) -> "_core.EquilibriumResult":
         """Start a dynamic run from static equilibrium: solve for the equilibrium under the loads
@@ -147,10 +176,7 @@ class Simulation:
             raise EquilibriumFailure(
                 f"the static start found no equilibrium: residual {result.residual:.3e} (from {result.residual0:.3e}) "
                 f"after {result.pseudo_steps} continuation steps and {result.newton_iterations} Newton iterations")
-        v = self._model.x.duplicate()
-        initial_velocity(self, v)
-        self.integrator.initialize(0.0, self._model.x, v)
-        v.destroy()
+        self._start_motion()
         return result
 
     @property
