@@ -77,6 +77,9 @@ def _parser() -> argparse.ArgumentParser:
                           epilog="Example: slidebeam plot out/em out/midpoint --out energy.png")
     plot.add_argument("runs", nargs="+", help="run folders (with history.csv)")
     plot.add_argument("--out", help="PNG file (default: <first run>/energy_momentum.png)")
+    plot.add_argument("--drift", action="store_true",
+                      help="momentum panels: the relative change |L(t) - L(0)| / |L(0)|, |J(t) - J(0)| / |J(0)| on a "
+                           "log scale instead of the components (for free-floating structures)")
     return p
 
 
@@ -536,7 +539,8 @@ def main(argv: list[str] | None = None) -> int:
             from .plots import plot_energy_momentum
 
             runs = [Path(r) for r in args.runs]
-            png = plot_energy_momentum(runs, Path(args.out) if args.out else runs[0] / "energy_momentum.png")
+            png = plot_energy_momentum(runs, Path(args.out) if args.out else runs[0] / "energy_momentum.png",
+                                       drift=args.drift)
             _say(rank, f"wrote {png}")
             return EXIT_OK
         if args.command == "study":

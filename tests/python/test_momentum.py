@@ -135,3 +135,16 @@ def test_distributed_equals_serial():
             assert abs(ja.s - jb.s) < 1e-10
             assert np.abs(np.array(ja.reaction) - np.array(jb.reaction)).max() < 1e-8
         assert np.abs(np.array(a.angular_momentum) - np.array(b.angular_momentum)).max() < 1e-10
+
+
+@pytest.mark.skip_in_parallel
+def test_cli_runs_and_plots_the_momentum_drift(run_cli, tmp_path):
+    """The free-floating scenes from the command line, and `slidebeam plot --drift` (the figures
+    of docs/verification.md come from scripts/free_floating.sh)."""
+    for name, sets in (("frame", []), ("spatial", ["--set", 'sliding_joint.0.form="spatial"'])):
+        out = run_cli("run", str(FREE / "two_beams.toml"), "--out", name, "-q", "--set", "analysis.t_end=0.1", *sets)
+        assert out.returncode == 0, out.stderr
+        assert "warning" not in out.stderr  # rigid motions: consistent initial velocities
+    plot = run_cli("plot", "frame", "spatial", "--drift", "--out", "drift.png")
+    assert plot.returncode == 0, plot.stderr
+    assert (tmp_path / "drift.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
