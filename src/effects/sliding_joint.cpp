@@ -55,6 +55,16 @@ class SlidingJoint final : public Effect {
     if (sigma < -1e-12 * S.length() || sigma > S.length() * (1 + 1e-12))
       throw std::invalid_argument("sliding_joint: slider point s = " + std::to_string(sigma) + " outside beam '" + S.name() + "'");
     stencil_ = S.position_at(std::clamp(sigma, 0.0, S.length()));
+    // The frame form reads the stencil's directors too and couples them with the carrier: only
+    // the control points that carry weight (one at a beam end), to keep the pattern small.
+    for (int j = 0; j < stencil_.n; ++j) {
+      if (stencil_.w[j] == 0.0) continue;
+      const int k = frame_st_.n++;
+      frame_st_.cp[k] = stencil_.cp[j];
+      frame_st_.comp[k] = stencil_.comp[j];
+      frame_st_.w[k] = stencil_.w[j];
+    }
+    frame_st_.span = stencil_.span;
     const std::string form = p.string("discrete_gradient", "exact");
     if (form == "exact") exact_ = true;
     else if (form == "midpoint") exact_ = false;
@@ -315,12 +325,12 @@ class SlidingJoint final : public Effect {
     const DofMap& map = m.dof_map();
     const Beam& S = m.beam(slider_);
     FrameDofs d;
-    d.P = stencil_dofs(map, S, stencil_);
+    d.P = stencil_dofs(map, S, frame_st_);
     const PetscInt first = m.beam(carrier_).first_cp();
     for (int a = c0; a < c1; ++a)
       for (int k = 0; k < 3; ++k) d.P.push_back(map.q(first + curve_.cp_of_block(a), curve_.offset_of_block(a) + k));
-    for (int j = 0; j < stencil_.n; ++j)
-      for (int k = 0; k < 9; ++k) d.D.push_back(map.q(S.first_cp() + stencil_.cp[j], 3 + k));
+    for (int j = 0; j < frame_st_.n; ++j)
+      for (int k = 0; k < 9; ++k) d.D.push_back(map.q(S.first_cp() + frame_st_.cp[j], 3 + k));
     d.E.push_back(s_index());
     for (int k = 0; k < 3; ++k) d.E.push_back(extra_offset() + k);
     d.PE = d.P;
@@ -351,10 +361,10 @@ class SlidingJoint final : public Effect {
   void slider_frame(const LocalValues& x, const DofMap& map, const Beam& S, Eigen::Matrix3d& e, Eigen::Vector3d& p) const {
     e.setZero();
     p.setZero();
-    for (int j = 0; j < stencil_.n; ++j) {
-      const double* c = x.cp(map, S.first_cp() + stencil_.cp[j]);
-      p += stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(c);
-      for (int i = 0; i < 3; ++i) e.col(i) += stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(c + 3 + 3 * i);
+    for (int j = 0; j < frame_st_.n; ++j) {
+      const double* c = x.cp(map, S.first_cp() + frame_st_.cp[j]);
+      p += frame_st_.w[j] * Eigen::Map<const Eigen::Vector3d>(c);
+      for (int i = 0; i < 3; ++i) e.col(i) += frame_st_.w[j] * Eigen::Map<const Eigen::Vector3d>(c + 3 + 3 * i);
     }
   }
 
@@ -430,10 +440,10 @@ class SlidingJoint final : public Effect {
     const Eigen::Vector3d Lambda = t.E * lam;
     const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
     for (int A = t.lo; A <= t.hi; ++A) Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, C, A)) += t.W.at(A) * Lambda;
-    for (int j = 0; j < stencil_.n; ++j) {
-      double* c = r.cp(ctx.map, S.first_cp() + stencil_.cp[j]);
-      Eigen::Map<Eigen::Vector3d>(c) -= stencil_.w[j] * Lambda;
-      for (int i = 0; i < 3; ++i) Eigen::Map<Eigen::Vector3d>(c + 3 + 3 * i) += stencil_.w[j] * lam(i) * t.v;
+    for (int j = 0; j < frame_st_.n; ++j) {
+      double* c = r.cp(ctx.map, S.first_cp() + frame_st_.cp[j]);
+      Eigen::Map<Eigen::Vector3d>(c) -= frame_st_.w[j] * Lambda;
+      for (int i = 0; i < 3; ++i) Eigen::Map<Eigen::Vector3d>(c + 3 + 3 * i) += frame_st_.w[j] * lam(i) * t.v;
     }
     r.at(s_index()) += t.Gs.dot(lam);
     const Eigen::Vector3d phi = t.E1.transpose() * t.gap;
@@ -449,7 +459,7 @@ class SlidingJoint final : public Effect {
     const Eigen::Vector3d Lambda = t.E * lam, Lambda_pi = t.Epi * lam;
     const Beam& C = ctx.model.beam(carrier_);
     const FrameDofs d = frame_dofs(ctx.model, win_lo_, win_hi_ + 1);
-    const int ny = 3 * stencil_.n, np = static_cast<int>(d.P.size()), nd = static_cast<int>(d.D.size());
+    const int ny = 3 * frame_st_.n, np = static_cast<int>(d.P.size()), nd = static_cast<int>(d.D.size());
     const int nde = nd + 4, npe = np + 4, nall = np + nd + 4;
     std::vector<double> v(d.value_count(), 0.0);
     double* vP = v.data();                               // rows P x cols (D, s, lambda)
@@ -467,32 +477,32 @@ class SlidingJoint final : public Effect {
       for (int k = 0; k < 3; ++k) {
         for (int i = 0; i < 3; ++i) {
           P_(ia + k, nd + 1 + i) = t.W.at(a) * t.E(k, i);
-          for (int j = 0; j < stencil_.n; ++j) P_(ia + k, 9 * j + 3 * i + k) = t.W.at(a) * lam(i) * b * stencil_.w[j];
+          for (int j = 0; j < frame_st_.n; ++j) P_(ia + k, 9 * j + 3 * i + k) = t.W.at(a) * lam(i) * b * frame_st_.w[j];
         }
         P_(ia + k, nd) = t.dW.at(a) * Lambda(k);
         // director rows: d (w_j lambda_i v) / d x_A
-        for (int j = 0; j < stencil_.n; ++j)
-          for (int i = 0; i < 3; ++i) D_(9 * j + 3 * i + k, ia + k) = stencil_.w[j] * lam(i) * t.W.at(a) * b;
+        for (int j = 0; j < frame_st_.n; ++j)
+          for (int i = 0; i < 3; ++i) D_(9 * j + 3 * i + k, ia + k) = frame_st_.w[j] * lam(i) * t.W.at(a) * b;
         E_(0, ia + k) = b * t.D.at(a) * Lambda_pi(k);
         for (int i = 0; i < 3; ++i) E_(1 + i, ia + k) = t.N1.at(a) * t.E1(k, i);
       }
     }
     // slider point rows and columns
-    for (int j = 0; j < stencil_.n; ++j) {
-      const double wj = stencil_.w[j];
+    for (int j = 0; j < frame_st_.n; ++j) {
+      const double wj = frame_st_.w[j];
       for (int k = 0; k < 3; ++k) {
         const int iy = 3 * j + k;
         for (int i = 0; i < 3; ++i) {
           P_(iy, nd + 1 + i) = -wj * t.E(k, i);
-          for (int l = 0; l < stencil_.n; ++l) P_(iy, 9 * l + 3 * i + k) = -wj * lam(i) * b * stencil_.w[l];
-          for (int l = 0; l < stencil_.n; ++l) D_(9 * l + 3 * i + k, iy) = -stencil_.w[l] * lam(i) * b * wj;
+          for (int l = 0; l < frame_st_.n; ++l) P_(iy, 9 * l + 3 * i + k) = -wj * lam(i) * b * frame_st_.w[l];
+          for (int l = 0; l < frame_st_.n; ++l) D_(9 * l + 3 * i + k, iy) = -frame_st_.w[l] * lam(i) * b * wj;
           E_(1 + i, iy) = -wj * t.E1(k, i);
         }
       }
     }
     // director rows' (s, lambda) columns; s and constraint rows' director columns
-    for (int j = 0; j < stencil_.n; ++j) {
-      const double wj = stencil_.w[j];
+    for (int j = 0; j < frame_st_.n; ++j) {
+      const double wj = frame_st_.w[j];
       for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k) {
           const int row = 9 * j + 3 * i + k;
@@ -564,6 +574,7 @@ class SlidingJoint final : public Effect {
   mutable int ghost_lo_ = 0, ghost_hi_ = -1;  ///< carrier points ghosted
   sliding::Curve curve_;        ///< the carrier's centre-line basis
   PositionStencil stencil_;     ///< the slider point on the slider beam
+  PositionStencil frame_st_;    ///< its entries of nonzero weight (the frame form)
   bool exact_ = true;
   bool frame_ = false;  ///< the frame-projected form (director sliders)
   double s0_ = 0.0;

@@ -189,12 +189,13 @@ double dot(Vec a, Vec b) {
 // Phi_n+1 - Phi_n (lambda . Delta Phi). The frame form's step force also has no resultant and no
 // moment about the mid-step configuration; the spatial form's has a moment (issue 21).
 TEST(SlidingJoint, StepForcesJacobianEnergyAndMoment) {
-  for (const std::string form : {"frame", "spatial"}) {
-    SCOPED_TRACE(form);
+  for (const std::string form : {"frame", "spatial"})
+  for (const double at : {0.0, 0.3}) {  // the slider's end (one control point), a point inside it (three)
+    SCOPED_TRACE(form + " at " + std::to_string(at));
     Model m(PETSC_COMM_WORLD);
     m.add_beam(straight_beam("carrier", 6, 3.0, {0, 0, 0}, kernels::StrainMeasure::SimoReissner, kernels::Quadrature::Full));
-    m.add_beam(turned_beam("slider", 2, 1.0, {1.1, 0, 0}));  // its start sits on the carrier at s = 1.1
-    m.add_effect("sliding_joint", EffectParams{{{"slider", 1.0}, {"slider_s", 0.0}, {"carrier", 0.0}}, {}, {{"form", form}}});
+    m.add_beam(turned_beam("slider", 2, 1.0, {1.1, -at, 0}));  // its point at arc length `at` sits on the carrier at s = 1.1
+    m.add_effect("sliding_joint", EffectParams{{{"slider", 1.0}, {"slider_s", at}, {"carrier", 0.0}}, {}, {{"form", form}}});
     m.finalize();
     const PetscInt e0 = m.effects()[0]->extra_offset();
     const std::vector<PetscInt> extras = {e0, e0 + 1, e0 + 2, e0 + 3};  // lambda, s
