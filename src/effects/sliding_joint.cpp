@@ -1,10 +1,16 @@
 // SPDX-License-Identifier: MIT
-/// @file Sliding joint (formulation.md sections 5-6): a point of the slider beam stays on the
-/// carrier's centre line, Phi = sum_A N_A(s) phi_A - p = 0, with the sliding coordinate s (no mass)
-/// and three multipliers mu as extra unknowns, and the frictionless condition G_s . mu = 0 as the
-/// equation of s. Relative rotations are free.
+/// @file Sliding joint (formulation.md sections 5-6): a point p of the slider beam stays on the
+/// carrier's centre line c(s) = sum_A N_A(s) phi_A, with the sliding coordinate s (no mass) and
+/// three multipliers as extra unknowns, and the frictionless condition (the s row: G_s . multipliers
+/// = 0) as the equation of s. Relative rotations are free. Two forms of the same constraints:
+///  - Frame (director sliders, the default): Phi_i = e_i . (c(s) - p), i = 1..3, with e_i the
+///    slider point's interpolated directors. Energy-momentum keeps energy, linear and angular
+///    momentum exactly (docs/theory.md, "The frame-projected sliding joint").
+///  - Spatial (ANCF sliders, which have no directors; or chosen): Phi = c(s) - p. Equivariant, not
+///    invariant: its energy-momentum force keeps energy and linear momentum, but has the moment
+///    (sum_A Nbar_A xbar_A - pbar) x mu = -1/4 (sum_A dN_A dx_A) x mu over a step.
 ///
-/// Within a time step the constraint force is G^T mu with, by rule:
+/// Spatial form. Within a time step the constraint force is G^T mu with, by rule:
 ///  - Endpoint (statics, Newmark, HHT): G at the end of the step;
 ///  - Theta (midpoint; the seed's form under energy-momentum): G at x_f, s_f;
 ///  - EnergyMomentum (exact, default): G_q = (N(s_n) + N(s_n+1))/2 on the carrier and
@@ -12,17 +18,17 @@
 ///    G_q dq + G_s ds = Phi_n+1 - Phi_n exactly, across any number of knots: the joint does no work.
 /// The knot span of s is found again at every evaluation.
 ///
-/// Frame form, with lambda_i the multipliers, b = d(force state)/d(end state) (1/2 under
-/// energy-momentum, theta otherwise), ē_i, x̄_A, ȳ the force state (mid-step under
-/// energy-momentum, x_f otherwise) and W_A the force weights:
-///   carrier block A:  W_A Lambda,  Lambda = sum_i lambda_i ē_i     (the force on the slider)
+/// Frame form, with lambda_i the multipliers, ebar_i, xbar_A, pbar the force state (mid-step under
+/// energy-momentum, x_f otherwise) and W_A the force weights on the carrier:
+///   carrier block A:  W_A Lambda,  Lambda = sum_i lambda_i ebar_i  (the force on the slider)
 ///   slider point:     -Lambda
-///   slider e_i:       lambda_i v,  v = sum_A W_A x̄_A - ȳ           (v x Lambda + Lambda x v = 0)
+///   slider e_i:       lambda_i v,  v = sum_A W_A xbar_A - pbar     (v x Lambda + Lambda x v = 0)
 ///   s:                sum_i lambda_i sum_A D_A pi_iA
 /// EnergyMomentum (exact): W = (N(s_n) + N(s_n+1))/2, D the exact difference quotient of N and
 /// pi_iA = (e_i,n . x_A,n + e_i,n+1 . x_A,n+1)/2: the product rule with the exact midpoint rule
 /// of the bilinear e_i . x_A and e_i . p, so G* dq = Phi_n+1 - Phi_n exactly. Otherwise W = N(s_f),
-/// D = N'(s_f), pi_iA = e_i,f . x_A,f.
+/// D = N'(s_f), pi_iA = e_i,f . x_A,f. The force state's derivative with respect to the end state
+/// is b = theta (1/2 under energy-momentum).
 ///
 /// Carrier and slider may be director beams or ANCF cables. The carrier's centre line is a
 /// sliding::Curve over coordinate 3-blocks ("curve blocks"): the phi of each control point of a
@@ -351,7 +357,7 @@ class SlidingJoint final : public Effect {
     sliding::Weights N1, dN1;  // the constraint at the end of the step: N(s1), N'(s1)
     double b = 1.0;            // d (force state) / d (end state)
     Eigen::Matrix3d E, E1, Epi;  // columns: directors of the force state, the end state, and of pi's x-derivative
-    Eigen::Vector3d v, dv_ds;    // moment arm sum_A W_A x̄_A - ȳ and its d / d s_n+1
+    Eigen::Vector3d v, dv_ds;    // moment arm sum_A W_A xbar_A - pbar and its d / d s_n+1
     Eigen::Vector3d gap, dc_ds;  // c(s1) - p at the end of the step, and c'(s1)
     Eigen::Vector3d Gs, dGs_ds;  // s row: coefficient of lambda_i, and its d / d s_n+1
     Eigen::Vector3d Xpi;         // sum_A D_A (x_A of pi's e-derivative)

@@ -20,6 +20,7 @@ ROOT = Path(__file__).resolve().parents[2]
 FREE = ROOT / "runs" / "free_floating"
 INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 NEWTON_ATOL = 1e-10  # the SNES absolute tolerance (solvers/newton.cpp)
+MOMENTUM_TOL = 2e-12  # relative drift of a momentum over a run (see test_frame_joint_keeps_both_momenta)
 
 
 def scene(name: str, **sets: object) -> slidebeam.Scene:
@@ -61,15 +62,17 @@ KNOTS = {"two_beams": [(1.25, 1.0, 0.75, 0.5)], "three_beams": [(1.75, 2.0, 2.25
 @pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint"))
 def test_frame_joint_keeps_both_momenta(name, integrator):
     """1 s at dt = 2e-3, sliders crossing knots: linear and angular momentum constant to 1e-12
-    of their size under both midpoint-type schemes; energy to the Newton tolerance under
-    energy-momentum; the constraints at solver tolerance."""
+    of their size under both midpoint-type schemes (measured 2e-13 to 1e-12; the test allows
+    2e-12: the angular momentum drifts no more than the linear momentum, which every form keeps
+    exactly, so what is left is the roundoff of v_n+1 = 2 (q_n+1 - q_n) / h - v_n); energy to the
+    Newton tolerance under energy-momentum; the constraints at solver tolerance."""
     r = run(name, integrator)
     assert r.complete, r.message
     s = np.array([[j.s for j in rec.joints] for rec in r.records])
     for k, knots in enumerate(KNOTS[name]):
         assert all(s[:, k].min() < knot < s[:, k].max() for knot in knots), (k, s[:, k].min(), s[:, k].max())
     d = drifts(r.records)
-    assert d["linear"] <= 1e-12 and d["angular"] <= 1e-12, d
+    assert d["linear"] <= MOMENTUM_TOL and d["angular"] <= MOMENTUM_TOL, d
     if integrator == "energy-momentum":
         assert d["energy"] <= 10 * NEWTON_ATOL, d
     assert max(rec.constraint_residual for rec in r.records) <= NEWTON_ATOL
@@ -82,7 +85,7 @@ def test_spatial_joint_loses_angular_momentum(name):
     measured), and the same motion to the scheme's error."""
     r, ref = run(name, form="spatial"), run(name)
     d = drifts(r.records)
-    assert d["energy"] <= 10 * NEWTON_ATOL and d["linear"] <= 1e-12, d
+    assert d["energy"] <= 10 * NEWTON_ATOL and d["linear"] <= MOMENTUM_TOL, d
     assert d["angular"] > 1e-7, d
     s = np.array([[j.s for j in rec.joints] for rec in r.records])
     s_ref = np.array([[j.s for j in rec.joints] for rec in ref.records])
@@ -109,12 +112,14 @@ def test_cable_carrier_and_cable_slider():
     angular momentum off (5.2e-6 measured over the run)."""
     carrier = slidebeam.Simulation(cable_scene(("AB",))).run_dynamic()
     d = drifts(carrier.records)
-    assert carrier.complete and d["energy"] <= 10 * NEWTON_ATOL and d["linear"] <= 1e-12 and d["angular"] <= 1e-12, d
+    assert carrier.complete and d["energy"] <= 10 * NEWTON_ATOL and d["linear"] <= MOMENTUM_TOL, d
+    assert d["angular"] <= MOMENTUM_TOL, d
     sim = slidebeam.Simulation(cable_scene(("CM",)))
     assert sim.scene.sliding_joints[0].form == "spatial"
     slider = sim.run_dynamic()
     d = drifts(slider.records)
-    assert slider.complete and d["energy"] <= 10 * NEWTON_ATOL and d["linear"] <= 1e-12 and d["angular"] > 1e-7, d
+    assert slider.complete and d["energy"] <= 10 * NEWTON_ATOL and d["linear"] <= MOMENTUM_TOL, d
+    assert d["angular"] > 1e-7, d
 
 
 @pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint"))
