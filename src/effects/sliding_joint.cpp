@@ -75,7 +75,7 @@ class SlidingJoint final : public Effect {
     if (form == "exact") exact_ = true;
     else if (form == "midpoint") exact_ = false;
     else throw std::invalid_argument("sliding_joint: discrete_gradient must be 'exact' or 'midpoint', not '" + form + "'");
-    const std::string frame = p.string("form", S.is_ancf() ? "spatial" : "frame");
+    const std::string frame = p.string("form", S.is_ancf() || !exact_ ? "spatial" : "frame");
     if (frame == "frame") frame_ = true;
     else if (frame != "spatial") throw std::invalid_argument("sliding_joint: form must be 'frame' or 'spatial', not '" + frame + "'");
     if (frame_ && S.is_ancf())

@@ -603,7 +603,9 @@ def test_sliding_joint_parses_and_checks_its_input():
     assert sc.sliding_joints == (scene.SlidingJoint(1, 0.0, 0, "exact", "stop", None),)
     sc = scene.scene_from_dict(_slider({"slider": "hanger", "at": "end", "carrier": "carrier",
                                         "discrete_gradient": "midpoint", "at_carrier_end": "fail", "tolerance": 1e-3}))
-    assert sc.sliding_joints == (scene.SlidingJoint(1, 1.0, 0, "midpoint", "fail", 1e-3),)
+    assert sc.sliding_joints == (scene.SlidingJoint(1, 1.0, 0, "midpoint", "fail", 1e-3, form="spatial"),)
+    assert sc.sliding_joints[0].form == "spatial"  # the seed's midpoint form: the spatial constraint
+    sc = scene.scene_from_dict(_slider({"slider": "hanger", "carrier": "carrier"}))
     assert sc.sliding_joints[0].form == "frame"  # director sliders: the frame-projected joint
     sc = scene.scene_from_dict(_slider({"slider": "hanger", "carrier": "carrier", "form": "spatial"}))
     assert sc.sliding_joints[0].form == "spatial"
