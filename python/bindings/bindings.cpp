@@ -154,6 +154,12 @@ PYBIND11_MODULE(_core, m) {
       .def("static_reactions",
            [](const Model& s, double t, Vec x) { return reaction_list(s.static_reactions(t, x)); }, py::arg("t"), py::arg("x"),
            "[(effect index, force, moment or None)] of supports and joints in equilibrium at x (collective)")
+      .def("joint_forces",
+           [](const Model& s, double t, Vec x, const std::vector<int>& effects) {
+             return s.joint_forces(StepEval{StepRule::Endpoint, t, 1.0}, x, effects);
+           },
+           py::arg("t"), py::arg("x"), py::arg("effects"),
+           "force of each given sliding joint on its slider at x, global frame (collective)")
       .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
       .def_property_readonly("ghost_rebuilds", &Model::ghost_rebuilds,
                              "how often the ghost set was rebuilt because a sliding joint moved")
@@ -250,6 +256,24 @@ PYBIND11_MODULE(_core, m) {
            py::keep_alive<1, 2>())
       .def("initialize", [](TimeIntegrator& s, double t, Vec x, Vec v) { s.initialize(t, x, v); },
            py::arg("t"), py::arg("x"), py::arg("v"))
+      .def_property_readonly(
+          "velocity_projection",
+          [](const TimeIntegrator& s) {
+            const auto& p = s.velocity_projection();
+            py::dict d;
+            d["solved"] = p.solved;
+            d["failed"] = p.failed;
+            d["projected"] = p.projected;
+            d["size"] = p.size;
+            d["change"] = p.change;
+            d["largest"] = p.largest;
+            d["kinetic_before"] = p.kinetic_before;
+            d["kinetic_after"] = p.kinetic_after;
+            return d;
+          },
+          "what initialize did to the initial velocity: its projection onto the constraints in the mass "
+          "metric (dict: solved, failed, projected, size and change in the mass norm, largest change of a "
+          "coordinate's rate, kinetic energy before and after)")
       .def("step", &TimeIntegrator::step, py::arg("h"))
       .def_property_readonly("time", &TimeIntegrator::time)
       .def_property_readonly("x", &TimeIntegrator::x, "state x_n (petsc4py Vec, shared with the core)")
@@ -291,6 +315,9 @@ PYBIND11_MODULE(_core, m) {
       .def("constraint_residual", &TimeIntegrator::constraint_residual)
       .def("reactions", [](TimeIntegrator& s) { return reaction_list(s.reactions()); },
            "[(effect index, force, moment or None)] of supports and joints over the last step (collective)")
+      .def("joint_forces", &TimeIntegrator::joint_forces, py::arg("effects"),
+           "force of each given sliding joint on its slider over the last step (at t_n before any "
+           "step), global frame (collective)")
       .def("prepare_step", &TimeIntegrator::prepare_step, py::arg("h"))
       .def("step_residual", [](TimeIntegrator& s, Vec x, Vec F) { SB_CHECK(s.step_residual(x, F)); })
       .def("step_jacobian", [](TimeIntegrator& s, Vec x, Mat J) { SB_CHECK(s.step_jacobian(x, J)); });

@@ -11,7 +11,7 @@ from typing import Any
 
 from .scene import Scene, SceneError, load_scene, scene_from_dict
 
-__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "Simulation", "Reaction"]
+__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "Simulation", "Reaction", "ConstraintWarning"]
 
 
 def __getattr__(name: str) -> Any:
@@ -19,6 +19,10 @@ def __getattr__(name: str) -> Any:
         from .simulation import Simulation
 
         return Simulation
+    if name == "ConstraintWarning":
+        from .simulation import ConstraintWarning
+
+        return ConstraintWarning
     if name == "Reaction":
         from .dynamics import Reaction
 

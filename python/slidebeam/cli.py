@@ -12,6 +12,7 @@ import os
 import sys
 import time
 import traceback
+import warnings
 from pathlib import Path
 
 from . import interrupts
@@ -79,6 +80,9 @@ def _parser() -> argparse.ArgumentParser:
                           epilog="Example: slidebeam plot out/em out/midpoint --out energy.png")
     plot.add_argument("runs", nargs="+", help="run folders (with history.csv)")
     plot.add_argument("--out", help="PNG file (default: <first run>/energy_momentum.png)")
+    plot.add_argument("--drift", action="store_true",
+                      help="momentum panels: the relative change |L(t) - L(0)| / |L(0)|, |J(t) - J(0)| / |J(0)| on a "
+                           "log scale instead of the components (for free-floating structures)")
     return p
 
 
@@ -232,6 +236,17 @@ def _restart_scene(args: argparse.Namespace, restart: Path, rank: int) -> Scene:
     return scene
 
 
+def _say_run_warnings(sim, rank: int) -> None:
+    """What the start of a run corrected (initial velocities), once each."""
+    for w in sim.warnings:
+        if w not in _said_run_warnings:
+            _said_run_warnings.add(w)
+            _say(rank, f"slidebeam: warning: {w}", sys.stderr)
+
+
+_said_run_warnings: set[str] = set()
+
+
 def _say_warnings(scene: Scene, rank: int) -> None:
     for w in scene.warnings:
         _say(rank, f"slidebeam: warning: {scene.file}: {w}", sys.stderr)
@@ -275,7 +290,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     from mpi4py import MPI
 
     from .results import prepare_output_dir, write_results
-    from .simulation import Simulation
+    from .simulation import ConstraintWarning, Simulation
 
     check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     comm = MPI.COMM_WORLD
@@ -291,10 +306,14 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
         return EXIT_INPUT
 
     t0 = time.perf_counter()
-    sim = Simulation(scene)
+    with warnings.catch_warnings():  # said below, in the command's own words
+        warnings.simplefilter("ignore", ConstraintWarning)
+        sim = Simulation(scene)
     _say(rank, _describe(scene))
     _say(rank, _effects_line(sim.active_effects))
     _say_warnings(scene, rank)
+    if restart is None:  # (a restart's state comes from its checkpoint)
+        _say_run_warnings(sim, rank)
     state = None
     if restart is not None:
         from .checkpoint import read_checkpoint
@@ -410,11 +429,14 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
 
     if state is None and a.start == "equilibrium":
-        from .simulation import EquilibriumFailure
+        from .simulation import ConstraintWarning, EquilibriumFailure
 
         _say(rank, "static start: solving for the equilibrium under the loads at t = 0 ...")
         try:
-            eq = sim.settle()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ConstraintWarning)
+                eq = sim.settle()
+            _say_run_warnings(sim, rank)
         except EquilibriumFailure as err:
             return _equilibrium_failed(sim, scene, out, args, rank, ranks, t0, output, err)
         _say(rank, f"static start: equilibrium after {eq.pseudo_steps} continuation steps, {eq.newton_iterations} "
@@ -444,6 +466,13 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         summary["static_start"] = {"continuation_steps": sim.settled.pseudo_steps,
                                    "newton_iterations": sim.settled.newton_iterations,
                                    "residual_initial": sim.settled.residual0, "residual": sim.settled.residual}
+    p = sim.velocity_projection
+    if p is not None and state is None:
+        summary["initial_velocity"] = {
+            "projected": p["projected"], "failed": p["failed"],
+            "relative_change": p["change"] / p["size"] if p["size"] > 0 else 0.0,
+            "largest_change": p["largest"], "kinetic_energy_given": p["kinetic_before"],
+            "kinetic_energy": p["kinetic_after"]}
     if scene.sliding_joints:
         from .results import sliding_joint_summary
         summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
@@ -530,7 +559,8 @@ def main(argv: list[str] | None = None) -> int:
             from .plots import plot_energy_momentum
 
             runs = [Path(r) for r in args.runs]
-            png = plot_energy_momentum(runs, Path(args.out) if args.out else runs[0] / "energy_momentum.png")
+            png = plot_energy_momentum(runs, Path(args.out) if args.out else runs[0] / "energy_momentum.png",
+                                       drift=args.drift)
             _say(rank, f"wrote {png}")
             return EXIT_OK
         if args.command == "study":

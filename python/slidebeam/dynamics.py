@@ -316,7 +316,7 @@ def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome,
         sim.step_wall_times.append(time.perf_counter() - t_step)
         st.newton += result.iterations
         if result.converged:  # the core already counts NaN/Inf in F or x as a failure
-            joints = sim.joint_states(gaps=False) if sim.scene.sliding_joints else []
+            joints = sim.joint_states(gaps=False, reactions=False) if sim.scene.sliding_joints else []
             ended = carrier_end(sim, joints) if joints else None
             if ended:
                 # end the run with the slider at the carrier end: the step again, shortened
@@ -328,10 +328,10 @@ def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome,
                                                              st.rejected_since_record))
                         if on_step:
                             on_step(st.records[-1])
-                    joints = sim.joint_states(gaps=False)
+                    joints = sim.joint_states(gaps=False, reactions=False)
                 else:
                     st.step += 1
-                    joints = sim.joint_states(gaps=False)
+                    joints = sim.joint_states(gaps=False, reactions=False)
                     st.records.append(sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints))
                     if on_step:
                         on_step(st.records[-1])

@@ -113,7 +113,7 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
         if sj.tolerance is not None:
             num["tolerance"] = sj.tolerance
         add("sliding_joint", f"sliding_joint[{_where(scene, sj.slider, sj.at)} on {scene.beams[sj.carrier].name}]",
-            num, None, {"discrete_gradient": sj.discrete_gradient})
+            num, None, {"discrete_gradient": sj.discrete_gradient, "form": sj.form})
     for pm in scene.point_masses:
         add("point_mass", f"point_mass[{_where(scene, pm.beam, pm.at)}, {pm.mass:g} kg]",
             {"beam": pm.beam, "s": pm.at, "mass": pm.mass})

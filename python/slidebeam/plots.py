@@ -34,9 +34,12 @@ def _label(run_dir: Path) -> str:
     return Path(run_dir).name
 
 
-def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
-    """Four panels: total energy, the energy balance's error relative to the largest energy of the run,
-    linear momentum and angular momentum (all components), one line style per run."""
+def plot_energy_momentum(run_dirs: list[Path], out_png: Path, drift: bool = False) -> Path:
+    """Four panels: total energy, the energy balance's error |H - H0 - W + D| relative to the
+    largest energy of the run (histories without it: the energy change per record), linear
+    momentum and angular momentum (all components; drift: their relative change from the start
+    on a log scale), one line style per run. Runs with the same label (integrator) are told
+    apart by their folder's name."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -44,6 +47,7 @@ def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
 
     fig, ax = plt.subplots(2, 2, figsize=(12, 8), sharex=True)
     typical = []
+    labels = [_label(run) for run in run_dirs]
     for k, run in enumerate(run_dirs):
         h = read_history(run)
         if "total_energy" not in h:
@@ -51,7 +55,7 @@ def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
         t, H = h["t"], h["total_energy"]
         ok = h["converged"] > 0
         t, H = t[ok], H[ok]
-        label = _label(run)
+        label = labels[k] if labels.count(labels[k]) == 1 else f"{labels[k]} ({Path(run).name})"
         color = f"C{k}"
         ax[0, 0].plot(t, H, color=color, label=label)
         first_half = H[: max(2, len(H) // 2)]
@@ -61,6 +65,13 @@ def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
             ax[0, 1].semilogy(t, np.maximum(h["energy_balance_error"][ok] / scale, 1e-17), color=color, label=label)
         else:
             ax[0, 1].semilogy(t[1:], np.maximum(np.abs(np.diff(H)) / scale, 1e-17), color=color, label=label)
+        if drift:
+            for a, name, sym in ((ax[1, 0], "linear_momentum", "L"), (ax[1, 1], "angular_momentum", "J")):
+                m = np.stack([h[f"{name}.{c}"][ok] for c in "xyz"], axis=1)
+                rel = np.linalg.norm(m - m[0], axis=1) / max(np.linalg.norm(m[0]), 1e-300)
+                # (runs that keep a momentum equally well would hide each other in one style)
+                a.semilogy(t[1:], np.maximum(rel[1:], 1e-17), ("-", "--", "-.", ":")[k % 4], color=color, label=label)
+            continue
         for c, style in zip("xyz", ("-", "--", ":")):
             ax[1, 0].plot(t, h[f"linear_momentum.{c}"][ok], style, color=color, label=f"{label} L{c}")
             ax[1, 1].plot(t, h[f"angular_momentum.{c}"][ok], style, color=color, label=f"{label} J{c}")
@@ -70,14 +81,18 @@ def plot_energy_momentum(run_dirs: list[Path], out_png: Path) -> Path:
         ax[0, 0].set_ylim(lo - pad, hi + pad)
     ax[0, 0].set_title("total energy T + U + V")
     ax[0, 1].set_title("energy balance |H - H0 - W + D| / max energy")
-    ax[1, 0].set_title("linear momentum")
-    ax[1, 1].set_title("angular momentum (about the origin)")
+    if drift:
+        ax[1, 0].set_title("linear momentum |L(t) - L(0)| / |L(0)|")
+        ax[1, 1].set_title("angular momentum |J(t) - J(0)| / |J(0)| (about the origin)")
+    else:
+        ax[1, 0].set_title("linear momentum")
+        ax[1, 1].set_title("angular momentum (about the origin)")
     for a in ax.flat:
         a.grid(True, alpha=0.3)
     for a in ax[1]:
         a.set_xlabel("t")
     ax[0, 0].legend(fontsize=8)
-    ax[1, 1].legend(fontsize=7, ncol=2)
+    ax[1, 1].legend(fontsize=7, ncol=1 if drift else 2)
     fig.tight_layout()
     out_png = Path(out_png)
     out_png.parent.mkdir(parents=True, exist_ok=True)

@@ -258,6 +258,11 @@ class SlidingJoint:
     at_carrier_end: str      # 'stop' (the run ends, exit 0) or 'fail' (the run fails, exit 1)
     tolerance: float | None  # largest slider-carrier distance at the start (None: 1e-6 L_carrier)
     static: str = "held"     # in the equilibrium start: 'held' (s kept) or 'free' (s slides to equilibrium)
+    # 'frame': the constraint in the slider's director frame, e_i . (c(s) - p) = 0 (director
+    # sliders, the default: energy, linear and angular momentum exact under energy-momentum);
+    # 'spatial': c(s) - p = 0 (ANCF sliders, which have no directors, and the seed's midpoint
+    # form discrete_gradient = 'midpoint' by default: angular momentum not exact)
+    form: str = "frame"
 
 
 @dataclass(frozen=True)
@@ -1293,16 +1298,22 @@ def _named_beam(t: _Table, key: str, beams: tuple[Beam, ...]) -> int:
 
 
 def _parse_sliding_joint(t: _Table, beams: tuple[Beam, ...]) -> SlidingJoint:
-    t.check_keys(("slider", "at", "carrier", "discrete_gradient", "at_carrier_end", "tolerance", "static"))
+    t.check_keys(("slider", "at", "carrier", "discrete_gradient", "form", "at_carrier_end", "tolerance", "static"))
     slider = _named_beam(t, "slider", beams)
     carrier = _named_beam(t, "carrier", beams)
     if slider == carrier:
         raise t.error("carrier", f"a beam cannot slide on itself ('{beams[slider].name}')")
     at = _parse_at(t, beams[slider].geometry.length) if t.has("at") else 0.0
     tolerance = t.number("tolerance", check=lambda v: v > 0, requirement="> 0") if t.has("tolerance") else None
-    return SlidingJoint(slider, at, carrier, t.choice("discrete_gradient", ("exact", "midpoint"), "exact"),
-                        t.choice("at_carrier_end", ("stop", "fail"), "stop"), tolerance,
-                        t.choice("static", ("held", "free"), "held"))
+    gradient = t.choice("discrete_gradient", ("exact", "midpoint"), "exact")
+    ancf_slider = beams[slider].formulation == "ancf"
+    # the seed's midpoint form is the spatial constraint as published
+    form = t.choice("form", ("frame", "spatial"), "spatial" if ancf_slider or gradient == "midpoint" else "frame")
+    if form == "frame" and ancf_slider:
+        raise t.error("form", f"'frame' needs a director slider: '{beams[slider].name}' is an ANCF cable, which has "
+                              "no directors (use 'spatial')")
+    return SlidingJoint(slider, at, carrier, gradient, t.choice("at_carrier_end", ("stop", "fail"), "stop"), tolerance,
+                        t.choice("static", ("held", "free"), "held"), form)
 
 
 def _parse_point_mass(t: _Table, beams: tuple[Beam, ...]) -> PointMass:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import shlex
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -20,6 +21,10 @@ from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .scene import Scene, SceneError
+
+
+class ConstraintWarning(UserWarning):
+    """A scene's initial state violated its constraints and was corrected."""
 
 
 class EquilibriumFailure(RuntimeError):
@@ -121,16 +126,40 @@ class Simulation:
         self.stop_signal: int | None = None  # the signal that stopped it, if one did
         self.stop_is_failure = False  # a slider left its carrier with at_carrier_end = "fail"
         self.initial_energy = 0.0  # H_0 of the energy balance (the first record of a dynamic run)
+        self.warnings: list[str] = []  # what the start found and corrected (initial velocities)
+        # the initial velocities' projection onto the constraints (TimeIntegrator.velocity_projection)
+        self.velocity_projection: dict | None = None
         a = scene.analysis
         if a.type == "dynamic":
             self.integrator = _core.TimeIntegrator(self._model, a.integrator, beta=a.newmark_beta,
                                                    gamma=a.newmark_gamma,
                                                    alpha=a.hht_alpha if a.integrator == "hht" else 0.0,
                                                    dissipation=a.em_dissipation)
-            v = self._model.x.duplicate()
-            initial_velocity(self, v)
-            self.integrator.initialize(0.0, self._model.x, v)
-            v.destroy()
+            self._start_motion()
+
+    def _start_motion(self) -> None:
+        """Start the integrator at the current state with the scene's initial velocities,
+        projected onto the constraints (see TimeIntegrator.initialize); warn if they violated
+        them."""
+        v = self._model.x.duplicate()
+        initial_velocity(self, v)
+        self.integrator.initialize(0.0, self._model.x, v)
+        v.destroy()
+        p = self.integrator.velocity_projection
+        self.velocity_projection = p if p["solved"] else None
+        message = None
+        if p["failed"]:
+            message = ("the initial velocities could not be checked against the constraints (the constrained "
+                       "mass system is singular): they are used as given, sliding rates 0")
+        elif p["projected"]:
+            rel = p["change"] / p["size"]
+            message = (f"the initial velocities violate the constraints (supports, joints, sliders on their carriers): "
+                       f"projected onto them with the mass metric, a change of {rel:.3g} of their mass norm "
+                       f"(largest change of a coordinate's rate {p['largest']:.3g}); kinetic energy "
+                       f"{p['kinetic_before']:.6g} -> {p['kinetic_after']:.6g}")
+        if message and message not in self.warnings:
+            self.warnings.append(message)
+            warnings.warn(message, ConstraintWarning, stacklevel=3)
 
     def settle(self) -> "_core.EquilibriumResult":
         """Start a dynamic run from static equilibrium: solve for the equilibrium under the loads
@@ -148,10 +177,7 @@ class Simulation:
             raise EquilibriumFailure(
                 f"the static start found no equilibrium: residual {result.residual:.3e} (from {result.residual0:.3e}) "
                 f"after {result.pseudo_steps} continuation steps and {result.newton_iterations} Newton iterations")
-        v = self._model.x.duplicate()
-        initial_velocity(self, v)
-        self.integrator.initialize(0.0, self._model.x, v)
-        v.destroy()
+        self._start_motion()
         return result
 
     @property
@@ -383,22 +409,37 @@ class Simulation:
         multipliers come just before it)."""
         return self._model.extra_offset(self.sliding_joint_effects()[joint]) + 3
 
-    def joint_states(self, gaps: bool = True) -> list[JointState]:
+    def joint_states(self, gaps: bool = True, reactions: bool = True) -> list[JointState]:
         """s, ds/dt, reaction and gap (the slider point's distance from the carrier's centre line,
         the joint's constraint residual; 0 unless gaps) of every sliding joint in the current
-        state (collective; statics: ds/dt = 0)."""
+        state (collective; statics: ds/dt = 0). The reaction is the force of the carrier on the
+        slider in the global frame: over the last time step once one was taken (the step's mean
+        force under the midpoint-type schemes), else at the current state."""
         x = self.x
         rate = self.integrator.sliding_rate if self.integrator is not None else None
         gap = self._joint_gaps() if gaps else [0.0] * len(self.scene.sliding_joints)
+        effects = self.sliding_joint_effects()
+        if not effects:
+            return []
+        forces = self._joint_forces() if reactions else [(0.0, 0.0, 0.0)] * len(effects)
         states = []
-        for k, g in zip(self.sliding_joint_effects(), gap):
-            mu_and_s = self._model.extra_values(k, x)  # mu (3), then s
+        for k, g, force in zip(effects, gap, forces):
+            s = self._model.extra_values(k, x)[3]  # multipliers (3), then s
             sdot = self._model.extra_values(k, rate)[3] if rate is not None else 0.0
-            states.append(JointState(float(mu_and_s[3]), float(sdot), tuple(float(m) for m in mu_and_s[:3]), g))
+            states.append(JointState(float(s), float(sdot), tuple(float(f) for f in force), g))
         return states
 
+    def _joint_forces(self) -> list[tuple[float, float, float]]:
+        """The reaction of every sliding joint (see joint_states; collective)."""
+        effects = self.sliding_joint_effects()
+        forces = (self.integrator.joint_forces(effects) if self.integrator is not None
+                  else self._model.joint_forces(self.t, self.x, effects))
+        return [tuple(float(f) for f in force) for force in forces]
+
     def _joint_gaps(self) -> list[float]:
-        """|phi_carrier(s) - phi_slider| per sliding joint: its constraint rows of the residual."""
+        """Distance of each sliding joint's slider point from the carrier's centre line: the norm
+        of its constraint rows (spatial form: c(s) - p; frame form: the components of c(s) - p on
+        the slider's directors, the same norm while they stay orthonormal)."""
         if not self.scene.sliding_joints:
             return []
         F = self.x.duplicate()
@@ -419,8 +460,8 @@ class Simulation:
 
     def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,
                        rejected: int, joints: list[JointState] | None = None) -> DynamicRecord:
-        """Energies, momenta, constraint residual, tracked points and sliding joints (`joints`
-        if the caller has them already) of the current state."""
+        """Energies, momenta, constraint residual, tracked points and sliding joints (`joints`:
+        their s and ds/dt if the caller has them already) of the current state."""
         assert self.integrator is not None
         e = self.energies()
         kinetic, lin, ang = self.integrator.motion()
@@ -441,7 +482,7 @@ class Simulation:
             constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
             tracked=self.tracked_points(),
             joints=self.joint_states() if joints is None else
-            [dataclasses.replace(j, gap=g) for j, g in zip(joints, self._joint_gaps())],
+            [dataclasses.replace(j, gap=g, reaction=f) for j, g, f in zip(joints, self._joint_gaps(), self._joint_forces())],
             reactions=self.reactions(over_last_step=result is not None and bool(result.converged)),
             work=work, dissipated=dissipated,
             energy_balance_error=abs(total - self.initial_energy - work + dissipated),

@@ -1,16 +1,34 @@
 // SPDX-License-Identifier: MIT
-/// @file Sliding joint (formulation.md sections 5-6): a point of the slider beam stays on the
-/// carrier's centre line, Phi = sum_A N_A(s) phi_A - p = 0, with the sliding coordinate s (no mass)
-/// and three multipliers mu as extra unknowns, and the frictionless condition G_s . mu = 0 as the
-/// equation of s. Relative rotations are free.
+/// @file Sliding joint (formulation.md sections 5-6): a point p of the slider beam stays on the
+/// carrier's centre line c(s) = sum_A N_A(s) phi_A, with the sliding coordinate s (no mass) and
+/// three multipliers as extra unknowns, and the frictionless condition (the s row: G_s . multipliers
+/// = 0) as the equation of s. Relative rotations are free. Two forms of the same constraints:
+///  - Frame (director sliders, the default): Phi_i = e_i . (c(s) - p), i = 1..3, with e_i the
+///    slider point's interpolated directors. Energy-momentum keeps energy, linear and angular
+///    momentum exactly (docs/theory.md, "The frame-projected sliding joint").
+///  - Spatial (ANCF sliders, which have no directors; or chosen): Phi = c(s) - p. Equivariant, not
+///    invariant: its energy-momentum force keeps energy and linear momentum, but has the moment
+///    (sum_A Nbar_A xbar_A - pbar) x mu = -1/4 (sum_A dN_A dx_A) x mu over a step.
 ///
-/// Within a time step the constraint force is G^T mu with, by rule:
+/// Spatial form. Within a time step the constraint force is G^T mu with, by rule:
 ///  - Endpoint (statics, Newmark, HHT): G at the end of the step;
 ///  - Theta (midpoint; the seed's form under energy-momentum): G at x_f, s_f;
 ///  - EnergyMomentum (exact, default): G_q = (N(s_n) + N(s_n+1))/2 on the carrier and
 ///    G_s = sum_A [N_A(s_n+1) - N_A(s_n)]/(s_n+1 - s_n) phi_A,n+1/2, so that
 ///    G_q dq + G_s ds = Phi_n+1 - Phi_n exactly, across any number of knots: the joint does no work.
 /// The knot span of s is found again at every evaluation.
+///
+/// Frame form, with lambda_i the multipliers, ebar_i, xbar_A, pbar the force state (mid-step under
+/// energy-momentum, x_f otherwise) and W_A the force weights on the carrier:
+///   carrier block A:  W_A Lambda,  Lambda = sum_i lambda_i ebar_i  (the force on the slider)
+///   slider point:     -Lambda
+///   slider e_i:       lambda_i v,  v = sum_A W_A xbar_A - pbar     (v x Lambda + Lambda x v = 0)
+///   s:                sum_i lambda_i sum_A D_A pi_iA
+/// EnergyMomentum (exact): W = (N(s_n) + N(s_n+1))/2, D the exact difference quotient of N and
+/// pi_iA = (e_i,n . x_A,n + e_i,n+1 . x_A,n+1)/2: the product rule with the exact midpoint rule
+/// of the bilinear e_i . x_A and e_i . p, so G* dq = Phi_n+1 - Phi_n exactly. Otherwise W = N(s_f),
+/// D = N'(s_f), pi_iA = e_i,f . x_A,f. The force state's derivative with respect to the end state
+/// is b = theta (1/2 under energy-momentum).
 ///
 /// Carrier and slider may be director beams or ANCF cables. The carrier's centre line is a
 /// sliding::Curve over coordinate 3-blocks ("curve blocks"): the phi of each control point of a
@@ -43,10 +61,26 @@ class SlidingJoint final : public Effect {
     if (sigma < -1e-12 * S.length() || sigma > S.length() * (1 + 1e-12))
       throw std::invalid_argument("sliding_joint: slider point s = " + std::to_string(sigma) + " outside beam '" + S.name() + "'");
     stencil_ = S.position_at(std::clamp(sigma, 0.0, S.length()));
+    // The frame form reads the stencil's directors too and couples them with the carrier: only
+    // the control points that carry weight (one at a beam end), to keep the pattern small.
+    for (int j = 0; j < stencil_.n; ++j) {
+      if (stencil_.w[j] == 0.0) continue;
+      const int k = frame_st_.n++;
+      frame_st_.cp[k] = stencil_.cp[j];
+      frame_st_.comp[k] = stencil_.comp[j];
+      frame_st_.w[k] = stencil_.w[j];
+    }
+    frame_st_.span = stencil_.span;
     const std::string form = p.string("discrete_gradient", "exact");
     if (form == "exact") exact_ = true;
     else if (form == "midpoint") exact_ = false;
     else throw std::invalid_argument("sliding_joint: discrete_gradient must be 'exact' or 'midpoint', not '" + form + "'");
+    const std::string frame = p.string("form", S.is_ancf() || !exact_ ? "spatial" : "frame");
+    if (frame == "frame") frame_ = true;
+    else if (frame != "spatial") throw std::invalid_argument("sliding_joint: form must be 'frame' or 'spatial', not '" + frame + "'");
+    if (frame_ && S.is_ancf())
+      throw std::invalid_argument("sliding_joint: form 'frame' needs a director slider; beam '" + S.name() +
+                                  "' is an ANCF cable (no directors): use form 'spatial'");
 
     // initial s: the closest point of the slider point on the carrier (reference configuration),
     // found by the model's parallel search (closest_point_queries / set_closest_points)
@@ -121,6 +155,12 @@ class SlidingJoint final : public Effect {
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
+    if (frame_) {
+      const FrameDofs d = frame_dofs(m, win_lo_, win_hi_ + 1);
+      std::vector<double> zero(d.value_count(), 0.0);
+      PetscCall(d.add(zero.data(), sink));
+      PetscFunctionReturn(0);
+    }
     const int n = 3 * stencil_.n + 3 * (win_hi_ - win_lo_ + 1) + 4;
     const std::vector<double> zero(static_cast<size_t>(4 * (n - 4) + 4 * n), 0.0);
     PetscCall(add_blocks(dofs(m, win_lo_, win_hi_ + 1), zero.data(), sink));
@@ -130,6 +170,7 @@ class SlidingJoint final : public Effect {
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
+    if (frame_) PetscFunctionReturn(frame_residual(ctx, r));
     const Terms t = terms(ctx);
     const Eigen::Vector3d mu = multipliers(ctx.x);
     const Beam& C = ctx.model.beam(carrier_);
@@ -150,6 +191,7 @@ class SlidingJoint final : public Effect {
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
+    if (frame_) PetscFunctionReturn(frame_jacobian(ctx, J));
     const Terms t = terms(ctx);
     const Eigen::Vector3d mu = multipliers(ctx.x);
     const Beam& C = ctx.model.beam(carrier_);
@@ -189,6 +231,21 @@ class SlidingJoint final : public Effect {
     srow(0, is) = ds_row_s;
     PetscCall(add_blocks(dofs(ctx.model, win_lo_, win_hi_ + 1), blocks.data(), J));
     PetscFunctionReturn(0);
+  }
+
+  /// The force on the slider: the multipliers (spatial form), or sum_i lambda_i e_i at the
+  /// force state (frame form; mid-step under energy-momentum).
+  bool joint_force(const EvalContext& ctx, std::array<double, 3>& f) const override {
+    if (!owned_) return false;
+    Eigen::Vector3d force = multipliers(ctx.x);
+    if (frame_) {
+      Eigen::Matrix3d e;
+      Eigen::Vector3d p;
+      slider_frame(ctx.xf, ctx.map, ctx.model.beam(slider_), e, p);
+      force = e * force;
+    }
+    for (int k = 0; k < 3; ++k) f[static_cast<size_t>(k)] = force(k);
+    return true;
   }
 
   /// J(positions, extras) += values[0 : 4 p] (p x 4, row-major), J(extras, all) += the next 4 x n,
@@ -252,6 +309,227 @@ class SlidingJoint final : public Effect {
     return t;
   }
 
+  /// Unknowns of the frame form: P = the slider point's blocks (3 per stencil entry), then the
+  /// carrier curve blocks of the window (3 each); D = the directors d1, d2, d3 of the slider's
+  /// stencil control points (9 per entry); E = s, lambda. The joint couples P with D and E, D
+  /// with P and E, and E with all; never positions with positions or directors with directors.
+  struct FrameDofs {
+    std::vector<PetscInt> P, D, E, PE, DE, all;
+    size_t value_count() const { return P.size() * DE.size() + D.size() * PE.size() + E.size() * all.size(); }
+    /// values: rows P x cols DE, then rows D x cols PE, then rows E x cols all (row-major each).
+    PetscErrorCode add(const double* v, const MatSink& J) const {
+      PetscFunctionBeginUser;
+      const auto n = [](const std::vector<PetscInt>& x) { return static_cast<PetscInt>(x.size()); };
+      PetscCall(J.add(n(P), P.data(), n(DE), DE.data(), v));
+      v += P.size() * DE.size();
+      PetscCall(J.add(n(D), D.data(), n(PE), PE.data(), v));
+      v += D.size() * PE.size();
+      PetscCall(J.add(n(E), E.data(), n(all), all.data(), v));
+      PetscFunctionReturn(0);
+    }
+  };
+  FrameDofs frame_dofs(const Model& m, int c0, int c1) const {
+    const DofMap& map = m.dof_map();
+    const Beam& S = m.beam(slider_);
+    FrameDofs d;
+    d.P = stencil_dofs(map, S, frame_st_);
+    const PetscInt first = m.beam(carrier_).first_cp();
+    for (int a = c0; a < c1; ++a)
+      for (int k = 0; k < 3; ++k) d.P.push_back(map.q(first + curve_.cp_of_block(a), curve_.offset_of_block(a) + k));
+    for (int j = 0; j < frame_st_.n; ++j)
+      for (int k = 0; k < 9; ++k) d.D.push_back(map.q(S.first_cp() + frame_st_.cp[j], 3 + k));
+    d.E.push_back(s_index());
+    for (int k = 0; k < 3; ++k) d.E.push_back(extra_offset() + k);
+    d.PE = d.P;
+    d.PE.insert(d.PE.end(), d.E.begin(), d.E.end());
+    d.DE = d.D;
+    d.DE.insert(d.DE.end(), d.E.begin(), d.E.end());
+    d.all = d.P;
+    d.all.insert(d.all.end(), d.D.begin(), d.D.end());
+    d.all.insert(d.all.end(), d.E.begin(), d.E.end());
+    return d;
+  }
+
+  /// Coefficients of one evaluation of the frame form, over carrier curve blocks lo..hi.
+  struct FrameTerms {
+    int lo = 0, hi = 0;
+    sliding::Weights W, dW;    // force weights on carrier blocks and d W / d s_n+1
+    sliding::Weights D, dD;    // s row: sum_A D_A pi_iA, and d D / d s_n+1
+    sliding::Weights N1, dN1;  // the constraint at the end of the step: N(s1), N'(s1)
+    double b = 1.0;            // d (force state) / d (end state)
+    Eigen::Matrix3d E, E1, Epi;  // columns: directors of the force state, the end state, and of pi's x-derivative
+    Eigen::Vector3d v, dv_ds;    // moment arm sum_A W_A xbar_A - pbar and its d / d s_n+1
+    Eigen::Vector3d gap, dc_ds;  // c(s1) - p at the end of the step, and c'(s1)
+    Eigen::Vector3d Gs, dGs_ds;  // s row: coefficient of lambda_i, and its d / d s_n+1
+    Eigen::Vector3d Xpi;         // sum_A D_A (x_A of pi's e-derivative)
+  };
+
+  /// Interpolated directors (columns) and point of the slider at a state.
+  void slider_frame(const LocalValues& x, const DofMap& map, const Beam& S, Eigen::Matrix3d& e, Eigen::Vector3d& p) const {
+    e.setZero();
+    p.setZero();
+    for (int j = 0; j < frame_st_.n; ++j) {
+      const double* c = x.cp(map, S.first_cp() + frame_st_.cp[j]);
+      p += frame_st_.w[j] * Eigen::Map<const Eigen::Vector3d>(c);
+      for (int i = 0; i < 3; ++i) e.col(i) += frame_st_.w[j] * Eigen::Map<const Eigen::Vector3d>(c + 3 + 3 * i);
+    }
+  }
+
+  FrameTerms frame_terms(const EvalContext& ctx) const {
+    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
+    const sliding::Curve& cv = curve_;
+    const double s1 = ctx.x.at(s_index()), s0 = ctx.x_old.at(s_index());
+    FrameTerms t;
+    const auto range = cv.touched_blocks(s0, s1);
+    t.lo = range[0];
+    t.hi = range[1];
+    const int nr = t.hi - t.lo + 1;
+    for (auto* w : {&t.W, &t.dW, &t.D, &t.dD, &t.N1, &t.dN1}) w->reset(t.lo, nr);
+    const int e1 = cv.span_of(s1);
+    cv.add_basis(e1, s1, 0, 1.0, t.N1);
+    cv.add_basis(e1, s1, 1, 1.0, t.dN1);
+    // the force state x_f: mid-step under energy-momentum (theta = 1/2), the end for Endpoint
+    t.b = ctx.theta;
+    const bool em = ctx.rule == StepRule::EnergyMomentum && exact_;
+    Eigen::Matrix3d E0;
+    Eigen::Vector3d p0, p1, pf;
+    slider_frame(ctx.x, ctx.map, S, t.E1, p1);
+    slider_frame(ctx.x_old, ctx.map, S, E0, p0);
+    slider_frame(ctx.xf, ctx.map, S, t.E, pf);
+    if (em) {
+      const int e0 = cv.span_of(s0);
+      cv.add_basis(e0, s0, 0, 0.5, t.W);
+      cv.add_basis(e1, s1, 0, 0.5, t.W);
+      cv.add_basis(e1, s1, 1, 0.5, t.dW);
+      cv.difference_quotient(s0, s1, t.D, t.dD);
+      t.Epi = t.E1;
+    } else {
+      const double th = ctx.theta, sf = ctx.xf.at(s_index());
+      const int ef = cv.span_of(sf);
+      cv.add_basis(ef, sf, 0, 1.0, t.W);
+      cv.add_basis(ef, sf, 1, th, t.dW);
+      cv.add_basis(ef, sf, 1, 1.0, t.D);
+      cv.add_basis(ef, sf, 2, th, t.dD);
+      t.Epi = t.E;
+    }
+    t.v = -pf;
+    t.dv_ds.setZero();
+    t.gap = -p1;
+    t.dc_ds.setZero();
+    t.Gs.setZero();
+    t.dGs_ds.setZero();
+    t.Xpi.setZero();
+    for (int a = t.lo; a <= t.hi; ++a) {
+      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C, a), xf = position(ctx.xf, ctx.map, C, a);
+      t.v += t.W.at(a) * xf;
+      t.dv_ds += t.dW.at(a) * xf;
+      t.gap += t.N1.at(a) * x1;
+      t.dc_ds += t.dN1.at(a) * x1;
+      Eigen::Vector3d pi;  // pi_iA, i = 1..3
+      if (em) {
+        const Eigen::Vector3d x0 = position(ctx.x_old, ctx.map, C, a);
+        pi = 0.5 * (E0.transpose() * x0 + t.E1.transpose() * x1);
+        t.Xpi += t.D.at(a) * x1;
+      } else {
+        pi = t.E.transpose() * xf;
+        t.Xpi += t.D.at(a) * xf;
+      }
+      t.Gs += t.D.at(a) * pi;
+      t.dGs_ds += t.dD.at(a) * pi;
+    }
+    return t;
+  }
+
+  PetscErrorCode frame_residual(const EvalContext& ctx, const LocalValues& r) const {
+    PetscFunctionBeginUser;
+    const FrameTerms t = frame_terms(ctx);
+    const Eigen::Vector3d lam = multipliers(ctx.x);
+    const Eigen::Vector3d Lambda = t.E * lam;
+    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
+    for (int A = t.lo; A <= t.hi; ++A) Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, C, A)) += t.W.at(A) * Lambda;
+    for (int j = 0; j < frame_st_.n; ++j) {
+      double* c = r.cp(ctx.map, S.first_cp() + frame_st_.cp[j]);
+      Eigen::Map<Eigen::Vector3d>(c) -= frame_st_.w[j] * Lambda;
+      for (int i = 0; i < 3; ++i) Eigen::Map<Eigen::Vector3d>(c + 3 + 3 * i) += frame_st_.w[j] * lam(i) * t.v;
+    }
+    r.at(s_index()) += t.Gs.dot(lam);
+    const Eigen::Vector3d phi = t.E1.transpose() * t.gap;
+    for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += phi(k);
+    PetscFunctionReturn(0);
+  }
+
+  PetscErrorCode frame_jacobian(const EvalContext& ctx, const MatSink& J) const {
+    PetscFunctionBeginUser;
+    const FrameTerms t = frame_terms(ctx);
+    move_window(t.lo, t.hi);
+    const Eigen::Vector3d lam = multipliers(ctx.x);
+    const Eigen::Vector3d Lambda = t.E * lam, Lambda_pi = t.Epi * lam;
+    const Beam& C = ctx.model.beam(carrier_);
+    const FrameDofs d = frame_dofs(ctx.model, win_lo_, win_hi_ + 1);
+    const int ny = 3 * frame_st_.n, np = static_cast<int>(d.P.size()), nd = static_cast<int>(d.D.size());
+    const int nde = nd + 4, npe = np + 4, nall = np + nd + 4;
+    std::vector<double> v(d.value_count(), 0.0);
+    double* vP = v.data();                               // rows P x cols (D, s, lambda)
+    double* vD = vP + static_cast<size_t>(np * nde);     // rows D x cols (P, s, lambda)
+    double* vE = vD + static_cast<size_t>(nd * npe);     // rows (s, lambda) x cols (P, D, s, lambda)
+    auto P_ = [&](int row, int col) -> double& { return vP[static_cast<size_t>(row * nde + col)]; };
+    auto D_ = [&](int row, int col) -> double& { return vD[static_cast<size_t>(row * npe + col)]; };
+    auto E_ = [&](int row, int col) -> double& { return vE[static_cast<size_t>(row * nall + col)]; };
+    // column offsets: within DE, s at nd, lambda_i at nd + 1 + i; within PE, s at np; within all,
+    // directors from np, s at np + nd
+    const double b = t.b;
+    // carrier rows (P index ny + 3 (A - win_lo) + k)
+    for (int a = t.lo; a <= t.hi; ++a) {
+      const int ia = ny + 3 * (a - win_lo_);
+      for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < 3; ++i) {
+          P_(ia + k, nd + 1 + i) = t.W.at(a) * t.E(k, i);
+          for (int j = 0; j < frame_st_.n; ++j) P_(ia + k, 9 * j + 3 * i + k) = t.W.at(a) * lam(i) * b * frame_st_.w[j];
+        }
+        P_(ia + k, nd) = t.dW.at(a) * Lambda(k);
+        // director rows: d (w_j lambda_i v) / d x_A
+        for (int j = 0; j < frame_st_.n; ++j)
+          for (int i = 0; i < 3; ++i) D_(9 * j + 3 * i + k, ia + k) = frame_st_.w[j] * lam(i) * t.W.at(a) * b;
+        E_(0, ia + k) = b * t.D.at(a) * Lambda_pi(k);
+        for (int i = 0; i < 3; ++i) E_(1 + i, ia + k) = t.N1.at(a) * t.E1(k, i);
+      }
+    }
+    // slider point rows and columns
+    for (int j = 0; j < frame_st_.n; ++j) {
+      const double wj = frame_st_.w[j];
+      for (int k = 0; k < 3; ++k) {
+        const int iy = 3 * j + k;
+        for (int i = 0; i < 3; ++i) {
+          P_(iy, nd + 1 + i) = -wj * t.E(k, i);
+          for (int l = 0; l < frame_st_.n; ++l) P_(iy, 9 * l + 3 * i + k) = -wj * lam(i) * b * frame_st_.w[l];
+          for (int l = 0; l < frame_st_.n; ++l) D_(9 * l + 3 * i + k, iy) = -frame_st_.w[l] * lam(i) * b * wj;
+          E_(1 + i, iy) = -wj * t.E1(k, i);
+        }
+      }
+    }
+    // director rows' (s, lambda) columns; s and constraint rows' director columns
+    for (int j = 0; j < frame_st_.n; ++j) {
+      const double wj = frame_st_.w[j];
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) {
+          const int row = 9 * j + 3 * i + k;
+          D_(row, np) = wj * lam(i) * t.dv_ds(k);
+          D_(row, np + 1 + i) = wj * t.v(k);
+          E_(0, np + row) = b * lam(i) * wj * t.Xpi(k);
+          E_(1 + i, np + row) = wj * t.gap(k);
+        }
+    }
+    // (s, lambda) x (s, lambda)
+    const int is = np + nd;
+    E_(0, is) = t.dGs_ds.dot(lam);
+    for (int i = 0; i < 3; ++i) {
+      E_(0, is + 1 + i) = t.Gs(i);
+      E_(1 + i, is) = t.E1.col(i).dot(t.dc_ds);
+    }
+    PetscCall(d.add(v.data(), J));
+    PetscFunctionReturn(0);
+  }
+
   /// Curve block A of the carrier in the state x, and a pointer to its 3 entries in r.
   Eigen::Vector3d position(const LocalValues& x, const DofMap& map, const Beam& C, int A) const {
     return Eigen::Map<const Eigen::Vector3d>(x.cp(map, C.first_cp() + curve_.cp_of_block(A)) + curve_.offset_of_block(A));
@@ -303,7 +581,9 @@ class SlidingJoint final : public Effect {
   mutable int ghost_lo_ = 0, ghost_hi_ = -1;  ///< carrier points ghosted
   sliding::Curve curve_;        ///< the carrier's centre-line basis
   PositionStencil stencil_;     ///< the slider point on the slider beam
+  PositionStencil frame_st_;    ///< its entries of nonzero weight (the frame form)
   bool exact_ = true;
+  bool frame_ = false;  ///< the frame-projected form (director sliders)
   double s0_ = 0.0;
   double point_[3] = {0, 0, 0};  ///< the slider point, reference configuration
   double tolerance_ = 0.0;       ///< largest distance from the carrier at the start

@@ -305,6 +305,11 @@ class Effect {
   /// Values of the spec's `reports` after a step (this rank's share; summed over ranks).
   virtual void report(const EvalContext&, std::vector<double>& /*values*/) const {}
 
+  /// A sliding joint's force on its slider in the global frame under the evaluation's rule (the
+  /// step's force under the midpoint-type rules), on the rank that evaluates the joint (true);
+  /// false elsewhere and for every other effect.
+  virtual bool joint_force(const EvalContext&, std::array<double, 3>&) const { return false; }
+
   /// Supports and joints: their reaction (summed over ranks by the model: add the terms of
   /// owned rows only).
   virtual bool has_reaction() const { return false; }

@@ -527,6 +527,16 @@ std::vector<double> Model::effect_energies(double t, Vec x, const std::vector<si
   return e;
 }
 
+std::vector<std::array<double, 3>> Model::joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const {
+  std::vector<std::array<double, 3>> f(effects.size(), std::array<double, 3>{});
+  SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+    for (size_t k = 0; k < effects.size(); ++k) effects_.at(static_cast<size_t>(effects[k]))->joint_force(ctx, f[k]);
+    return 0;
+  }));
+  if (!f.empty()) MPI_Allreduce(MPI_IN_PLACE, f.data()->data(), static_cast<int>(3 * f.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  return f;
+}
+
 std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x, Vec F_raw, double scale) const {
   std::vector<std::pair<int, Reaction>> out;
   Vec own = nullptr;

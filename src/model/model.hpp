@@ -124,6 +124,10 @@ class Model {
   /// Static: reactions(Endpoint at t, x, the effects' residual at x).
   std::vector<std::pair<int, Reaction>> static_reactions(double t, Vec x) const;
 
+  /// Effect::joint_force of each of the given effects in the state x under the rule ev (the step
+  /// start as set_step_start left it), on every rank (collective).
+  std::vector<std::array<double, 3>> joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const;
+
   /// Coordinates (n_cp x coordinates_per_cp, row-major) of a beam's control points at x, on every
   /// rank (collective).
   std::vector<double> beam_coordinates(int beam, Vec x) const;

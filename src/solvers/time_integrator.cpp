@@ -158,8 +158,22 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   SB_CHECK(VecZeroEntries(a_));
   SB_CHECK(VecZeroEntries(sdot_));
   h_prev_ = 0.0;
-  if (!is_midpoint_type(params_.kind)) consistent_acceleration();
   timed_energy_.clear();
+  stepped_ = false;
+  projection_ = {};
+  PetscReal speed = 0.0;
+  SB_CHECK(VecNorm(v_, NORM_INFINITY, &speed));
+  PetscBool project = PETSC_TRUE;  // -sb_project_velocity false: the velocity as given, sliding rates 0
+  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_project_velocity", &project, nullptr));
+  if (!project) speed = 0.0;
+  const bool newmark = !is_midpoint_type(params_.kind);
+  if (speed == 0.0 && !newmark) return;
+  KSP ksp = constrained_mass_solver();
+  if (speed > 0.0) project_velocity(ksp);
+  if (newmark) consistent_acceleration(ksp);
+  SB_CHECK(KSPDestroy(&ksp));
+  jac_solve_ = -1;  // J_ holds the constrained mass system now: the first step must rebuild it
+  if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
 }
 
 void TimeIntegrator::set_energy_flows(const std::vector<double>& work) {
@@ -228,37 +242,117 @@ void TimeIntegrator::account_energy_flows() {
     for (size_t j = 0; j < timed_.size(); ++j) flows_[timed_[j]].work += e1[j] - timed_energy_[j];
     timed_energy_ = e1;
   }
+
+KSP TimeIntegrator::constrained_mass_solver() {
+  SB_CHECK(model_.set_step_start(x_));
+  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, t_, 0.0}, x_, J_, &coo_, 1.0, 1.0));
+  SB_CHECK(model_.set_prescribed_jacobian_rows(J_));
+  // Its own pivoting LU: M has no entries on multipliers (and on d1 with the seed's strains).
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  int size = 1;
+  MPI_Comm_size(model_.comm(), &size);
+  SB_CHECK(KSPCreate(model_.comm(), &ksp));
+  SB_CHECK(KSPSetType(ksp, KSPPREONLY));
+  SB_CHECK(KSPGetPC(ksp, &pc));
+  SB_CHECK(PCSetType(pc, PCLU));
+  SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
+  SB_CHECK(KSPSetOperators(ksp, J_, J_));
+  return ksp;
+}
+
+/// The velocity's projection onto the constraints' tangent space in the mass metric, from the
+/// saddle-point system of the constrained mass matrix (theta = 0 keeps exactly the constraint
+/// terms: the force rows' G^T and the constraint rows' G, the sliding coordinates' columns
+/// included):
+///   [ M    0    G_q^T ] [ v'   ]   [ M v ]
+///   [ 0    0    G_s^T ] [ sdot ] = [ 0   ]
+///   [ G_q  G_s  0     ] [ mu   ]   [ 0   ]
+/// Prescribed rows are identity rows with 0 on the right: supports do not move.
+void TimeIntegrator::project_velocity(KSP ksp) {
+  Vec rhs = work_, y = x1_, dv = w_, Mv = xt_;  // scratch (a step recomputes them)
+  SB_CHECK(MatMult(M_, v_, rhs));
+  {
+    PetscScalar* r = nullptr;
+    PetscInt lo = 0, hi = 0;
+    SB_CHECK(VecGetOwnershipRange(rhs, &lo, &hi));
+    SB_CHECK(VecGetArray(rhs, &r));
+    for (PetscInt row : model_.prescribed_rows()) r[row - lo] = 0.0;
+    SB_CHECK(VecRestoreArray(rhs, &r));
+  }
+  SB_CHECK(KSPSolve(ksp, rhs, y));
+  KSPConvergedReason reason;
+  SB_CHECK(KSPGetConvergedReason(ksp, &reason));
+  PetscReal ynorm = 0.0;
+  SB_CHECK(VecNorm(y, NORM_INFINITY, &ynorm));
+  VelocityProjection& p = projection_;
+  p.solved = true;
+  PetscScalar vMv = 0.0;
+  SB_CHECK(MatMult(M_, v_, Mv));
+  SB_CHECK(VecDot(v_, Mv, &vMv));
+  p.size = std::sqrt(std::max(0.0, vMv));
+  p.kinetic_before = p.kinetic_after = 0.5 * vMv;
+  if (reason < 0 || !std::isfinite(ynorm)) {
+    p.failed = true;
+    return;
+  }
+  SB_CHECK(VecPointwiseMult(sdot_, y, model_.sliding_mask()));
+  SB_CHECK(VecPointwiseMult(y, y, model_.coordinate_mask()));
+  SB_CHECK(VecWAXPY(dv, -1.0, v_, y));
+  PetscScalar dMd = 0.0, yMy = 0.0;
+  SB_CHECK(MatMult(M_, dv, Mv));
+  SB_CHECK(VecDot(dv, Mv, &dMd));
+  SB_CHECK(MatMult(M_, y, Mv));
+  SB_CHECK(VecDot(y, Mv, &yMy));
+  PetscReal largest = 0.0;
+  SB_CHECK(VecNorm(dv, NORM_INFINITY, &largest));
+  p.change = std::sqrt(std::max(0.0, dMd));
+  p.largest = largest;
+  // a consistent velocity comes back changed by roundoff only: keep it as given
+  if (p.change <= 1e-10 * p.size) return;
+  p.projected = true;
+  p.kinetic_after = 0.5 * yMy;
+  SB_CHECK(VecCopy(y, v_));
 }
 
 /// Newmark and HHT need a_0. M is singular on d1 (and on multipliers), so a_0 and the initial
 /// multipliers come from the constrained system at t_0:
 ///   [ M  G^T ] [a_0]      [ -(f_int - f_ext)(q_0) ]
-///   [ G   0  ] [lam_0] =  [ -v^T Phi'' v          ]
-/// G and G^T are the effects' tangent with theta = 0 (forces frozen, constraint terms kept); the
-/// curvature term is the exact second difference Phi(q+v) + Phi(q-v) - 2 Phi(q) of the quadratic
-/// (or linear) constraints.
-void TimeIntegrator::consistent_acceleration() {
-  Mat A = J_;
+///   [ G   0  ] [lam_0] =  [ -w^T Phi'' w          ]
+/// with w = (v, sdot). The curvature term is the second difference of the constraint rows,
+/// Phi(q + e w) + Phi(q - e w) - 2 Phi(q) = e^2 w^T Phi'' w + e^4 c: exact with e = 1 for the
+/// quadratic (or linear) constraints in q. With sliding rates the frame-projected joint is quartic
+/// (N(s) quadratic in s within a span times the bilinear e_i . x_A): e = 1e-3 keeps s within a
+/// span, and Richardson's (4 D(e/2) - D(e)) / 3 removes the e^2 c term exactly.
+void TimeIntegrator::consistent_acceleration(KSP ksp) {
   Vec mask = model_.coordinate_mask();
-  SB_CHECK(model_.set_step_start(x_));
-  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, t_, 0.0}, x_, A, &coo_, 1.0, 1.0));
-  SB_CHECK(model_.set_prescribed_jacobian_rows(A));
-
-  Vec xz = xt_, f0 = w_, fp = f_hist_, rhs = work_;  // scratch (the step recomputes them)
+  Vec xz = xt_, f0 = w_, fp = f_hist_, rhs = work_, wv = a_;  // scratch (the step recomputes them)
   SB_CHECK(VecPointwiseMult(xz, x_, state_mask_));   // multipliers 0, sliding coordinates kept
   const StepEval ev{StepRule::Endpoint, t_, 1.0};
   SB_CHECK(model_.assemble_effects_residual(ev, xz, f0));
   SB_CHECK(VecPointwiseMult(rhs, f0, mask));
   SB_CHECK(VecScale(rhs, -1.0));
-  // constraint rows: -(F(x+v) + F(x-v) - 2 F(x)), with rhs = -f0 on coordinate rows kept
-  Vec curv = x1_;
-  SB_CHECK(VecWAXPY(a_, 1.0, v_, xz));
-  SB_CHECK(model_.assemble_effects_residual(ev, a_, fp));
-  SB_CHECK(VecCopy(fp, curv));
-  SB_CHECK(VecWAXPY(a_, -1.0, v_, xz));
-  SB_CHECK(model_.assemble_effects_residual(ev, a_, fp));
-  SB_CHECK(VecAXPY(curv, 1.0, fp));
-  SB_CHECK(VecAXPY(curv, -2.0, f0));
+  // constraint rows: -(F(x+w) + F(x-w) - 2 F(x)), with rhs = -f0 on coordinate rows kept
+  PetscReal rate = 0.0;
+  SB_CHECK(VecNorm(sdot_, NORM_INFINITY, &rate));
+  Vec curv = x1_, second = nullptr;
+  SB_CHECK(VecDuplicate(x_, &second));
+  const std::vector<double> eps = rate > 0.0 ? std::vector<double>{1e-3, 0.5e-3} : std::vector<double>{1.0};
+  for (size_t k = 0; k < eps.size(); ++k) {
+    Vec d = k == 0 ? curv : second;
+    SB_CHECK(VecWAXPY(wv, 1.0, v_, sdot_));
+    SB_CHECK(VecAYPX(wv, eps[k], xz));  // x + e w
+    SB_CHECK(model_.assemble_effects_residual(ev, wv, fp));
+    SB_CHECK(VecCopy(fp, d));
+    SB_CHECK(VecWAXPY(wv, 1.0, v_, sdot_));
+    SB_CHECK(VecAYPX(wv, -eps[k], xz));  // x - e w
+    SB_CHECK(model_.assemble_effects_residual(ev, wv, fp));
+    SB_CHECK(VecAXPY(d, 1.0, fp));
+    SB_CHECK(VecAXPY(d, -2.0, f0));
+    SB_CHECK(VecScale(d, 1.0 / (eps[k] * eps[k])));
+  }
+  if (eps.size() == 2) SB_CHECK(VecAXPBY(curv, 4.0 / 3.0, -1.0 / 3.0, second));
+  SB_CHECK(VecDestroy(&second));
   {
     PetscScalar *r = nullptr, *c = nullptr;
     const PetscScalar* mk = nullptr;
@@ -274,29 +368,13 @@ void TimeIntegrator::consistent_acceleration() {
     SB_CHECK(VecRestoreArray(curv, &c));
     SB_CHECK(VecRestoreArray(rhs, &r));
   }
-  // The Newton solver's own linear solver (same options; SNES resets its operators every solve).
-  // Its own pivoting LU: M has no entries on d1 and multipliers, so this matrix needs pivoting
-  // whatever the step solver is.
-  KSP ksp = nullptr;
-  PC pc = nullptr;
-  int size = 1;
-  MPI_Comm_size(model_.comm(), &size);
-  SB_CHECK(KSPCreate(model_.comm(), &ksp));
-  SB_CHECK(KSPSetType(ksp, KSPPREONLY));
-  SB_CHECK(KSPGetPC(ksp, &pc));
-  SB_CHECK(PCSetType(pc, PCLU));
-  SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
-  SB_CHECK(KSPSetOperators(ksp, A, A));
   Vec y = x1_;
   SB_CHECK(KSPSolve(ksp, rhs, y));
   KSPConvergedReason reason;
   SB_CHECK(KSPGetConvergedReason(ksp, &reason));
-  SB_CHECK(KSPDestroy(&ksp));
   if (reason < 0)
     throw SolverFailure(std::string("initial acceleration: the constrained mass system could not be solved (") +
                         KSPConvergedReasons[reason] + "); is every part of the structure given mass?");
-  jac_solve_ = -1;  // J_ holds the initial system now: the first step must rebuild it
-  if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(VecPointwiseMult(a_, y, mask));
   // x_ = state_mask * x_ + (1 - state_mask) * y: the consistent initial multipliers (y holds the
   // sliding coordinates' second derivatives at their rows: dropped)
@@ -361,6 +439,12 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
   auto r = model_.reactions(step_eval(), x_, F, scale_);
   SB_CHECK(VecDestroy(&F));
   return r;
+}
+
+std::vector<std::array<double, 3>> TimeIntegrator::joint_forces(const std::vector<int>& effects) {
+  if (!stepped_) return model_.joint_forces(StepEval{StepRule::Endpoint, t_, 1.0}, x_, effects);
+  SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
+  return model_.joint_forces(step_eval(), x_, effects);
 }
 
 PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {
@@ -577,6 +661,7 @@ SolveResult TimeIntegrator::step(double h) {
     }
     SB_CHECK(VecCopy(x_, x_start_));
     SB_CHECK(VecCopy(x1_, x_));
+    stepped_ = true;
     t_ = t_next;
   }
   SB_CHECK(PetscLogEventEnd(ev_step_, 0, 0, 0, 0));
@@ -591,6 +676,7 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   n_seg_ = segment_steps > 0 ? segment_steps : 0;
   timed_energy_.clear();
   last_failed_ = false;
+  stepped_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
   if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();
 }

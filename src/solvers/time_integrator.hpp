@@ -59,8 +59,25 @@ class TimeIntegrator {
   TimeIntegrator& operator=(const TimeIntegrator&) = delete;
 
   /// Start at time t from x (coordinates, multipliers) and velocity v (multiplier entries are
-  /// ignored). Newmark and HHT solve for a consistent acceleration and initial multipliers.
+  /// ignored). A velocity that violates the constraints at velocity level is projected onto them
+  /// with the mass metric, and the sliding coordinates' rates follow (velocity_projection()).
+  /// Newmark and HHT then solve for a consistent acceleration and initial multipliers.
   void initialize(double t, Vec x, Vec v);
+
+  /// What initialize did to the velocity: v' = argmin 1/2 (v' - v)^T M (v' - v) subject to
+  /// G_q(x) v' + G_s(x) sdot = 0 over every constraint (orthonormality, supports, rigid and sliding
+  /// joints), the sliding rates sdot free (they have no mass). A change within roundoff of the
+  /// given velocity (1e-10 of its mass norm) keeps it as it was; sdot is taken either way.
+  struct VelocityProjection {
+    bool solved = false;     ///< the projection was computed (a nonzero velocity)
+    bool failed = false;     ///< the constrained mass system could not be solved: v kept, sdot = 0
+    bool projected = false;  ///< v violated the constraints and was replaced by v'
+    double size = 0.0;       ///< sqrt(v^T M v) of the given velocity
+    double change = 0.0;     ///< sqrt(dv^T M dv), dv = v' - v
+    double largest = 0.0;    ///< max |dv_i| over the coordinates
+    double kinetic_before = 0.0, kinetic_after = 0.0;
+  };
+  const VelocityProjection& velocity_projection() const { return projection_; }
 
   /// Advance by h. On failure (Newton did not converge, NaN/Inf) the state stays at t_n.
   SolveResult step(double h);
@@ -129,6 +146,9 @@ class TimeIntegrator {
   /// its history term.
   std::vector<std::pair<int, Reaction>> reactions();
   PetscErrorCode step_jacobian(Vec x1, Mat J);
+  /// Model::joint_forces of the given effects: over the last step (its rule, from its start
+  /// state) once a step has been taken since initialize or restore, else at t_n (Endpoint).
+  std::vector<std::array<double, 3>> joint_forces(const std::vector<int>& effects);
 
  private:
   static PetscErrorCode form_function(SNES, Vec x, Vec F, void* ctx);
@@ -143,9 +163,14 @@ class TimeIntegrator {
   PetscErrorCode step_forces(Vec x1, Vec F);
   /// Leave the non-pivoting LU for SuperLU (after a failure with it).
   void use_pivoting_lu();
-  void consistent_acceleration();
   /// Add the converged step's work of every counted effect to flows_ (x_: start, x1_: end).
   void account_energy_flows();
+  /// [M G^T; G 0] at x_ (the effects' tangent with the forces frozen, theta = 0; supports'
+  /// rows identity) in J_, and a pivoting LU of it: the caller destroys the KSP.
+  KSP constrained_mass_solver();
+  void project_velocity(KSP ksp);
+  void consistent_acceleration(KSP ksp);
+  VelocityProjection projection_;
 
   Model& model_;
   IntegratorParams params_;
@@ -162,6 +187,7 @@ class TimeIntegrator {
   int pattern_seen_ = 0;                          // CooAssembly generation of the factorisation
   Vec state_mask_ = nullptr;                      // coordinates and sliding coordinates
   double h_prev_ = 0.0;                           // 0: no previous step
+  bool stepped_ = false;                          // a step since initialize/restore (x_start_ holds its start)
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
   std::vector<EnergyFlow> flows_;

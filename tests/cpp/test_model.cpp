@@ -165,3 +165,101 @@ TEST(Model, DofMapMixedBlockSizes) {
   }
   EXPECT_EQ(total, 18 * 3 + 6 * 3 + 4);
 }
+
+namespace {
+// x[rows] = values (owned rows only; the same on every rank).
+void set_rows(Vec x, const std::vector<PetscInt>& rows, const std::vector<double>& values) {
+  PetscInt lo, hi;
+  SB_CHECK(VecGetOwnershipRange(x, &lo, &hi));
+  for (size_t k = 0; k < rows.size(); ++k)
+    if (rows[k] >= lo && rows[k] < hi) SB_CHECK(VecSetValue(x, rows[k], values[k], INSERT_VALUES));
+  SB_CHECK(VecAssemblyBegin(x));
+  SB_CHECK(VecAssemblyEnd(x));
+}
+double dot(Vec a, Vec b) {
+  PetscScalar d;
+  SB_CHECK(VecDot(a, b, &d));
+  return d;
+}
+}  // namespace
+
+// The sliding joint alone (no beam terms), with the slider's s moved across two knots within the
+// step and every state off the constraint manifold: for every step rule the joint's Jacobian is
+// the derivative of its residual, and under energy-momentum its force G* does exactly the work
+// Phi_n+1 - Phi_n (lambda . Delta Phi). The frame form's step force also has no resultant and no
+// moment about the mid-step configuration; the spatial form's has a moment (issue 21).
+TEST(SlidingJoint, StepForcesJacobianEnergyAndMoment) {
+  for (const std::string form : {"frame", "spatial"})
+  for (const double at : {0.0, 0.3}) {  // the slider's end (one control point), a point inside it (three)
+    SCOPED_TRACE(form + " at " + std::to_string(at));
+    Model m(PETSC_COMM_WORLD);
+    m.add_beam(straight_beam("carrier", 6, 3.0, {0, 0, 0}, kernels::StrainMeasure::SimoReissner, kernels::Quadrature::Full));
+    m.add_beam(turned_beam("slider", 2, 1.0, {1.1, -at, 0}));  // its point at arc length `at` sits on the carrier at s = 1.1
+    m.add_effect("sliding_joint", EffectParams{{{"slider", 1.0}, {"slider_s", at}, {"carrier", 0.0}}, {}, {{"form", form}}});
+    m.finalize();
+    const PetscInt e0 = m.effects()[0]->extra_offset();
+    const std::vector<PetscInt> extras = {e0, e0 + 1, e0 + 2, e0 + 3};  // lambda, s
+    Vec x0, x1, xm, v, F, F1, F2, Jv, state;
+    SB_CHECK(VecDuplicate(m.x(), &x0));
+    SB_CHECK(VecCopy(m.x(), x0));
+    for (Vec* w : {&x1, &xm, &v, &F, &F1, &F2, &Jv, &state}) SB_CHECK(VecDuplicate(x0, w));
+    set_by_index(x0, 0.05, {}, true);
+    SB_CHECK(VecCopy(x0, x1));
+    set_by_index(x1, 0.03, {}, true);
+    set_rows(x0, extras, {0.7, -1.3, 2.1, 1.1});
+    set_rows(x1, extras, {-0.4, 1.9, 0.8, 2.07});  // s from 1.1 to 2.07: across the knots at 1.5 and 2.0
+    SB_CHECK(VecWAXPY(xm, 1.0, x0, x1));
+    SB_CHECK(VecScale(xm, 0.5));
+    SB_CHECK(VecWAXPY(state, 1.0, m.coordinate_mask(), m.sliding_mask()));
+    SB_CHECK(m.set_step_start(x0));
+    set_by_index(v, 1.0, {}, false);
+    for (const StepEval ev : {StepEval{StepRule::EnergyMomentum, 0.0, 0.5}, StepEval{StepRule::Theta, 0.0, 0.5},
+                              StepEval{StepRule::Endpoint, 0.0, 1.0}}) {
+      SCOPED_TRACE(static_cast<int>(ev.rule));
+      CooAssembly coo;
+      SB_CHECK(m.assemble_effects_jacobian(ev, x1, m.jacobian(), &coo));
+      SB_CHECK(MatMult(m.jacobian(), v, Jv));
+      const double h = 1e-6;
+      SB_CHECK(VecWAXPY(F, h, v, x1));
+      SB_CHECK(m.assemble_effects_residual(ev, F, F1));
+      SB_CHECK(VecWAXPY(F, -h, v, x1));
+      SB_CHECK(m.assemble_effects_residual(ev, F, F2));
+      SB_CHECK(VecAXPY(F1, -1.0, F2));
+      SB_CHECK(VecScale(F1, 1.0 / (2 * h)));
+      PetscReal nJv, nerr;
+      SB_CHECK(VecNorm(Jv, NORM_INFINITY, &nJv));
+      SB_CHECK(VecAXPY(F1, -1.0, Jv));
+      SB_CHECK(VecNorm(F1, NORM_INFINITY, &nerr));
+      EXPECT_GT(nJv, 0.1);
+      EXPECT_LT(nerr, 1e-8 * nJv);
+    }
+    // the energy-momentum force's work over the step, against lambda . (Phi(x1) - Phi(x0))
+    SB_CHECK(m.assemble_effects_residual(StepEval{StepRule::EnergyMomentum, 0.0, 0.5}, x1, F));
+    SB_CHECK(VecPointwiseMult(F, F, state));
+    SB_CHECK(VecWAXPY(v, -1.0, x0, x1));
+    const double work = dot(F, v);
+    SB_CHECK(m.assemble_effects_residual(StepEval{StepRule::Endpoint, 0.0, 1.0}, x1, F1));
+    SB_CHECK(m.assemble_effects_residual(StepEval{StepRule::Endpoint, 0.0, 1.0}, x0, F2));
+    SB_CHECK(VecAXPY(F1, -1.0, F2));
+    const std::vector<double> lam = m.extra_values(0, x1);
+    const std::vector<double> dphi = m.extra_values(0, F1);
+    const double dPhi = lam[0] * dphi[0] + lam[1] * dphi[1] + lam[2] * dphi[2];
+    EXPECT_GT(std::abs(dPhi), 1e-3);
+    EXPECT_NEAR(work, dPhi, 1e-13 * (1.0 + std::abs(dPhi)));
+    // resultant and moment about the mid-step state of the step forces on the coordinates
+    for (const StepEval ev : {StepEval{StepRule::EnergyMomentum, 0.0, 0.5}, StepEval{StepRule::Theta, 0.0, 0.5}}) {
+      SCOPED_TRACE(static_cast<int>(ev.rule));
+      SB_CHECK(m.assemble_effects_residual(ev, x1, F));
+      SB_CHECK(VecPointwiseMult(F, F, m.coordinate_mask()));
+      const Momenta p = m.momenta(xm, F);
+      const Eigen::Vector3d force(p.linear.data()), moment(p.angular.data());
+      PetscReal nF;
+      SB_CHECK(VecNorm(F, NORM_INFINITY, &nF));
+      EXPECT_GT(nF, 0.1);
+      EXPECT_LT(force.norm(), 1e-14 * nF);
+      if (form == "frame") EXPECT_LT(moment.norm(), 1e-14 * nF);
+      else EXPECT_GT(moment.norm(), 1e-4 * nF);
+    }
+    for (Vec* w : {&x0, &x1, &xm, &v, &F, &F1, &F2, &Jv, &state}) VecDestroy(w);
+  }
+}

@@ -603,13 +603,25 @@ def test_sliding_joint_parses_and_checks_its_input():
     assert sc.sliding_joints == (scene.SlidingJoint(1, 0.0, 0, "exact", "stop", None),)
     sc = scene.scene_from_dict(_slider({"slider": "hanger", "at": "end", "carrier": "carrier",
                                         "discrete_gradient": "midpoint", "at_carrier_end": "fail", "tolerance": 1e-3}))
-    assert sc.sliding_joints == (scene.SlidingJoint(1, 1.0, 0, "midpoint", "fail", 1e-3),)
+    assert sc.sliding_joints == (scene.SlidingJoint(1, 1.0, 0, "midpoint", "fail", 1e-3, form="spatial"),)
+    assert sc.sliding_joints[0].form == "spatial"  # the seed's midpoint form: the spatial constraint
+    sc = scene.scene_from_dict(_slider({"slider": "hanger", "carrier": "carrier"}))
+    assert sc.sliding_joints[0].form == "frame"  # director sliders: the frame-projected joint
+    sc = scene.scene_from_dict(_slider({"slider": "hanger", "carrier": "carrier", "form": "spatial"}))
+    assert sc.sliding_joints[0].form == "spatial"
+    cable = _slider({"slider": "hanger", "carrier": "carrier"})
+    cable["beam"][1].update(formulation="ancf", section={"EA": 1, "EI": 1, "rhoA": 1})
+    assert scene.scene_from_dict(cable).sliding_joints[0].form == "spatial"  # a cable has no directors
+    cable["sliding_joint"][0]["form"] = "frame"
+    with pytest.raises(scene.SceneError, match=r"\[\[sliding_joint\]\] #1, key 'form'.*'hanger' is an ANCF cable"):
+        scene.scene_from_dict(cable)
     for joint, words in (
         ({"slider": "hanger", "carrier": "hanger"}, ("cannot slide on itself",)),
         ({"slider": "hanger", "carrier": "carier"}, ("'carier' does not exist", "did you mean 'carrier'")),
         ({"carrier": "carrier"}, ("slider",)),
         ({"slider": "hanger", "carrier": "carrier", "discrete_gradient": "seed"}, ("discrete_gradient", "exact")),
         ({"slider": "hanger", "carrier": "carrier", "at_carrier_end": "clamp"}, ("at_carrier_end", "stop")),
+        ({"slider": "hanger", "carrier": "carrier", "form": "material"}, ("form", "frame", "spatial")),
         ({"slider": "hanger", "carrier": "carrier", "tolerance": -1.0}, ("tolerance", "> 0")),
         ({"slider": "hanger", "carrier": "carrier", "at": 3.0}, ("at", "[0, L]")),
         ({"slider": "hanger", "carrier": "carrier", "friction": 0.1}, ("unknown key 'friction'",)),

@@ -22,14 +22,17 @@ def seed_scene(name: str = "free_fall_inclined_1+4", **sets: object) -> slidebea
     return slidebeam.load_scene(SEED / f"{name}.toml", [f"{k}={v}" for k, v in sets.items()])
 
 
+@pytest.mark.parametrize("joint_form", ("frame", "spatial"))
 @pytest.mark.parametrize("integrator,form", [(i, "exact") for i in INTEGRATORS] + [("energy-momentum", "midpoint")])
 @pytest.mark.parametrize("ds", [0.03, 0.17, 0.71])  # same span; across the knot at 0.5; across 0.5 and 1.0
-def test_step_jacobian_is_exact_across_knots(integrator, form, ds):
+def test_step_jacobian_is_exact_across_knots(integrator, form, ds, joint_form):
     """s_n = 0.4 and s_n+1 = s_n + ds: the span of s is found at every evaluation and the
-    Jacobian stays the derivative of the step residual (finite differences)."""
+    Jacobian stays the derivative of the step residual (finite differences), for the
+    frame-projected joint (the default) and the spatial one."""
     sim = slidebeam.Simulation(seed_scene(**{"analysis.integrator": integrator, "analysis.dt": 0.01,
-                                             "sliding_joint.0.discrete_gradient": form}))
-    check_joint_step_jacobian(sim, ds, f"{integrator}/{form}")
+                                             "sliding_joint.0.discrete_gradient": form,
+                                             "sliding_joint.0.form": f'"{joint_form}"'}))
+    check_joint_step_jacobian(sim, ds, f"{integrator}/{form}/{joint_form}")
 
 
 def energy_run(form: str):
