@@ -242,6 +242,7 @@ void TimeIntegrator::account_energy_flows() {
     for (size_t j = 0; j < timed_.size(); ++j) flows_[timed_[j]].work += e1[j] - timed_energy_[j];
     timed_energy_ = e1;
   }
+}
 
 KSP TimeIntegrator::constrained_mass_solver() {
   SB_CHECK(model_.set_step_start(x_));
