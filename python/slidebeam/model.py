@@ -87,9 +87,10 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
         vec: dict = {}
         text: dict = {}
         if sup.motion is not None:
-            tf_num, text = _tf(sup.motion.time_function)
+            tf_num, vec, text = _tf(sup.motion.time_function)
             num.update(tf_num)
-            vec = {"motion_displacement": list(sup.motion.displacement), "motion_rotation": list(sup.motion.rotation)}
+            vec = {**vec, "motion_displacement": list(sup.motion.displacement),
+                   "motion_rotation": list(sup.motion.rotation)}
         if sup.type == "fixed":
             add("fixed", f"fixed[{name}]", num)
         elif sup.type == "clamp":

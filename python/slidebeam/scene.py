@@ -557,7 +557,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
                                  f"(explicit resultants)", file, f"[[beam]] #{b.index + 1} ('{b.name}').section",
                                  "rhoA")
     supports = tuple(
-        _parse_support(_Table(raw, file, f"[[support]] #{i + 1}", "support"), beams)
+        _parse_support(_Table(raw, file, f"[[support]] #{i + 1}", "support"), beams, base_dir)
         for i, raw in enumerate(_array_of_tables(data, "support", file))
     )
     loads = tuple(
@@ -1111,11 +1111,11 @@ def _parse_at(t: _Table, length: float) -> float:
     return min(max(s, 0.0), length)
 
 
-def _parse_support(t: _Table, beams: tuple[Beam, ...]) -> Support:
+def _parse_support(t: _Table, beams: tuple[Beam, ...], base_dir: str = ".") -> Support:
     kind = t.choice("type", ("spherical", "clamp", "fixed"))
     t.check_keys(("type", "beam", "at", "position", "motion") if kind == "spherical" else
                  ("type", "beam", "at", "motion") if kind == "clamp" else ("type", "beam"))
-    motion = _parse_motion(t.sub("motion", f"{t.label}.motion"), kind) if t.has("motion") else None
+    motion = _parse_motion(t.sub("motion", f"{t.label}.motion"), kind, base_dir) if t.has("motion") else None
     index = _beam_ref(t, beams)
     geometry = beams[index].geometry
     if kind == "fixed":
@@ -1133,13 +1133,13 @@ def _parse_support(t: _Table, beams: tuple[Beam, ...]) -> Support:
     return Support(kind, index, s, reference, motion)
 
 
-def _parse_motion(t: _Table, kind: str) -> SupportMotion:
+def _parse_motion(t: _Table, kind: str, base_dir: str = ".") -> SupportMotion:
     """[[support]] motion = {displacement = [m], rotation = [rad] (clamps), time_function = {...}}."""
     t.check_keys(("displacement", "rotation", "time_function") if kind == "clamp" else ("displacement", "time_function"))
     if not (t.has("displacement") or t.has("rotation")):
         raise t.error("displacement", "a motion needs a displacement (m)" + (" or a rotation (rad)" if kind == "clamp" else ""))
     zero = [0.0, 0.0, 0.0]
-    tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"))
+    tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"), base_dir)
     if abs(tf.value(0.0)) > 0.0:
         raise t.error("time_function", f"a support's motion must start from the drawn state: its time function is "
                                        f"{tf.value(0.0):g} at t = 0, not 0 (use a ramp, a hat or a step that starts "
