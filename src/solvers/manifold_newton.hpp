@@ -11,7 +11,8 @@
 /// w x d_i is applied as the rotation exp([w]x) (-sb_exponential_update false: the closest
 /// orthonormal frame of d + w x d, as in the time steps), and the multipliers are set from the
 /// force rows (least squares), so Newton solves the 6-unknown-per-point equilibrium of the
-/// triads with its exact Jacobian N^T J N'.
+/// triads with the Jacobian N^T J N' (exact at equilibrium; off it short by a term proportional
+/// to the residual, sum_i [f_i]x [d_i]x per triad, so convergence stays quadratic).
 ///
 /// Serial: the condensed LU of DirectorCondensation (Manifold mode). Several ranks, or a linear
 /// solver chosen in the options database: that solve on the full system, with the manifold

@@ -53,7 +53,7 @@ PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
 /// - |F| <= eps || |J| |x| ||: no better x is representable (the componentwise backward error of
 ///   x is at the unit roundoff). This holds the first time an iterate reaches the floor, so no
 ///   iteration is spent only to see |F| stagnate; and it holds where the floor lies above 1e-6 of
-///   the initial residual (a small load step on a slender beam: EA/EI = 1e7 put the floor at 3e-6
+///   the initial residual (a small load step on a slender beam: EA/EI = 1e7 put the floor at 2e-6
 ///   of the first step's residual, and Newton ran to its iteration limit).
 /// - |F| 1e6 below the step's initial residual, no longer falling quadratically, and a Newton
 ///   step below 1e-7 of the state (a large load step's initial residual, 1e5 on the roll-up at
