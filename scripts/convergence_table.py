@@ -10,7 +10,7 @@ prints the markdown tables of docs/verification.md, "Slender beams".
   - 45-degree bend (runs/bend45.toml): distance from the 256-span tip of the same quadrature
   - hanging rope (runs/cables/hanging_rope.toml) against Irvine's elastic catenary
 
-    scripts/convergence_table.py            # about a minute
+    scripts/convergence_table.py            # about 15 s
 """
 from __future__ import annotations
 

@@ -132,6 +132,10 @@ PYBIND11_MODULE(_core, m) {
       .def("effect_energies", [](const Model& s, double t, Vec x) { return s.effect_energies(t, x); })
       .def("set_reference_state", [](const Model& s, Vec x) { s.set_reference_state(x); })
       .def("project_directors", [](const Model& s, Vec x) { s.project_directors(x); })
+      .def("extrapolate", [](const Model& s, Vec x, Vec x_last, Vec x_prev, double alpha) {
+             s.extrapolate(x, x_last, x_prev, alpha);
+           }, py::arg("x"), py::arg("x_last"), py::arg("x_prev"), py::arg("alpha"),
+           "load-step predictor: linear in every unknown but the director triads, which turn on")
       .def("sample_beam",
            [](const Model& s, int beam, Vec x, std::optional<Vec> v, int samples_per_span) {
              // collective: the control points are gathered on every rank

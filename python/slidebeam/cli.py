@@ -375,6 +375,7 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
         "steps": good[-1].step, "steps_requested": scene.analysis.steps,
         "newton_iterations": sum(r.newton_iterations for r in records),
         "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
+        "load_step_cuts": sim.load_step_cuts,
         "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
         "final_energy": {"strain": good[-1].strain_energy, "potential": good[-1].potential_energy},
         "reactions": [r.as_dict() for r in good[-1].reactions],

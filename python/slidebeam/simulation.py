@@ -123,6 +123,7 @@ class Simulation:
         self.settled: _core.EquilibriumResult | None = None  # the static start, once done (settle)
         self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
         self.stopped: str | None = None  # why the last solve_static ended early without failing
+        self.load_step_cuts = 0  # load steps of the last solve_static that failed and were halved
         self.stop_signal: int | None = None  # the signal that stopped it, if one did
         self.stop_is_failure = False  # a slider left its carrier with at_carrier_end = "fail"
         self.initial_energy = 0.0  # H_0 of the energy balance (the first record of a dynamic run)
@@ -316,14 +317,16 @@ class Simulation:
                      max_cuts: int = 8) -> list[StepRecord]:
         """Load stepping to t_end in ``analysis.steps`` equal increments.
 
-        Each step starts from a secant predictor (linear extrapolation of the last two
-        converged states), which keeps Newton in its quadratic range for large rotations.
+        Each step starts from a secant predictor: the last two converged states extrapolated,
+        linearly but for the director triads, which turn on by their last rotation (scaled to
+        the increment). Newton then stays in its quadratic range for large rotations.
         A step that fails is retried from the last converged state in halves, down to
         1/2**max_cuts of the increment; if that fails too, the state is left at the last
         converged one and the failed attempt is the last record.
         """
         a = self.scene.analysis
         records = [self.record(0, None)]
+        self.load_step_cuts = 0
         x_prev = self.x.duplicate()
         x_last = self.x.copy()
         t_last, dt_last = 0.0, 0.0
@@ -337,9 +340,8 @@ class Simulation:
             t_new = seg_t0 + (seg_n + 1) * seg_dt
             if t_new > a.t_end - 1e-9 * dt_nominal:  # land exactly on t_end despite rounding
                 t_new = a.t_end
-            if dt_last > 0 and self.use_predictor:  # secant predictor, directors projected back onto rotations
-                self.x.axpy((t_new - t_last) / dt_last, x_last - x_prev)
-                self._model.project_directors(self.x)
+            if dt_last > 0 and self.use_predictor:  # secant predictor, directors turned on by their last rotation
+                self._model.extrapolate(self.x, x_last, x_prev, (t_new - t_last) / dt_last)
             result = self.solve_step(t_new)
             if result.converged and np.isfinite(result.residual_norm):
                 rec = self.record(step + 1, result)
@@ -379,6 +381,7 @@ class Simulation:
                     on_step(fail)
                 break
             dt /= 2
+            self.load_step_cuts += 1
         x_prev.destroy()
         x_last.destroy()
         return records

@@ -334,6 +334,35 @@ void Model::apply_prescribed(Vec x) const {
   SB_CHECK(VecRestoreArray(x, &a));
 }
 
+void Model::extrapolate(Vec x, Vec x_last, Vec x_prev, double alpha) const {
+  SB_CHECK(VecAXPBYPCZ(x, 1.0 + alpha, -alpha, 0.0, x_last, x_prev));
+  PetscScalar* a = nullptr;
+  const PetscScalar *al = nullptr, *ap = nullptr;
+  SB_CHECK(VecGetArray(x, &a));
+  SB_CHECK(VecGetArrayRead(x_last, &al));
+  SB_CHECK(VecGetArrayRead(x_prev, &ap));
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  for (const auto& b : beams_) {
+    if (b.multipliers_per_cp() == 0) continue;  // no director triads (ANCF nodes)
+    for (PetscInt cp = b.first_cp(); cp < b.first_cp() + b.n_cp(); ++cp) {
+      if (!map_.owns_cp(cp)) continue;
+      const PetscInt j = map_.q(cp, 3) - map_.owned_lo();
+      const Eigen::Map<const Eigen::Matrix3d> Dl(al + j), Dp(ap + j);  // columns d1, d2, d3
+      Eigen::Map<Eigen::Matrix3d> D(a + j);
+      if ((Dl.transpose() * Dl - I).cwiseAbs().maxCoeff() > 1e-8 || (Dp.transpose() * Dp - I).cwiseAbs().maxCoeff() > 1e-8) {
+        kernels::closest_orthonormal_frame(a + j);  // not two rotations: the linear extrapolation, projected
+        continue;
+      }
+      const Eigen::AngleAxisd turn(Eigen::Matrix3d(Dl * Dp.transpose()));
+      D = Eigen::AngleAxisd(alpha * turn.angle(), turn.axis()) * Dl;
+    }
+  }
+  SB_CHECK(VecRestoreArrayRead(x_prev, &ap));
+  SB_CHECK(VecRestoreArrayRead(x_last, &al));
+  SB_CHECK(VecRestoreArray(x, &a));
+  apply_prescribed(x);
+}
+
 void Model::project_directors(Vec x) const {
   PetscScalar* a = nullptr;
   SB_CHECK(VecGetArray(x, &a));

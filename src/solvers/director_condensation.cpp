@@ -28,8 +28,8 @@ DirectorCondensation::DirectorCondensation(const Model& model, const std::vector
                                            Mode mode)
     : mode_(mode) {
   const DofMap& map = model.dof_map();
-  // Manifold mode works on the whole (serial) system, Exact mode on this rank's diagonal block:
-  // unknowns are numbered from the first owned one.
+  // Manifold mode works on the whole (serial) system, Exact mode on this rank's diagonal block
+  // and Update mode on this rank's unknowns: numbered from the first owned one.
   const PetscInt lo = mode == Mode::Manifold ? 0 : map.owned_lo();
   n_ = mode == Mode::Manifold ? map.global_size() : map.local_size();
   std::vector<PetscInt> order;
@@ -49,6 +49,7 @@ DirectorCondensation::DirectorCondensation(const Model& model, const std::vector
     for (int k = 3; k < kBlock; ++k) free = free && !prescribed[static_cast<size_t>(q0 + k)];
     if (free) triads_.push_back(q0);
   }
+  if (mode_ == Mode::Update) return;  // no reduced system
   if (triads_.empty() && mode_ == Mode::Manifold) return;  // Exact: still the block's solver (plain LU)
   // Groups in elimination order: a triad where its first unknown is eliminated, then one group
   // per other unknown. Reduced unknowns are numbered in that order, so the reduced matrix is
@@ -110,6 +111,15 @@ PetscErrorCode DirectorCondensation::attach(SNES snes) {
   PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
   snes_ = snes;
   PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_corotate_jacobian", &corotate_, nullptr));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::attach_update(SNES snes) {
+  PetscFunctionBeginUser;
+  SNESLineSearch ls = nullptr;
+  PetscCall(SNESGetLineSearch(snes, &ls));
+  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
+  PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
   PetscFunctionReturn(0);
 }
 
@@ -550,11 +560,34 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
   PetscCall(SNESLineSearchGetSNES(ls, &snes));
   PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
   PetscCall(VecWAXPY(W, -1.0, Y, X));
+  if (exponential_) {
+    // The step's director part is w x d_i (C dq = 0 on the manifold): w = 1/2 sum_i d_i x dd_i,
+    // and the triad turns by exp([w]x) (the closest frame of d + w x d turns by atan|w| only).
+    PetscScalar* w = nullptr;
+    const PetscScalar* x = nullptr;
+    PetscCall(VecGetArray(W, &w));
+    PetscCall(VecGetArrayRead(X, &x));
+    for (PetscInt q0 : triads_) {
+      Eigen::Vector3d rot = Eigen::Vector3d::Zero();
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Map<const Eigen::Vector3d> d(x + q0 + 3 + 3 * i), dn(w + q0 + 3 + 3 * i);
+        rot += 0.5 * d.cross(dn - d);
+      }
+      const double angle = rot.norm();
+      if (!(angle > 0.0) || !std::isfinite(angle)) continue;  // (NaN: the line search reports it)
+      const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, rot / angle).toRotationMatrix();
+      for (int i = 0; i < 3; ++i)
+        Eigen::Map<Eigen::Vector3d>(w + q0 + 3 + 3 * i) = R * Eigen::Map<const Eigen::Vector3d>(x + q0 + 3 + 3 * i);
+    }
+    PetscCall(VecRestoreArrayRead(X, &x));
+    PetscCall(VecRestoreArray(W, &w));
+  }
   PetscCall(project(W));
   PetscCall(SNESComputeFunction(snes, W, F));
   PetscReal fnorm = 0, xnorm = 0, ynorm = 0;
   // Multipliers: the residual is linear in them (forces s G(x_f)^T lambda), so the choice that
-  // leaves no force along G^T is a 6 x 6 least-squares problem per triad.
+  // leaves no force along G^T is a 6 x 6 least-squares problem per triad (unless the step's
+  // own, Newton's, are kept: set_newton_multipliers).
   {
     PetscScalar *w = nullptr, *f = nullptr;
     const PetscScalar* xo = nullptr;
@@ -562,6 +595,7 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
     PetscCall(VecGetArray(F, &f));
     if (theta_ != 1.0) PetscCall(VecGetArrayRead(x_old_, &xo));
     for (PetscInt q0 : triads_) {
+      if (newton_multipliers_) break;
       double d[3][3];  // directors at the force state
       for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k) {
@@ -572,18 +606,22 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
       kernels::orthonormality_multiplier_update(d, fd, w + q0 + kQ, scale_);
     }
     if (theta_ != 1.0) PetscCall(VecRestoreArrayRead(x_old_, &xo));
-    // |F|, |W| and the step actually taken |W - X|, in one pass (serial: this mode is)
+    // |F|, |W| and the step actually taken |W - X|, in one pass over this rank's entries
     const PetscScalar* x = nullptr;
     PetscCall(VecGetArrayRead(X, &x));
-    double ff = 0.0, ww = 0.0, ss = 0.0;
-    for (PetscInt i = 0; i < n_; ++i) {
-      ff += f[i] * f[i];
-      ww += w[i] * w[i];
-      ss += (w[i] - x[i]) * (w[i] - x[i]);
+    PetscInt n = 0;
+    PetscCall(VecGetLocalSize(X, &n));
+    double sums[3] = {0.0, 0.0, 0.0};  // |F|^2, |W|^2, |W - X|^2
+    for (PetscInt i = 0; i < n; ++i) {
+      sums[0] += f[i] * f[i];
+      sums[1] += w[i] * w[i];
+      sums[2] += (w[i] - x[i]) * (w[i] - x[i]);
     }
-    fnorm = std::sqrt(ff);
-    xnorm = std::sqrt(ww);
-    ynorm = std::sqrt(ss);
+    MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(X));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_DOUBLE, MPI_SUM, comm));
+    fnorm = std::sqrt(sums[0]);
+    xnorm = std::sqrt(sums[1]);
+    ynorm = std::sqrt(sums[2]);
     PetscCall(VecRestoreArrayRead(X, &x));
     PetscCall(VecRestoreArray(F, &f));
     PetscCall(VecRestoreArray(W, &w));

@@ -13,7 +13,8 @@
 /// no pivoting (c0 M projected on the rotations is regular: rho I2, rho I3 > 0).
 ///
 /// Each Newton iterate is kept on the manifold: after the update, every triad is replaced by its
-/// closest orthonormal frame (polar decomposition), so the constraint rows stay at roundoff and
+/// closest orthonormal frame (polar decomposition; or, set_exponential_update, turned by the
+/// exponential of the step's rotation), so the constraint rows stay at roundoff and
 /// need no particular solution; the multipliers are then set so that the force rows have no
 /// component along G(x_f)^T (least squares, exact because the residual is linear in them). The
 /// converged solution is that of the full system; only the path to it changes.
@@ -25,6 +26,11 @@
 /// solution for the constraint rows (dq = N' a + C^T (C C^T)^-1 b_lambda) and the multipliers
 /// recovered from the force rows, dlambda = (G G^T)^-1 G (b_q - J dq); two products with the
 /// block on top of the reduced triangular solves.
+///
+/// A third mode, Update, is the manifold update alone for a linear solve on the full system (a
+/// pivoting LU, MUMPS on several ranks): the line search projects this rank's triads and sets
+/// their multipliers as above. On the manifold the full system's step satisfies C dq = 0, so its
+/// director part is N' a with the a of the condensed solve: the iterates are the same.
 ///
 /// Used when the model has triads. Control points with prescribed directors (a clamp) and all
 /// other unknowns (ANCF nodes, supports', joints' and sliders' extras) pass through unchanged.
@@ -42,10 +48,10 @@ namespace slidebeam {
 
 class DirectorCondensation {
  public:
-  enum class Mode { Manifold, Exact };
+  enum class Mode { Manifold, Exact, Update };
   /// Manifold mode on the whole system (serial).
   DirectorCondensation(const Model& model, const std::vector<PetscInt>& elimination_order);
-  /// Either mode; Exact works on this rank's diagonal block (local numbering).
+  /// Any mode; Exact and Update work on this rank's unknowns (local numbering).
   DirectorCondensation(const Model& model, const std::vector<PetscInt>& elimination_order, Mode mode);
   ~DirectorCondensation();
   DirectorCondensation(const DirectorCondensation&) = delete;
@@ -55,6 +61,9 @@ class DirectorCondensation {
   /// Install on snes: KSP preonly with this preconditioner (the reduced LU), and the line
   /// search that keeps iterates on the manifold (Manifold mode).
   PetscErrorCode attach(SNES snes);
+  /// Install on snes the line search that keeps iterates on the manifold, and nothing else: the
+  /// linear solve stays snes's own (Update mode; collective).
+  PetscErrorCode attach_update(SNES snes);
   /// Make pc (a block's sub-preconditioner) this object's exact block solve (Exact mode).
   PetscErrorCode attach_to_block(PC pc);
   /// Constraint forces of the step act at x_f = (1 - theta) x_old + theta x and the residual is
@@ -66,6 +75,13 @@ class DirectorCondensation {
   }
   /// Replace every triad of x by its closest orthonormal frame.
   PetscErrorCode project(Vec x) const;
+  /// Iterates turn each triad by the exponential of the step's rotation w (instead of taking the
+  /// closest frame of d + w x d, which turns by atan|w|). Static solves: a load step's first
+  /// iterate turns by tenths of a radian, where the two differ by a few percent.
+  void set_exponential_update(bool on) { exponential_ = on; }
+  /// Keep the multipliers of the Newton step instead of setting them by least squares (Update
+  /// mode only: the step must carry them, as a solve of the full system does).
+  void set_newton_multipliers(bool on) { newton_multipliers_ = on; }
   /// Number of reduced unknowns.
   PetscInt reduced_size() const { return n_red_; }
 
@@ -121,6 +137,8 @@ class DirectorCondensation {
   Mat block_ = nullptr;                // the block of the last set-up (not owned)
   Vec p_ = nullptr, t_ = nullptr;
   // line search state
+  bool exponential_ = false;
+  bool newton_multipliers_ = false;
   Vec x_old_ = nullptr;
   double theta_ = 1.0, scale_ = 1.0;
 };

@@ -23,10 +23,12 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
   SB_CHECK(SNESSetConvergenceTest(snes_, &EquilibriumSolver::converged, this, nullptr));
   // Direct LU whatever -sb_schwarz says: near equilibrium the continuation's matrix approaches
   // the singular tangent of a mechanism, where GMRES stalls. (-pc_type and friends still apply.)
+  manifold_ = std::make_unique<ManifoldNewton>(model, snes_);
   SB_CHECK(SNESSetFromOptions(snes_));
 }
 
 EquilibriumSolver::~EquilibriumSolver() {
+  manifold_.reset();
   SNESDestroy(&snes_);
   MatDestroy(&J_);
   MatDestroy(&M_);
@@ -79,6 +81,7 @@ PetscErrorCode EquilibriumSolver::form_jacobian(SNES snes, Vec x, Mat J, Mat, vo
                                                    1.0, self->c_));
   PetscCall(self->model_.set_prescribed_jacobian_rows(J));
   PetscCall(MatZeroRows(J, static_cast<PetscInt>(self->held_.size()), self->held_.data(), 1.0, nullptr, nullptr));
+  self->test_.pattern_generation = self->coo_.generation();
   PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
   PetscFunctionReturn(0);
 }
@@ -126,9 +129,10 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   double h = h0;
   auto newton = [&](double c) {
     c_ = c;
+    SB_CHECK(manifold_->project(x));  // x_k on the manifold too: the pull c M (x - x_k) vanishes at x = x_k
     SB_CHECK(VecCopy(x, x_k_));
-    SB_CHECK(SNESSolve(snes_, nullptr, x));
-    const SolveResult s = solve_result(snes_);
+    // The polish (c = 0) meets the tangent of a mechanism, singular or nearly so: a pivoting LU.
+    const SolveResult s = manifold_->solve(x, c == 0.0);
     res.newton_iterations += s.iterations;
     return s.converged() && std::isfinite(s.residual_norm);
   };

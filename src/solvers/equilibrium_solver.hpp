@@ -13,9 +13,14 @@
 /// a root of F. A final plain Newton solve polishes the state when its tangent is regular
 /// (a mechanism in equilibrium keeps the continued state, whose residual is already at the
 /// tolerance). Sliders can be held (s prescribed at its current value) during the solve.
+/// Every Newton solve, the continuation's and the polish, is Newton on the director constraint
+/// manifold (ManifoldNewton), as in the time steps.
 
 #include "model/model.hpp"
+#include "solvers/manifold_newton.hpp"
 #include "solvers/newton.hpp"
+
+#include <memory>
 
 #include <vector>
 
@@ -65,6 +70,7 @@ class EquilibriumSolver {
   double t_ = 0.0;
   double c_ = 0.0;  // 1 / h^2 (0: plain statics)
   int pattern_seen_ = 0;
+  std::unique_ptr<ManifoldNewton> manifold_;
 };
 
 }  // namespace slidebeam

@@ -3,6 +3,8 @@
 
 #include "util/petsc_check.hpp"
 
+#include <cmath>
+
 namespace slidebeam {
 
 PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
@@ -47,21 +49,101 @@ PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
 
 /// PETSc's default test, plus: converged at roundoff. In large units (EA = 1e7, coordinates of
 /// 100) the residual bottoms out well above any fixed atol, and the multiplier part of the
-/// Newton step stays noisy, so stol cannot fire either. Once the residual is 1e6 below the
-/// step's initial residual and no longer falls quadratically, it is at roundoff: stop there.
+/// Newton step stays noisy, so stol cannot fire either. Two signs of roundoff stop Newton:
+/// - |F| <= eps || |J| |x| ||: no better x is representable (the componentwise backward error of
+///   x is at the unit roundoff). This holds the first time an iterate reaches the floor, so no
+///   iteration is spent only to see |F| stagnate; and it holds where the floor lies above 1e-6 of
+///   the initial residual (a small load step on a slender beam: EA/EI = 1e7 put the floor at 2e-6
+///   of the first step's residual, and Newton ran to its iteration limit).
+/// - |F| 1e6 below the step's initial residual, no longer falling quadratically, and a Newton
+///   step below 1e-7 of the state (a large load step's initial residual, 1e5 on the roll-up at
+///   half a turn per step, let a residual still at 1e-2 that merely failed to fall once pass).
 PetscErrorCode RoundoffTest::test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                   SNESConvergedReason* reason, void* ctx) {
   PetscFunctionBeginUser;
   auto* self = static_cast<RoundoffTest*>(ctx);
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
   if (it == 0) self->fnorm0 = fnorm;
+  if (*reason == SNES_CONVERGED_ITERATING && it > 0) {
+    double level = 0.0;
+    PetscCall(self->rounding_level(snes, &level));
+    if (fnorm <= level) {
+      PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g <= eps || |J| |x| || = %g\n", (double)fnorm, level));
+      *reason = SNES_CONVERGED_FNORM_ABS;
+    }
+  }
   if (*reason == SNES_CONVERGED_ITERATING && it > 1 && fnorm <= 1e-6 * self->fnorm0 &&
-      fnorm >= 0.5 * self->fnorm_prev) {
+      fnorm >= 0.5 * self->fnorm_prev && snorm <= 1e-7 * xnorm) {
     PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
                         (double)self->fnorm0));
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
   }
   self->fnorm_prev = fnorm;
+  PetscFunctionReturn(0);
+}
+
+RoundoffTest::~RoundoffTest() {
+  MatDestroy(&abs_);
+  VecDestroy(&ax_);
+  VecDestroy(&y_);
+}
+
+namespace {
+PetscErrorCode abs_values(Mat A) {  // a sequential AIJ matrix's stored entries, in place
+  PetscFunctionBeginUser;
+  MatInfo info;
+  PetscCall(MatGetInfo(A, MAT_LOCAL, &info));
+  PetscScalar* v = nullptr;
+  PetscCall(MatSeqAIJGetArray(A, &v));
+  for (PetscInt k = 0; k < static_cast<PetscInt>(info.nz_used); ++k) v[k] = std::abs(v[k]);
+  PetscCall(MatSeqAIJRestoreArray(A, &v));
+  PetscFunctionReturn(0);
+}
+}  // namespace
+
+PetscErrorCode RoundoffTest::rounding_level(SNES snes, double* level) {
+  PetscFunctionBeginUser;
+  *level = 0.0;
+  Mat P = nullptr;
+  PetscCall(SNESGetJacobian(snes, nullptr, &P, nullptr, nullptr));
+  PetscBool aij = PETSC_FALSE, assembled = PETSC_FALSE;
+  if (P) PetscCall(PetscObjectTypeCompareAny(reinterpret_cast<PetscObject>(P), &aij, MATSEQAIJ, MATMPIAIJ, ""));
+  if (aij) PetscCall(MatAssembled(P, &assembled));
+  if (!aij || !assembled) PetscFunctionReturn(0);
+  PetscObjectState state = 0;
+  PetscObjectId id = 0;
+  PetscCall(MatGetNonzeroState(P, &state));
+  PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(P), &id));
+  if (!abs_ || state != state_ || id != id_ || pattern_generation != generation_) {  // a new pattern
+    PetscCall(MatDestroy(&abs_));
+    PetscCall(VecDestroy(&ax_));
+    PetscCall(VecDestroy(&y_));
+    PetscCall(MatDuplicate(P, MAT_COPY_VALUES, &abs_));
+    PetscCall(MatCreateVecs(abs_, &ax_, &y_));
+    state_ = state;
+    id_ = id;
+    generation_ = pattern_generation;
+  } else {
+    PetscCall(MatCopy(P, abs_, SAME_NONZERO_PATTERN));
+  }
+  PetscBool seq = PETSC_FALSE;
+  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(abs_), MATSEQAIJ, &seq));
+  if (seq) {
+    PetscCall(abs_values(abs_));
+  } else {
+    Mat Ad = nullptr, Ao = nullptr;
+    PetscCall(MatMPIAIJGetSeqAIJ(abs_, &Ad, &Ao, nullptr));
+    PetscCall(abs_values(Ad));
+    PetscCall(abs_values(Ao));
+  }
+  Vec x = nullptr;
+  PetscCall(SNESGetSolution(snes, &x));
+  PetscCall(VecCopy(x, ax_));
+  PetscCall(VecAbs(ax_));
+  PetscCall(MatMult(abs_, ax_, y_));
+  PetscReal n = 0;
+  PetscCall(VecNorm(y_, NORM_2, &n));
+  *level = PETSC_MACHINE_EPSILON * n;
   PetscFunctionReturn(0);
 }
 

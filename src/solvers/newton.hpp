@@ -21,8 +21,25 @@ struct SolveResult {
 /// Memory of the roundoff convergence test (one per SNES).
 struct RoundoffTest {
   double fnorm0 = 0.0, fnorm_prev = 0.0;
+  RoundoffTest() = default;
+  ~RoundoffTest();
+  RoundoffTest(const RoundoffTest&) = delete;
+  RoundoffTest& operator=(const RoundoffTest&) = delete;
   static PetscErrorCode test(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                              SNESConvergedReason* reason, void* ctx);
+  /// eps || |J| |x| ||_2 with the SNES's last Jacobian and current iterate: the residual that
+  /// rounding x alone can cause (0 before the first Jacobian or for a matrix that is not AIJ).
+  PetscErrorCode rounding_level(SNES snes, double* level);
+  /// The Jacobian's pattern generation (CooAssembly::generation), set where it is assembled: a
+  /// pattern rebuilt by COO preallocation can come back with the same nonzero state.
+  int pattern_generation = 0;
+
+ private:
+  Mat abs_ = nullptr;  // |J|, entry by entry
+  Vec ax_ = nullptr, y_ = nullptr;
+  PetscObjectId id_ = 0;
+  PetscObjectState state_ = -1;
+  int generation_ = -1;
 };
 
 /// Newton line search off, tolerances, divergence test off, roundoff test, direct LU (SuperLU

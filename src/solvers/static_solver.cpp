@@ -11,10 +11,14 @@ StaticSolver::StaticSolver(Model& model) : model_(model) {
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &StaticSolver::form_function, this));
   SB_CHECK(SNESSetJacobian(snes_, model.jacobian(), model.jacobian(), &StaticSolver::form_jacobian, this));
   SB_CHECK(configure_newton(snes_, &test_));
+  manifold_ = std::make_unique<ManifoldNewton>(model, snes_);
   SB_CHECK(SNESSetFromOptions(snes_));
 }
 
-StaticSolver::~StaticSolver() { SNESDestroy(&snes_); }
+StaticSolver::~StaticSolver() {
+  manifold_.reset();
+  SNESDestroy(&snes_);
+}
 
 PetscErrorCode StaticSolver::form_function(SNES, Vec x, Vec F, void* ctx) {
   PetscFunctionBeginUser;
@@ -27,6 +31,7 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec x, Mat J, Mat, void* c
   PetscFunctionBeginUser;
   auto* self = static_cast<StaticSolver*>(ctx);
   PetscCall(self->model_.assemble_jacobian(self->t_, x, J));
+  self->test_.pattern_generation = self->model_.jacobian_pattern_generation();
   PetscCall(reset_factorization_on_pattern_change(snes, self->model_.jacobian_pattern_generation(), &self->pattern_seen_));
   PetscFunctionReturn(0);
 }
@@ -35,8 +40,7 @@ SolveResult StaticSolver::solve(double t) {
   t_ = t;
   model_.set_prescribed_time(t);
   model_.apply_prescribed(model_.x());
-  SB_CHECK(SNESSolve(snes_, nullptr, model_.x()));
-  return solve_result(snes_);
+  return manifold_->solve(model_.x());
 }
 
 }  // namespace slidebeam

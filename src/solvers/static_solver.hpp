@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file Static equilibrium at a given (pseudo-)time: one SNES Newton solve with the exact
-/// Jacobian. Defaults suit the banded saddle-point systems of beams; the options database
-/// (no prefix: -snes_*, -ksp_*, -pc_*) overrides every one of them.
+/// Jacobian, on the director constraint manifold (ManifoldNewton: condensed LU and rotated
+/// directors, as in the time steps). Defaults suit the banded saddle-point systems of beams; the
+/// options database (no prefix: -snes_*, -ksp_*, -pc_*) overrides every one of them.
 
 #include "model/model.hpp"
+#include "solvers/manifold_newton.hpp"
 #include "solvers/newton.hpp"
+
+#include <memory>
 
 namespace slidebeam {
 
@@ -19,6 +23,8 @@ class StaticSolver {
   /// Solve F(x; t) = 0 starting from the model's current x (updated in place).
   SolveResult solve(double t);
   SNES snes() const { return snes_; }
+  /// Newton on the manifold with the condensed LU (false: the full system's LU, or plain Newton).
+  bool condensed() const { return manifold_ && manifold_->condensed(); }
   double time() const { return t_; }
   void set_time(double t) { t_ = t; }
 
@@ -30,6 +36,7 @@ class StaticSolver {
   SNES snes_ = nullptr;
   double t_ = 0.0;
   int pattern_seen_ = 0;  // CooAssembly generation the factorisation was set up for
+  std::unique_ptr<ManifoldNewton> manifold_;
 };
 
 }  // namespace slidebeam
