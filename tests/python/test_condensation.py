@@ -181,7 +181,8 @@ def test_exact_block_solves_follow_pattern_changes(slider):
     equal the old block's. The exact block solve must rebuild its reduced pattern every time;
     with a stale one it is no longer exact, or writes out of bounds (seen with the cable
     slider on 2 ranks). Block Jacobi on any rank count (-sb_schwarz on one rank): every step
-    takes the same Newton and GMRES iterations (within one, for roundoff) as with LU block
+    takes the same Newton and GMRES iterations (within two per step, for roundoff: GMRES counts on
+    2 ranks move by one or two between runs) as with LU block
     solves, and on one rank one GMRES iteration per Newton iteration."""
     counts = {}
     for sub in ("condensed", "lu"):
@@ -197,6 +198,6 @@ def test_exact_block_solves_follow_pattern_changes(slider):
         s1 = sim.joint_states()[0].s
         assert s0 < 0.5 and s1 > 1.5, (s0, s1)
     c, lu = np.array(counts["condensed"]), np.array(counts["lu"])
-    assert np.abs(c - lu).max() <= 1, f"condensed vs LU block solves (Newton, GMRES) per step: {c.sum(0)} vs {lu.sum(0)}"
+    assert np.abs(c - lu).max() <= 2, f"condensed vs LU block solves (Newton, GMRES) per step: {c.sum(0)} vs {lu.sum(0)}"
     if MPI.COMM_WORLD.Get_size() == 1:
         assert (c[:, 1] <= c[:, 0]).all()
