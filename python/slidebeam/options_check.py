@@ -88,12 +88,13 @@ def _option_tokens(tokens: list[str]) -> list[str]:
     """Option names (without dash) among command-line-like tokens; negative numbers are values."""
     names = []
     for tok in tokens:
-        if tok.startswith("-") and len(tok) > 1 and not _is_number(tok):
+        if tok.startswith("-") and len(tok) > 1 and not is_number(tok):
             names.append(tok.lstrip("-"))
     return names
 
 
-def _is_number(text: str) -> bool:
+def is_number(text: str) -> bool:
+    """Whether an options-file token is a value (a negative number) rather than an option."""
     try:
         float(text)
         return True

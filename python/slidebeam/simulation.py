@@ -20,6 +20,7 @@ from . import _core, interrupts
 from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end, carrier_end_message,
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
+from .options_check import is_number
 from .scene import Scene, SceneError
 
 
@@ -84,7 +85,7 @@ def _apply_petsc_options(scene: Scene) -> None:
             if not key.startswith("-"):
                 raise SceneError(f"expected an option starting with '-', got {key!r}", file=str(options_file))
             value = ""
-            if i + 1 < len(tokens) and not (tokens[i + 1].startswith("-") and not _is_number(tokens[i + 1])):
+            if i + 1 < len(tokens) and not (tokens[i + 1].startswith("-") and not is_number(tokens[i + 1])):
                 value = tokens[i + 1]
                 i += 1
             pairs.append((key[1:], value))
@@ -94,14 +95,6 @@ def _apply_petsc_options(scene: Scene) -> None:
         if not opts.hasName(key):
             opts.setValue(key, value)
             _scene_option_keys.add(key)
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-        return True
-    except ValueError:
-        return False
 
 
 class Simulation:

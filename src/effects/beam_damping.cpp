@@ -197,19 +197,6 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
         }
   }
 
-  static void knot_spans(const Beam& b, int i, int& left, int& right) {
-    left = i >= 1 ? i - 1 : -1;
-    right = i < b.n_spans() ? i : -1;
-  }
-  static std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) {
-    int left, right;
-    knot_spans(b, i, left, right);
-    const int cp0 = left >= 0 ? left : right, cp1 = (right >= 0 ? right : left) + 2;
-    std::vector<PetscInt> d;
-    for (int cp = cp0; cp <= cp1; ++cp)
-      for (int k = 0; k < kernels::kNq; ++k) d.push_back(map.q(b.first_cp() + cp, k));
-    return d;
-  }
   /// Knot i's material tangent: tau C / (h m_i) G(q_f)^T G(q1), G the gradient of the knot's
   /// Gamma moment (its spans' moments toward it).
   PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {

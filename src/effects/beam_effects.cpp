@@ -187,20 +187,6 @@ class BeamElastic final : public SpanEffect {
       for (int k = 0; k < 3; ++k) lanes[k][g] = v(k);
     }
   }
-  /// The spans on both sides of knot i (-1: none).
-  static void knot_spans(const Beam& b, int i, int& left, int& right) {
-    left = i >= 1 ? i - 1 : -1;
-    right = i < b.n_spans() ? i : -1;
-  }
-  static std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) {
-    int left, right;
-    knot_spans(b, i, left, right);
-    const int cp0 = left >= 0 ? left : right, cp1 = (right >= 0 ? right : left) + 2;
-    std::vector<PetscInt> d;
-    for (int cp = cp0; cp <= cp1; ++cp)
-      for (int k = 0; k < kernels::kNq; ++k) d.push_back(map.q(b.first_cp() + cp, k));
-    return d;
-  }
   /// The material tangent of knot i's Gamma energy, s / m_i Gbar_a^T C Gbar_b, with Gbar the
   /// gradient of the knot's moment: at the force state (statics), or the midpoint and the end of
   /// the step (energy-momentum, s = (1 + xi) / 2).

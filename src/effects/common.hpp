@@ -53,6 +53,22 @@ void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, con
 /// the end points.
 int end_cp(const Beam& b, double s);
 
+/// The spans on both sides of knot i of a director beam (-1: none).
+inline void knot_spans(const Beam& b, int i, int& left, int& right) {
+  left = i >= 1 ? i - 1 : -1;
+  right = i < b.n_spans() ? i : -1;
+}
+/// The coordinates of the control points of knot i's spans (a knot's assumed-strain patch).
+inline std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) {
+  int left, right;
+  knot_spans(b, i, left, right);
+  const int cp0 = left >= 0 ? left : right, cp1 = (right >= 0 ? right : left) + 2;
+  std::vector<PetscInt> d;
+  for (int cp = cp0; cp <= cp1; ++cp)
+    for (int k = 0; k < kernels::kNq; ++k) d.push_back(map.q(b.first_cp() + cp, k));
+  return d;
+}
+
 /// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
