@@ -85,30 +85,16 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   // so that the damping of small motions is tau K): the same knots and coupled spans as there.
   void distribute(const Model& m) override {
     ElementEffect::distribute(m);
-    const Beam& b = m.beam(beam_);
-    if (!knots_used(b)) return;
-    const int n = b.n_spans();
-    std::vector<char> need(static_cast<size_t>(n), 0);
-    for (int e : elements_) {
-      for (int f = std::max(e - 1, 0); f <= std::min(e + 1, n - 1); ++f) need[static_cast<size_t>(f)] = 1;
-      knots_.push_back(e);
-      if (e == n - 1) knots_.push_back(n);
-    }
-    for (int f = 0; f < n; ++f)
-      if (need[static_cast<size_t>(f)]) moment_spans_.push_back(f);
+    if (knots_used(m.beam(beam_))) patches_.distribute(m.beam(beam_), elements_);
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     ElementEffect::needed_dofs(m, dofs);
-    for (int f : moment_spans_) add_cp_blocks(m.dof_map(), m.beam(beam_).first_cp() + f, 3, dofs);
+    patches_.needed_dofs(m.dof_map(), m.beam(beam_), dofs);
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     PetscCall(ElementEffect::pattern(m, sink));
-    for (int i : knots_) {
-      const std::vector<PetscInt> d = knot_dofs(m.dof_map(), m.beam(beam_), i);
-      const std::vector<double> zero(d.size() * d.size(), 0.0);
-      PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
-    }
+    PetscCall(patches_.pattern(m.dof_map(), m.beam(beam_), sink));
     PetscFunctionReturn(0);
   }
 
@@ -138,7 +124,7 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
       const Dofs d = element_dofs(ctx.map, b, e);
       PetscCall(J.add(kNqEl, d.data(), kNqEl, d.data(), Kr.data()));
     }
-    for (int i : knots_) PetscCall(knot_tangent(ctx, b, i, J));
+    for (int i : patches_.knots) PetscCall(knot_tangent(ctx, b, i, J));
     PetscFunctionReturn(0);
   }
 
@@ -151,8 +137,8 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   /// The knots' viscous stresses tau C (b_i(q1) - b_i(q0)) / h.
   void knot_stresses(const EvalContext& ctx, const Beam& b) const {
     if (!knots_used(b)) return;
-    const auto b0 = b.knot_gamma(moment_spans_, [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); });
-    const auto b1 = b.knot_gamma(moment_spans_, [&](int f) { return gather_span(ctx.x, ctx.map, b, f); });
+    const auto b0 = b.knot_gamma(patches_.moment_spans, [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); });
+    const auto b1 = b.knot_gamma(patches_.moment_spans, [&](int f) { return gather_span(ctx.x, ctx.map, b, f); });
     knot_sigma_.resize(b1.size());
     for (size_t i = 0; i < b1.size(); ++i) knot_sigma_[i] = c_.head<3>().cwiseProduct(b1[i] - b0[i]) / ctx.h;
   }
@@ -226,7 +212,7 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   double alpha_;
   Vec6 tau_, c_;
   std::array<double, 4> rho_{};
-  std::vector<int> knots_, moment_spans_;
+  KnotPatches patches_;
   mutable std::vector<Vec3> knot_sigma_;
 };
 

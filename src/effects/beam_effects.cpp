@@ -39,32 +39,16 @@ class BeamElastic final : public SpanEffect {
 
   void distribute(const Model& m) override {
     SpanEffect::distribute(m);
-    const Beam& b = m.beam(beam_);
-    if (!b.gamma_at_knots()) return;
-    const int n = b.n_spans();
-    std::vector<char> need(static_cast<size_t>(n), 0);
-    for (int e : elements_) {
-      for (int f = std::max(e - 1, 0); f <= std::min(e + 1, n - 1); ++f) need[static_cast<size_t>(f)] = 1;
-      knots_.push_back(e);  // knot i is assembled by the owner of span min(i, n - 1)
-      if (e == n - 1) knots_.push_back(n);
-    }
-    for (int f = 0; f < n; ++f)
-      if (need[static_cast<size_t>(f)]) moment_spans_.push_back(f);
+    if (m.beam(beam_).gamma_at_knots()) patches_.distribute(m.beam(beam_), elements_);
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     SpanEffect::needed_dofs(m, dofs);
-    const Beam& b = m.beam(beam_);
-    for (int f : moment_spans_) add_cp_blocks(m.dof_map(), b.first_cp() + f, 3, dofs);
+    patches_.needed_dofs(m.dof_map(), m.beam(beam_), dofs);
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     PetscCall(SpanEffect::pattern(m, sink));
-    const Beam& b = m.beam(beam_);
-    for (int i : knots_) {
-      const std::vector<PetscInt> d = knot_dofs(m.dof_map(), b, i);
-      const std::vector<double> zero(d.size() * d.size(), 0.0);
-      PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
-    }
+    PetscCall(patches_.pattern(m.dof_map(), m.beam(beam_), sink));
     PetscFunctionReturn(0);
   }
 
@@ -123,7 +107,7 @@ class BeamElastic final : public SpanEffect {
       PetscCall(J.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), Kr.data()));
     }
     if (knots)
-      for (int i : knots_) PetscCall(knot_tangent(ctx, b, i, J));
+      for (int i : patches_.knots) PetscCall(knot_tangent(ctx, b, i, J));
     PetscFunctionReturn(0);
   }
   double energy(const EvalContext& ctx) const override {
@@ -134,7 +118,7 @@ class BeamElastic final : public SpanEffect {
                                 b.gamma_at_knots(), gather_span(ctx.x, ctx.map, b, e));
     if (b.gamma_at_knots()) {
       knot_strains(ctx, ctx.x, b, knot_now_);
-      for (int i : knots_) {
+      for (int i : patches_.knots) {
         const Vec3& v = knot_now_[static_cast<size_t>(i)];
         U += 0.5 * b.knot_mass(i) * v.dot(b.stiffness().head<3>().cwiseProduct(v));
       }
@@ -178,7 +162,7 @@ class BeamElastic final : public SpanEffect {
   }
   /// The knots' strains b_i in the state x (entries of the knots next to owned spans).
   void knot_strains(const EvalContext& ctx, const LocalValues& x, const Beam& b, std::vector<Vec3>& out) const {
-    out = b.knot_gamma(moment_spans_, [&](int f) { return gather_span(x, ctx.map, b, f); });
+    out = b.knot_gamma(patches_.moment_spans, [&](int f) { return gather_span(x, ctx.map, b, f); });
   }
   /// Span e's Gamma stresses at its points, lane by lane.
   void gamma_sigma_lanes(const Beam& b, int e, double (&lanes)[3][kernels::kSpanLanes]) const {
@@ -223,7 +207,7 @@ class BeamElastic final : public SpanEffect {
   }
 
   // assumed strains: the spans whose moments the owned spans' knots need, and the knots this rank assembles
-  std::vector<int> moment_spans_, knots_;
+  KnotPatches patches_;
   mutable std::vector<Vec3> knot_start_, knot_now_, knot_sigma_;
   // energy-momentum: the state of every owned span at the step start
   mutable std::vector<kernels::SpanEmState> start_;

@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -71,6 +72,36 @@ inline std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) 
 
 /// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
+
+/// Which knots of a director beam's assumed-strain patches a rank assembles and which spans' moments
+/// it needs: knot i is assembled by the owner of span min(i, n - 1), and a knot's value takes the
+/// moments of both its spans (so a rank reads one span beyond its own on either side).
+struct KnotPatches {
+  std::vector<int> knots, moment_spans;
+  void distribute(const Beam& b, const std::vector<int>& elements) {
+    const int n = b.n_spans();
+    std::vector<char> need(static_cast<size_t>(n), 0);
+    for (int e : elements) {
+      for (int f = std::max(e - 1, 0); f <= std::min(e + 1, n - 1); ++f) need[static_cast<size_t>(f)] = 1;
+      knots.push_back(e);
+      if (e == n - 1) knots.push_back(n);
+    }
+    for (int f = 0; f < n; ++f)
+      if (need[static_cast<size_t>(f)]) moment_spans.push_back(f);
+  }
+  void needed_dofs(const DofMap& map, const Beam& b, std::vector<PetscInt>& dofs) const {
+    for (int f : moment_spans) add_cp_blocks(map, b.first_cp() + f, 3, dofs);
+  }
+  PetscErrorCode pattern(const DofMap& map, const Beam& b, const MatSink& sink) const {
+    PetscFunctionBeginUser;
+    for (int i : knots) {
+      const std::vector<PetscInt> d = knot_dofs(map, b, i);
+      const std::vector<double> zero(d.size() * d.size(), 0.0);
+      PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+};
 
 /// The 36 coordinates of span e (control points e, e+1, e+2) in the state x.
 kernels::VecEl gather_span(const LocalValues& x, const DofMap& map, const Beam& b, int e);
