@@ -248,6 +248,66 @@ class SlidingJoint final : public Effect {
     return true;
   }
 
+  /// N = |Lambda - (t . Lambda) t|: Lambda the force on the slider (joint_force), t = c'/|c'| the
+  /// carrier's unit tangent at the force state (x_f, s_f). Both are read at the force state, so
+  /// d/dx = theta d/dx_f; the multipliers come from x. Every column lies in the joint's own s row
+  /// pattern (s, multipliers, slider directors, carrier blocks around s_f within the window).
+  bool normal_force(const EvalContext& ctx, double& N, std::vector<PetscInt>& dofs, std::vector<double>& dN) const override {
+    if (!owned_) return false;
+    const DofMap& map = ctx.map;
+    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
+    const double th = ctx.theta, sf = ctx.xf.at(s_index());
+    const auto range = curve_.touched_blocks(sf, sf);
+    sliding::Weights d1, d2;
+    d1.reset(range[0], range[1] - range[0] + 1);
+    d2.reset(range[0], range[1] - range[0] + 1);
+    const int e = curve_.span_of(sf);
+    curve_.add_basis(e, sf, 1, 1.0, d1);
+    curve_.add_basis(e, sf, 2, 1.0, d2);
+    Eigen::Vector3d c = Eigen::Vector3d::Zero(), dc_ds = Eigen::Vector3d::Zero();
+    for (int a = range[0]; a <= range[1]; ++a) {
+      const Eigen::Vector3d xa = position(ctx.xf, map, C, a);
+      c += d1.at(a) * xa;
+      dc_ds += d2.at(a) * xa;
+    }
+    const double len = c.norm();
+    const Eigen::Vector3d t = c / len;
+    const Eigen::Vector3d lam = multipliers(ctx.x);
+    Eigen::Matrix3d E = Eigen::Matrix3d::Identity();
+    if (frame_) {
+      Eigen::Vector3d p;
+      slider_frame(ctx.xf, map, S, E, p);
+    }
+    const Eigen::Vector3d Lambda = E * lam, Nvec = Lambda - t.dot(Lambda) * t;
+    N = Nvec.norm();
+    // dN = (Nvec . dLambda - (t . Lambda) Nvec . dc' / |c'|) / N   (Nvec is normal to t);
+    // at N = 0 (no transverse force) N is not differentiable: its derivative is taken as 0
+    const double inv = N > 0.0 ? 1.0 / N : 0.0;
+    const Eigen::Vector3d gL = inv * Nvec, gc = -(t.dot(Lambda) * inv / len) * Nvec;
+    dofs.clear();
+    dN.clear();
+    for (int i = 0; i < 3; ++i) {
+      dofs.push_back(extra_offset() + i);
+      dN.push_back(gL.dot(E.col(i)));
+    }
+    dofs.push_back(s_index());
+    dN.push_back(th * gc.dot(dc_ds));
+    const PetscInt first = C.first_cp();
+    for (int a = range[0]; a <= range[1]; ++a)
+      for (int k = 0; k < 3; ++k) {
+        dofs.push_back(map.q(first + curve_.cp_of_block(a), curve_.offset_of_block(a) + k));
+        dN.push_back(th * d1.at(a) * gc(k));
+      }
+    if (frame_)  // Lambda = sum_i lam_i e_i(x_f), e_i = sum_j w_j d_i,j
+      for (int j = 0; j < frame_st_.n; ++j)
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) {
+            dofs.push_back(map.q(S.first_cp() + frame_st_.cp[j], 3 + 3 * i + k));
+            dN.push_back(th * frame_st_.w[j] * lam(i) * gL(k));
+          }
+    return true;
+  }
+
   /// J(positions, extras) += values[0 : 4 p] (p x 4, row-major), J(extras, all) += the next 4 x n,
   /// with dofs = positions (p of them), then s, mu.
   static PetscErrorCode add_blocks(const std::vector<PetscInt>& d, const double* values, const MatSink& J) {

@@ -309,6 +309,14 @@ class Effect {
   /// step's force under the midpoint-type rules), on the rank that evaluates the joint (true);
   /// false elsewhere and for every other effect.
   virtual bool joint_force(const EvalContext&, std::array<double, 3>&) const { return false; }
+  /// A sliding joint: the magnitude N of its force on the slider transverse to the carrier's unit
+  /// tangent at s (the normal force of friction), under the evaluation's rule, and dN / d(dofs)
+  /// over the global unknowns it depends on, on the rank that evaluates the joint (true); false
+  /// elsewhere and for every other effect.
+  virtual bool normal_force(const EvalContext&, double& /*N*/, std::vector<PetscInt>& /*dofs*/,
+                            std::vector<double>& /*dN*/) const {
+    return false;
+  }
 
   /// Supports and joints: their reaction (summed over ranks by the model: add the terms of
   /// owned rows only).
