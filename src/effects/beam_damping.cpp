@@ -186,27 +186,12 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   /// Knot i's material tangent: tau C / (h m_i) G(q_f)^T G(q1), G the gradient of the knot's
   /// Gamma moment (its spans' moments toward it).
   PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {
-    PetscFunctionBeginUser;
-    int left, right;
-    knot_spans(b, i, left, right);
-    const int cp0 = left >= 0 ? left : right;
-    const int n = 12 * ((right >= 0 ? right : left) + 3 - cp0);
-    Eigen::MatrixXd Gf = Eigen::MatrixXd::Zero(3, n), G1 = Eigen::MatrixXd::Zero(3, n);
-    for (const int f : {left, right}) {
-      if (f < 0) continue;
-      const int col = 12 * (f - cp0);
-      const bool toward_right = f == left;
-      const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, f), q1 = gather_span(ctx.x, ctx.map, b, f);
-      const VecEl qf = (1.0 - ctx.theta) * q0 + ctx.theta * q1;
-      Gf.middleCols(col, kNqEl) += kernels::span_gamma_moment_gradient(b.strain_table(), &b.gp(f, 0), b.n_gp(), qf, toward_right);
-      G1.middleCols(col, kNqEl) += kernels::span_gamma_moment_gradient(b.strain_table(), &b.gp(f, 0), b.n_gp(), q1, toward_right);
-    }
-    const Eigen::Vector3d c = c_.head<3>() / (ctx.h * b.knot_mass(i));
-    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const RowMajor K = Gf.transpose() * c.asDiagonal() * G1;
-    const std::vector<PetscInt> d = knot_dofs(ctx.map, b, i);
-    PetscCall(J.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), K.data()));
-    PetscFunctionReturn(0);
+    const auto q0 = [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); };
+    const auto q1 = [&](int f) { return gather_span(ctx.x, ctx.map, b, f); };
+    const Eigen::MatrixXd Gf =
+        knot_moment_gradient(b, i, [&](int f) { return VecEl((1.0 - ctx.theta) * q0(f) + ctx.theta * q1(f)); });
+    const Eigen::Vector3d w = c_.head<3>() / (ctx.h * b.knot_mass(i));
+    return add_knot_tangent(ctx.map, b, i, Gf, w, knot_moment_gradient(b, i, q1), J);
   }
 
   double alpha_;

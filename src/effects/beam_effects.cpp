@@ -25,7 +25,7 @@ class SpanEffect : public ElementEffect<3, kernels::kNqEl> {
   Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
 };
 
-/// Strain energy of one beam (formulation.md section 3), integrated span by span. With the
+/// Strain energy of one beam (README, "How it is built"; docs/theory.md), integrated span by span. With the
 /// assumed-strain quadrature the membrane and shear strains enter through their values at the
 /// knots (kernels::GammaMoments): a knot's value takes the moments of the spans on both sides,
 /// the spans' Gamma stresses are the knots' interpolated, and the material part of the tangent
@@ -176,33 +176,18 @@ class BeamElastic final : public SpanEffect {
   /// the step (energy-momentum, s = (1 + xi) / 2).
   PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {
     PetscFunctionBeginUser;
-    int left, right;
-    knot_spans(b, i, left, right);
-    const int cp0 = left >= 0 ? left : right;
-    const int n = 12 * ((right >= 0 ? right : left) + 3 - cp0);
-    Eigen::MatrixXd Ga = Eigen::MatrixXd::Zero(3, n), Gb = Eigen::MatrixXd::Zero(3, n);
+    const auto q0 = [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); };
+    const auto q1 = [&](int f) { return gather_span(ctx.x, ctx.map, b, f); };
     const bool em = ctx.rule == StepRule::EnergyMomentum;
-    double s = em ? 0.5 * (1.0 + ctx.dissipation) : ctx.theta;
-    for (const int f : {left, right}) {
-      if (f < 0) continue;
-      const int col = 12 * (f - cp0);
-      const bool toward_right = f == left;  // the left span's moment toward its right knot
-      const auto& T = b.strain_table();
-      if (em) {
-        const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, f), q1 = gather_span(ctx.x, ctx.map, b, f);
-        Ga.middleCols(col, kernels::kNqEl) += kernels::span_gamma_moment_gradient(T, &b.gp(f, 0), b.n_gp(), 0.5 * (q0 + q1), toward_right);
-        Gb.middleCols(col, kernels::kNqEl) += kernels::span_gamma_moment_gradient(T, &b.gp(f, 0), b.n_gp(), q1, toward_right);
-      } else {
-        const auto G = kernels::span_gamma_moment_gradient(T, &b.gp(f, 0), b.n_gp(), gather_span(ctx.xf, ctx.map, b, f), toward_right);
-        Ga.middleCols(col, kernels::kNqEl) += G;
-        Gb.middleCols(col, kernels::kNqEl) += G;
-      }
+    const double s = (em ? 0.5 * (1.0 + ctx.dissipation) : ctx.theta) / b.knot_mass(i);
+    const Eigen::Vector3d w = s * b.stiffness().head<3>();
+    if (em) {
+      const Eigen::MatrixXd Gmid = knot_moment_gradient(b, i, [&](int f) { return VecEl(0.5 * (q0(f) + q1(f))); });
+      PetscCall(add_knot_tangent(ctx.map, b, i, Gmid, w, knot_moment_gradient(b, i, q1), J));
+    } else {
+      const Eigen::MatrixXd G = knot_moment_gradient(b, i, [&](int f) { return gather_span(ctx.xf, ctx.map, b, f); });
+      PetscCall(add_knot_tangent(ctx.map, b, i, G, w, G, J));
     }
-    s /= b.knot_mass(i);
-    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-    const RowMajor K = s * (Ga.transpose() * b.stiffness().head<3>().asDiagonal() * Gb);
-    const std::vector<PetscInt> d = knot_dofs(ctx.map, b, i);
-    PetscCall(J.add(n, d.data(), n, d.data(), K.data()));
     PetscFunctionReturn(0);
   }
 

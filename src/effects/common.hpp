@@ -73,6 +73,32 @@ inline std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) 
 /// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
+/// The gradient of knot i's assumed-strain moment (its spans' Gamma moments toward it), 3 x the
+/// coordinates of knot_dofs, with span f's coordinates span_q(f).
+template <class SpanCoordinates>
+Eigen::MatrixXd knot_moment_gradient(const Beam& b, int i, SpanCoordinates&& span_q) {
+  int left, right;
+  knot_spans(b, i, left, right);
+  const int cp0 = left >= 0 ? left : right;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3, kernels::kNq * ((right >= 0 ? right : left) + 3 - cp0));
+  for (const int f : {left, right}) {
+    if (f < 0) continue;
+    const bool toward_right = f == left;  // the left span's moment toward its right knot
+    G.middleCols(kernels::kNq * (f - cp0), kernels::kNqEl) +=
+        kernels::span_gamma_moment_gradient(b.strain_table(), &b.gp(f, 0), b.n_gp(), span_q(f), toward_right);
+  }
+  return G;
+}
+/// J(knot i's coordinates) += Ga^T diag(w) Gb: a knot's material tangent.
+inline PetscErrorCode add_knot_tangent(const DofMap& map, const Beam& b, int i, const Eigen::MatrixXd& Ga,
+                                       const Eigen::Vector3d& w, const Eigen::MatrixXd& Gb, const MatSink& J) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RowMajor K = Ga.transpose() * w.asDiagonal() * Gb;
+  const std::vector<PetscInt> d = knot_dofs(map, b, i);
+  const auto n = static_cast<PetscInt>(d.size());
+  return J.add(n, d.data(), n, d.data(), K.data());
+}
+
 /// Which knots of a director beam's assumed-strain patches a rank assembles and which spans' moments
 /// it needs: knot i is assembled by the owner of span min(i, n - 1), and a knot's value takes the
 /// moments of both its spans (so a rank reads one span beyond its own on either side).
