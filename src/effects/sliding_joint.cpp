@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @file Sliding joint (formulation.md sections 5-6): a point p of the slider beam stays on the
+/// @file Sliding joint (docs/theory.md): a point p of the slider beam stays on the
 /// carrier's centre line c(s) = sum_A N_A(s) phi_A, with the sliding coordinate s (no mass) and
 /// three multipliers as extra unknowns, and the frictionless condition (the s row: G_s . multipliers
 /// = 0) as the equation of s. Relative rotations are free. Two forms of the same constraints:

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""Static benchmarks (benchmarks.md B1, B3) against closed-form and published values, and unloaded
+"""Static benchmarks (the roll-up into a circle and the 45-degree bend; docs/verification.md) against
+closed-form and published values, and unloaded
 arcs of any angle that stay stress-free (issue 22)."""
 from __future__ import annotations
 
