@@ -64,6 +64,15 @@ def step_jacobian_error(sim, x1: PETSc.Vec, eps: float = 1e-6, rows: list[int] |
     return worst, scale
 
 
+def check_step_jacobian(sim, steps: int, h: float, seed: int, label: str = "") -> None:
+    """The step Jacobian at a trial end state after `steps` steps of size h (trial_end_state)
+    matches central finite differences of the step residual to 1e-6 of its largest entry."""
+    x1 = trial_end_state(sim, steps=steps, h=h, seed=seed)
+    x1.assemble()
+    worst, scale = step_jacobian_error(sim, x1)
+    assert worst <= 1e-6 * scale, f"{label}: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
+
+
 def joint_jacobian_error(sim, x1: PETSc.Vec, joint_dofs: list[int], eps: float = 1e-5) -> tuple[float, float]:
     """step_jacobian_error restricted to the joint's rows and columns (s, mu). The beams'
     stiffness (EA ~ 5e6) dominates the whole matrix's scale, so the joint's entries get their

@@ -4,7 +4,6 @@ failed static starts and time roundoff. Every way a run ends leaves a consistent
 history, summary saying what happened, the XDMF series and (dynamic runs) a checkpoint."""
 from __future__ import annotations
 
-import csv
 import json
 import os
 import signal
@@ -14,15 +13,12 @@ from pathlib import Path
 
 import pytest
 
+from test_restart import assert_same_history, rows
 from test_xdmf import read_series
 
 pytestmark = pytest.mark.skip_in_parallel  # each test starts its own processes
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def rows(path: Path) -> list[dict[str, str]]:
-    return list(csv.DictReader(path.open()))
 
 
 def start(*args: str, cwd: Path) -> subprocess.Popen:
@@ -112,13 +108,7 @@ def test_a_run_killed_with_sigkill_restarts_to_the_uninterrupted_history(tmp_pat
     assert again.returncode == 0, again.stderr
     a, b = rows(tmp_path / "whole" / "history.csv"), rows(tmp_path / "killed" / "history.csv")
     assert len(a) == len(b) == 301
-    for ra, rb in zip(a, b):
-        for key in ra:
-            if key == "reason":
-                assert ra[key] == rb[key]
-                continue
-            x, y = float(ra[key]), float(rb[key])
-            assert abs(x - y) <= 1e-12 * max(1.0, abs(x)), (ra["t"], key, x, y)
+    assert_same_history(a, b)
     _, steps = read_series(tmp_path / "killed" / "beams.xdmf")
     assert [round(t, 9) for t, _ in steps] == [round(0.1 * k, 9) for k in range(301)]
 

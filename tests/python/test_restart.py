@@ -19,6 +19,18 @@ def rows(path):
     return list(csv.DictReader(path.open()))
 
 
+def assert_same_history(a: list[dict], b: list[dict]) -> None:
+    """Two history.csv row lists agree: the same columns, the same reasons, numbers to 1e-12."""
+    for ra, rb in zip(a, b):
+        assert ra.keys() == rb.keys()
+        for key in ra:
+            if key == "reason":
+                assert ra[key] == rb[key]
+                continue
+            x, y = float(ra[key]), float(rb[key])
+            assert abs(x - y) <= 1e-12 * max(1.0, abs(x)), (ra["t"], key, x, y)
+
+
 @pytest.mark.parametrize("integrator", ["energy-momentum", "newmark"])
 def test_restarted_run_equals_the_uninterrupted_one(run_cli, root, tmp_path, integrator):
     """S2-incl (sliding joint, knot crossing near t = 0.2) to t = 0.3 in one go, and to 0.15 then
@@ -35,14 +47,7 @@ def test_restarted_run_equals_the_uninterrupted_one(run_cli, root, tmp_path, int
     assert "restarting from parts/checkpoint.h5 at t = 0.15 (step 150)" in second.stdout
     a, b = rows(tmp_path / "whole" / "history.csv"), rows(tmp_path / "parts" / "history.csv")
     assert len(a) == len(b) == 31
-    for ra, rb in zip(a, b):
-        assert ra.keys() == rb.keys()
-        for key in ra:
-            if key == "reason":
-                assert ra[key] == rb[key]
-                continue
-            x, y = float(ra[key]), float(rb[key])
-            assert abs(x - y) <= 1e-12 * max(1.0, abs(x)), (ra["t"], key, x, y)
+    assert_same_history(a, b)
     sa = json.loads((tmp_path / "whole" / "summary.json").read_text())
     sb = json.loads((tmp_path / "parts" / "summary.json").read_text())
     assert sa["steps"] == sb["steps"] == 300 and sa["newton_iterations"] == sb["newton_iterations"]

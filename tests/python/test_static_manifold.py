@@ -6,30 +6,17 @@ turns the directors on by their last rotation, and stop at the residual's roundo
 Figures in docs/verification.md, "Statics on the constraint manifold"."""
 from __future__ import annotations
 
-import contextlib
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 from mpi4py import MPI
-from petsc4py import PETSc
 
 import slidebeam
+from test_condensation import petsc_options
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-@contextlib.contextmanager
-def petsc_options(**opts: str):
-    o = PETSc.Options()
-    for k, v in opts.items():
-        o.setValue(k, v)
-    try:
-        yield
-    finally:
-        for k in opts:
-            o.delValue(k)
 
 
 def load_steps(scene: slidebeam.Scene, **opts: str) -> tuple[slidebeam.Simulation, list]:
