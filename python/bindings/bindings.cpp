@@ -62,6 +62,15 @@ PYBIND11_MODULE(_core, m) {
 
   py::register_exception<PetscFailure>(m, "PetscFailure", PyExc_RuntimeError);
   py::register_exception<SolverFailure>(m, "SolverFailure", PyExc_RuntimeError);
+  // args (key, message): the scene layer turns it into an error naming the table entry and key
+  static py::exception<ParamError> param_error(m, "ParamError", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr ptr) {
+    try {
+      if (ptr) std::rethrow_exception(ptr);
+    } catch (const ParamError& e) {
+      PyErr_SetObject(param_error.ptr(), py::make_tuple(e.key, e.what()).ptr());
+    }
+  });
 
   m.def(
       "bspline_basis",

@@ -16,7 +16,6 @@ import warnings
 from pathlib import Path
 
 from . import interrupts
-from .effect_tables import table_specs
 from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
@@ -106,26 +105,21 @@ def _describe(scene: Scene) -> str:
             continue
         lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} span{'' if b.spans == 1 else 's'}, "
                      f"{b.quadrature} quadrature, {b.strain} strains")
-    def count(n: int, what: str, plural: str = "") -> str:
-        return f"{n} {what if n == 1 else plural or what + 's'}"
-
-    lines.append(f"  {count(len(scene.supports), 'support')}, {count(len(scene.loads), 'load')}, "
-                 f"{count(len(scene.point_masses), 'point mass', 'point masses')}" +
-                 (f", {count(len(scene.rigid_joints), 'rigid joint')}" if scene.rigid_joints else "") +
-                 (f", {count(len(scene.sliding_joints), 'sliding joint')}" if scene.sliding_joints else "") +
-                 "".join(f", {n} [[{table}]]" for table, n in _registry_counts(scene).items()) +
-                 f", gravity {'on' if scene.gravity else 'off'}" +
-                 (f" ({scene.gravity_time_function.type} time function)" if scene.gravity_time_function else ""))
+    lines.append("  " + (", ".join(f"{n} [[{table}]]" if n != 1 or table not in _single_tables(scene) else f"[{table}]"
+                                   for table, n in _table_counts(scene).items()) or "no effect tables"))
     return "\n".join(lines)
 
 
-def _registry_counts(scene: Scene) -> dict[str, int]:
-    """Entries per table of the core's registry ([[damping]], [[drag]], ...), in scene order."""
-    tables = {spec.type: spec.table for spec in table_specs().values()}
+def _table_counts(scene: Scene) -> dict[str, int]:
+    """Entries per effect table ([[support]], [gravity], [[damping]], ...), in scene order."""
     counts: dict[str, int] = {}
     for e in scene.effects:
-        counts[tables[e.type]] = counts.get(tables[e.type], 0) + 1
+        counts[e.table] = counts.get(e.table, 0) + 1
     return counts
+
+
+def _single_tables(scene: Scene) -> set[str]:
+    return {table for table in _table_counts(scene) if isinstance(scene.data.get(table), dict)}
 
 
 def _effects_line(effects) -> str:

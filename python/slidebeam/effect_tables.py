@@ -2,7 +2,8 @@
 """Scene tables of effects declared in the core's registry.
 
 An effect type registered with a table name (C++: ``EffectSpec::table``) is created by the
-scene's ``[[table]]`` entries. Which keys a table takes, their kinds, units, defaults and
+scene's ``[[table]]`` entries (or by its single ``[table]``); effect types that share a table are
+its variants, picked by the entry's ``type`` key (``[[support]] type = "clamp"``). Which keys a table takes, their kinds, units, defaults and
 bounds come from the registry's specs, which the build writes to ``effect_specs.json`` beside
 this module: nothing here names an effect. Stdlib only (the scene parser must import without
 the core); scene.py validates the entries with these specs.
@@ -22,7 +23,8 @@ SPECS_FILE = Path(__file__).with_name("effect_specs.json")
 @dataclass(frozen=True)
 class ParamSpec:
     key: str
-    kind: str          # number, integer, vector, choice, beam, point, time_function
+    kind: str          # number, integer, vector, choice, beam, point, end, position, motion, beams, ends,
+                       # time_function (see ParamSpec::Kind in src/model/effect.hpp)
     unit: str
     meaning: str
     default: str       # TOML text; "" = required
@@ -30,13 +32,17 @@ class ParamSpec:
     max: float
     min_open: bool
     size: int
-    choices: tuple[str, ...]
+    choices: tuple[str, ...]   # choice: the values; beam, beams: the formulations allowed (empty: any)
+    optional: bool = False     # may be left out (the core then decides)
+    on: str = ""               # point, end, position: the beam parameter it lies on ("": "beam")
 
 
 @dataclass(frozen=True)
 class EffectSpec:
     type: str
     table: str
+    variant: str       # the entry's `type` value that picks this effect ("": the table's only one)
+    single: bool       # a single [table] rather than an array [[table]]
     meaning: str
     role: str          # stored, constraint, external, dissipative, driving
     stored: str        # for stored effects: strain, potential or kinetic energy
@@ -50,6 +56,9 @@ class EffectEntry:
 
     type: str
     label: str
+    table: str = ""
+    index: int = 0     # the entry's number in its table, from 0
+    variant: str = ""
     num: dict[str, float] = field(default_factory=dict)
     vec: dict[str, list[float]] = field(default_factory=dict)
     text: dict[str, str] = field(default_factory=dict)
@@ -67,12 +76,18 @@ def effect_specs() -> dict[str, EffectSpec]:
     out = {}
     for d in json.loads(SPECS_FILE.read_text()):
         params = tuple(ParamSpec(p["key"], p["kind"], p["unit"], p["meaning"], p["default"], _bound(p["min"]),
-                                 _bound(p["max"]), p["min_open"], p["size"], tuple(p["choices"])) for p in d["params"])
-        out[d["type"]] = EffectSpec(d["type"], d["table"], d["meaning"], d["role"], d.get("stored", ""),
-                                    tuple(d["reports"]), params)
+                                 _bound(p["max"]), p["min_open"], p["size"], tuple(p["choices"]), p["optional"], p["on"])
+                       for p in d["params"])
+        out[d["type"]] = EffectSpec(d["type"], d["table"], d["variant"], d["single"], d["meaning"], d["role"],
+                                    d.get("stored", ""), tuple(d["reports"]), params)
     return out
 
 
-def table_specs() -> dict[str, EffectSpec]:
-    """The specs of effects a scene creates through a table, by table name."""
-    return {s.table: s for s in effect_specs().values() if s.table}
+def table_specs() -> dict[str, tuple[EffectSpec, ...]]:
+    """The specs of effects a scene creates through a table, by table name: one, or the table's
+    variants."""
+    out: dict[str, list[EffectSpec]] = {}
+    for s in effect_specs().values():
+        if s.table:
+            out.setdefault(s.table, []).append(s)
+    return {table: tuple(specs) for table, specs in out.items()}

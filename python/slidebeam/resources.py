@@ -31,6 +31,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from .effect_tables import effect_specs
 from .scene import Scene, SceneError
 
 # Fits (bytes): director 6.0-6.3 kB per unknown serially, 7.0 kB on 2 ranks (sum over ranks);
@@ -100,11 +101,12 @@ def estimate(scene: Scene, ranks: int = 1, ranks_on_node: int | None = None) -> 
         parts.append(Part(_beam_table(b), "spans", math.ceil(n * BYTES_PER_UNKNOWN[b.formulation] * share),
                           f"{b.spans} spans ({n} unknowns)"))
     # joints and supports: a few multipliers each (their memory is in the beams' margin)
-    unknowns += (len(scene.supports) + len(scene.rigid_joints) + len(scene.sliding_joints)) * UNKNOWNS_PER_EXTRA
+    constraints = sum(1 for e in scene.effects if effect_specs()[e.type].role == "constraint")
+    unknowns += constraints * UNKNOWNS_PER_EXTRA
     parts.append(Part("[output]", "samples_per_span", samples * BYTES_PER_SAMPLE * local,
                       f"{samples} output sample points"))
     records, key = recorded_steps(scene)
-    items = len(scene.output.track) + len(scene.sliding_joints) + len(scene.supports) + len(scene.rigid_joints)
+    items = len(scene.output.track) + constraints  # reactions and sliding joints
     per_record = BYTES_PER_RECORD + BYTES_PER_RECORD_ITEM * items
     record_bytes = records * per_record * local
     parts.append(Part("[analysis]", key, math.ceil(record_bytes) if math.isfinite(record_bytes) else record_bytes,

@@ -16,6 +16,7 @@ This module must stay importable on its own (stdlib + numpy only).
 from __future__ import annotations
 
 import difflib
+import functools
 import math
 import os
 import tomllib
@@ -150,22 +151,12 @@ class Beam:
 
 
 @dataclass(frozen=True)
-class SupportMotion:
-    """A driven support: at time t the held point moves by f(t) displacement and (clamps) its
-    directors turn by the rotation vector f(t) rotation [rad]."""
-
-    displacement: Vec3
-    rotation: Vec3
-    time_function: "TimeFunction"
-
-
-@dataclass(frozen=True)
 class Support:
+    """A [[support]] entry, as the diagnostics read it."""
+
     type: str
     beam: int
     at: float | None  # None for "fixed"
-    position: Vec3 | None  # reference point for spherical/clamp, None for fixed
-    motion: SupportMotion | None = None  # a driven support (winch anchor, shaking mast)
 
 
 @dataclass(frozen=True)
@@ -218,32 +209,13 @@ class TimeFunction:
             vec = {"tf_times": list(self.times), "tf_values": list(self.values)}
         return num, vec, {"tf_type": self.type}
 
-
-@dataclass(frozen=True)
-class Load:
-    type: str
-    beam: int
-    at: float
-    value: Vec3
-    frame: str
-    time_function: TimeFunction
-
-
-@dataclass(frozen=True)
-class PointMass:
-    beam: int
-    at: float
-    mass: float
-
-
-@dataclass(frozen=True)
-class RigidJoint:
-    """Two beam ends welded together (same point, relative orientation of the reference kept)."""
-
-    beam_a: int
-    at_a: float
-    beam_b: int
-    at_b: float
+    @classmethod
+    def of_entry(cls, entry: EffectEntry) -> TimeFunction:
+        """The time function of an effect table's entry (its tf_* parameters)."""
+        n, v = entry.num, entry.vec
+        return cls(entry.text["tf_type"], n["tf_t0"], n["tf_t1"], n["tf_t2"], n.get("tf_amplitude", 1.0),
+                   n.get("tf_frequency", 0.0), n.get("tf_phase", 0.0), n.get("tf_offset", 0.0),
+                   tuple(v.get("tf_times", ())), tuple(v.get("tf_values", ())))
 
 
 @dataclass(frozen=True)
@@ -303,24 +275,39 @@ class Scene:
     base_dir: str
     analysis: Analysis
     beams: tuple[Beam, ...]
-    supports: tuple[Support, ...]
-    loads: tuple[Load, ...]
-    point_masses: tuple[PointMass, ...]
-    gravity: Vec3 | None
     petsc_options: dict[str, str]
     petsc_options_file: str | None
     output: Output
-    rigid_joints: tuple[RigidJoint, ...] = ()
-    sliding_joints: tuple[SlidingJoint, ...] = ()
     # the scene as read, overrides applied (what a checkpoint keeps, to restart the same run)
     data: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
     overrides: tuple[str, ...] = ()  # the --set overrides applied to the file, in order
     # what is allowed but probably not meant (a support that repeats another): for the user to read
     warnings: tuple[str, ...] = ()
-    # entries of the effect tables the core's registry declares ([[damping]], ...), in file order
+    # the entries of the effect tables the core's registry declares ([[support]], [gravity],
+    # [[damping]], ...), tables in file order
     effects: tuple[EffectEntry, ...] = ()
-    # [gravity] time_function (None: the default, a ramp over the load steps in statics, constant in dynamics)
-    gravity_time_function: TimeFunction | None = None
+
+    def entries(self, table: str) -> tuple[EffectEntry, ...]:
+        """The entries of one table, in file order."""
+        return tuple(e for e in self.effects if e.table == table)
+
+    @functools.cached_property
+    def sliding_joints(self) -> tuple[SlidingJoint, ...]:
+        """The [[sliding_joint]] entries, whose run control (the carrier's end, the equilibrium
+        start, output per joint) the Python layer does."""
+        out = []
+        for e in self.entries("sliding_joint"):
+            slider = int(e.num["slider"])
+            gradient = e.text["discrete_gradient"]
+            default_form = "spatial" if self.beams[slider].formulation == "ancf" or gradient == "midpoint" else "frame"
+            out.append(SlidingJoint(slider, e.num["slider_s"], int(e.num["carrier"]), gradient, e.text["at_carrier_end"],
+                                    e.num.get("tolerance"), e.text["static"], e.text.get("form", default_form)))
+        return tuple(out)
+
+    @functools.cached_property
+    def supports(self) -> tuple[Support, ...]:
+        """The [[support]] entries (type: the entry's variant)."""
+        return tuple(Support(e.variant, int(e.num["beam"]), e.num.get("s")) for e in self.entries("support"))
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -490,8 +477,8 @@ def _array_of_tables(data: dict[str, Any], key: str, file: str) -> list[Any]:
 # ----------------------------------------------------------------------------
 # schema constants
 
-_TOP_KEYS = ("scene", "analysis", "petsc", "gravity", "beam", "support", "load", "point_mass", "rigid_joint",
-             "sliding_joint", "output")
+# tables of the scene's own; effect tables ([[support]], [gravity], ...) come from the core's registry
+_TOP_KEYS = ("scene", "analysis", "petsc", "beam", "output")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
     "em_dissipation", "start",
@@ -513,7 +500,12 @@ _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
               "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
 # sub-tables an override may create when absent
-_CREATABLE = {"scene", "analysis", "petsc", "gravity", "output", "section", "arc", "time_function"}
+_CREATABLE = {"scene", "analysis", "petsc", "output", "section", "arc", "time_function"}
+
+
+def _single_tables() -> set[str]:
+    """Registry tables written as one [table] (gravity): an override may create them too."""
+    return {table for table, specs in table_specs().items() if specs[0].single}
 
 _ZERO: Vec3 = (0.0, 0.0, 0.0)
 
@@ -542,7 +534,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
     """Validate a raw scene dict (same layout as the TOML file)."""
     top = _Table(data, file, "top level")
     registry_tables = table_specs()
-    top.check_keys(_TOP_KEYS + tuple(registry_tables))
+    top.check_keys(_TOP_KEYS + tuple(sorted(registry_tables)))
 
     meta = _Table(top.raw("scene", {}), file, "[scene]", "scene")
     meta.check_keys(("name", "description"))
@@ -556,33 +548,8 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
                 raise SceneError(f"a dynamic analysis needs mass: give rho (shape sections) or rhoA > 0 "
                                  f"(explicit resultants)", file, f"[[beam]] #{b.index + 1} ('{b.name}').section",
                                  "rhoA")
-    supports = tuple(
-        _parse_support(_Table(raw, file, f"[[support]] #{i + 1}", "support"), beams, base_dir)
-        for i, raw in enumerate(_array_of_tables(data, "support", file))
-    )
-    loads = tuple(
-        _parse_load(_Table(raw, file, f"[[load]] #{i + 1}", "load"), beams, analysis, base_dir)
-        for i, raw in enumerate(_array_of_tables(data, "load", file))
-    )
-    masses = tuple(
-        _parse_point_mass(_Table(raw, file, f"[[point_mass]] #{i + 1}", "point_mass"), beams)
-        for i, raw in enumerate(_array_of_tables(data, "point_mass", file))
-    )
-    joints = tuple(
-        _parse_rigid_joint(_Table(raw, file, f"[[rigid_joint]] #{i + 1}", "rigid_joint"), beams)
-        for i, raw in enumerate(_array_of_tables(data, "rigid_joint", file))
-    )
-    sliders = tuple(
-        _parse_sliding_joint(_Table(raw, file, f"[[sliding_joint]] #{i + 1}", "sliding_joint"), beams)
-        for i, raw in enumerate(_array_of_tables(data, "sliding_joint", file))
-    )
-    entries = tuple(
-        _parse_registry_entry(_Table(raw, file, f"[[{table}]] #{i + 1}", table), spec, beams, base_dir)
-        for table, spec in registry_tables.items()
-        for i, raw in enumerate(_array_of_tables(data, table, file))
-    )
+    entries = _parse_effect_tables(data, registry_tables, beams, analysis, file, base_dir)
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
-    gravity, gravity_tf = _parse_gravity(top, file, base_dir)
     output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams)
 
     return Scene(
@@ -592,32 +559,26 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         base_dir=base_dir,
         analysis=analysis,
         beams=beams,
-        supports=supports,
-        loads=loads,
-        point_masses=masses,
-        gravity=gravity,
         petsc_options=options,
         petsc_options_file=options_file,
         output=output,
-        rigid_joints=joints,
-        sliding_joints=sliders,
         data=copy.deepcopy(data),
-        warnings=_support_warnings(supports, beams),
+        warnings=_support_warnings(entries, beams),
         effects=entries,
-        gravity_time_function=gravity_tf,
     )
 
 
-def _support_warnings(supports: tuple[Support, ...], beams: tuple[Beam, ...]) -> tuple[str, ...]:
+def _support_warnings(entries: tuple[EffectEntry, ...], beams: tuple[Beam, ...]) -> tuple[str, ...]:
     """Supports that repeat what another already holds: allowed (the motion is the same), but
     both report the reaction of the point they share, so the reactions count it twice."""
+    supports = [Support(e.variant, int(e.num["beam"]), e.num.get("s")) for e in entries if e.table == "support"]
     holds = {"fixed": 3, "clamp": 2, "spherical": 1}  # fixed holds everything, a clamp a spherical's point
     out = []
     for j, b in enumerate(supports):
         for i, a in enumerate(supports[:j]):
             if a.beam != b.beam:
                 continue
-            same_point = a.type == "fixed" or b.type == "fixed" or (
+            same_point = a.at is None or b.at is None or (
                 abs(a.at - b.at) <= 1e-12 * beams[a.beam].geometry.length)
             if not same_point:
                 continue
@@ -660,7 +621,8 @@ def _parse_override_value(text: str) -> Any:
 def _override_step(node: Any, part: str, depth: int, file: str, label: str) -> Any:
     if isinstance(node, dict):
         if part not in node:
-            if part not in _CREATABLE or (depth == 0 and part not in _TOP_KEYS):
+            singles = _single_tables()
+            if part not in _CREATABLE | singles or (depth == 0 and part not in _TOP_KEYS + tuple(singles)):
                 raise SceneError("unknown path: no such table", file, label, part)
             node[part] = {}
         child = node[part]
@@ -780,18 +742,6 @@ def _resolve_options_file(t: _Table, base_dir: str) -> str:
     if not path.is_file():
         raise t.error("options_file", f"file not found: {path}")
     return str(path.resolve())
-
-
-def _parse_gravity(top: _Table, file: str, base_dir: str) -> tuple[Vec3 | None, TimeFunction | None]:
-    """g and its time function (None: the default, ramped with the load steps in statics and
-    constant in dynamics)."""
-    if not top.has("gravity"):
-        return None, None
-    t = _Table(top.raw("gravity"), file, "[gravity]", "gravity")
-    t.check_keys(("g", "time_function"))
-    tf = _parse_time_function(t.sub("time_function", "[gravity].time_function"), base_dir) \
-        if t.has("time_function") else None
-    return t.vec3("g"), tf
 
 
 def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
@@ -1085,7 +1035,7 @@ def circle_properties(r: float) -> tuple[float, float, float, float]:
 
 
 # ----------------------------------------------------------------------------
-# points on beams: [[support]], [[load]], [[point_mass]]
+# beam points ([output] track, effect tables)
 
 
 def _beam_ref(t: _Table, beams: tuple[Beam, ...]) -> int:
@@ -1097,82 +1047,28 @@ def _beam_ref(t: _Table, beams: tuple[Beam, ...]) -> int:
     raise t.error("beam", f"beam '{name}' does not exist (beams: {names}){_did_you_mean(name, [b.name for b in beams])}")
 
 
-def _parse_at(t: _Table, length: float) -> float:
+def _parse_at(t: _Table, length: float, key: str = "at", value: Any = _MISSING) -> float:
     """'start' | 'end' | arc length in [0, L] -> arc length s."""
-    value = t.raw("at")
+    if value is _MISSING:
+        value = t.raw(key)
     if isinstance(value, str):
         if value not in ("start", "end"):
-            raise t.error("at", f"must be 'start', 'end' or an arc length in [0, {length}], got '{value}'")
+            raise t.error(key, f"must be 'start', 'end' or an arc length in [0, {length}], got '{value}'")
         return 0.0 if value == "start" else length
-    s = t._to_float("at", value)
+    s = t._to_float(key, value)
     slack = 1e-12 * length  # round-off from users typing L by hand
     if not -slack <= s <= length + slack:
-        raise t.error("at", f"must be in [0, L] with L = {length!r} (reference length), got {value!r}")
+        raise t.error(key, f"must be in [0, L] with L = {length!r} (reference length), got {value!r}")
     return min(max(s, 0.0), length)
 
 
-def _parse_support(t: _Table, beams: tuple[Beam, ...], base_dir: str = ".") -> Support:
-    kind = t.choice("type", ("spherical", "clamp", "fixed"))
-    t.check_keys(("type", "beam", "at", "position", "motion") if kind == "spherical" else
-                 ("type", "beam", "at", "motion") if kind == "clamp" else ("type", "beam"))
-    motion = _parse_motion(t.sub("motion", f"{t.label}.motion"), kind, base_dir) if t.has("motion") else None
-    index = _beam_ref(t, beams)
-    geometry = beams[index].geometry
-    if kind == "fixed":
-        return Support(kind, index, None, None)
-    s = _parse_at(t, geometry.length)
-    if kind == "clamp":
-        s = _snap_to_end(t, s, geometry.length)
-    reference = geometry.point_at(s)
-    if t.has("position"):
-        position = t.vec3("position")
-        gap = float(np.linalg.norm(np.subtract(position, reference)))
-        if gap > 1e-9 * geometry.length + 1e-12:
-            raise t.error("position", f"supports must sit on their beam: {position} is {gap:.3g} away from "
-                                      f"the reference point {reference} at s = {s}")
-    return Support(kind, index, s, reference, motion)
-
-
-def _parse_motion(t: _Table, kind: str, base_dir: str = ".") -> SupportMotion:
-    """[[support]] motion = {displacement = [m], rotation = [rad] (clamps), time_function = {...}}."""
-    t.check_keys(("displacement", "rotation", "time_function") if kind == "clamp" else ("displacement", "time_function"))
-    if not (t.has("displacement") or t.has("rotation")):
-        raise t.error("displacement", "a motion needs a displacement (m)" + (" or a rotation (rad)" if kind == "clamp" else ""))
-    zero = [0.0, 0.0, 0.0]
-    tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"), base_dir)
-    if abs(tf.value(0.0)) > 0.0:
-        raise t.error("time_function", f"a support's motion must start from the drawn state: its time function is "
-                                       f"{tf.value(0.0):g} at t = 0, not 0 (use a ramp, a hat or a step that starts "
-                                       f"after 0)")
-    return SupportMotion(t.vec3("displacement", zero), t.vec3("rotation", zero), tf)
-
-
-def _snap_to_end(t: _Table, s: float, length: float) -> float:
+def _snap_to_end(t: _Table, s: float, length: float, key: str = "at") -> float:
     tol = 1e-12 * length
     if abs(s) <= tol:
         return 0.0
     if abs(s - length) <= tol:
         return length
-    raise t.error("at", f"a clamp must be at 'start' or 'end' (s = 0 or L = {length!r}), got {s!r}")
-
-
-def _parse_load(t: _Table, beams: tuple[Beam, ...], analysis: Analysis, base_dir: str = ".") -> Load:
-    t.check_keys(("type", "beam", "at", "value", "frame", "time_function"))
-    kind = t.choice("type", ("force", "moment"))
-    index = _beam_ref(t, beams)
-    frame = t.choice("frame", ("spatial", "material"), "spatial")
-    if frame == "material" and kind != "moment":
-        raise t.error("frame", "frame = 'material' is only allowed for moments")
-    if t.has("time_function"):
-        tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"), base_dir)
-    elif analysis.type == "static":
-        tf = TimeFunction("ramp", 0.0, analysis.t_end, math.inf)
-    else:
-        tf = TimeFunction("constant")
-    if kind == "moment" and beams[index].formulation == "ancf":
-        raise t.error("type", f"beam '{beams[index].name}' is an ANCF cable: it has no rotational unknowns, so "
-                              "only forces can act on it")
-    return Load(kind, index, _parse_at(t, beams[index].geometry.length), t.vec3("value"), frame, tf)
+    raise t.error(key, f"must be 'start' or 'end' (s = 0 or L = {length!r}), got {s!r}")
 
 
 def _parse_time_function(t: _Table, base_dir: str = ".") -> TimeFunction:
@@ -1257,37 +1153,6 @@ def _time_table(t: _Table, base_dir: str) -> tuple[tuple[float, ...], tuple[floa
     return tuple(times), tuple(values)
 
 
-def _parse_rigid_joint(t: _Table, beams: tuple[Beam, ...]) -> RigidJoint:
-    t.check_keys(("beams", "at"))
-    names = t.raw("beams")
-    if not (isinstance(names, list) and len(names) == 2 and all(isinstance(n, str) for n in names)):
-        raise t.error("beams", f"must be two beam names, e.g. [\"leg1\", \"leg2\"], got {_show(names)}")
-    ends = t.raw("at", ["end", "start"])
-    if not (isinstance(ends, list) and len(ends) == 2 and all(e in ("start", "end") for e in ends)):
-        raise t.error("at", f"must be two of 'start'/'end' (one per beam), got {_show(ends)}")
-    index = []
-    for name in names:
-        match = [b.index for b in beams if b.name == name]
-        if not match:
-            known = [b.name for b in beams]
-            raise t.error("beams", f"beam '{name}' does not exist (beams: {', '.join(known)})"
-                                   f"{_did_you_mean(name, known)}")
-        index.append(match[0])
-    if index[0] == index[1]:
-        raise t.error("beams", f"a rigid joint needs two different beams, got '{names[0]}' twice")
-    for i in index:
-        if beams[i].formulation == "ancf":
-            raise t.error("beams", f"beam '{beams[i].name}' is an ANCF cable: rigid joints weld director "
-                                   "triads (director beams only)")
-    s = [0.0 if e == "start" else beams[i].geometry.length for i, e in zip(index, ends)]
-    pa, pb = (np.asarray(beams[i].geometry.point_at(si)) for i, si in zip(index, s))
-    scale = max(beams[index[0]].geometry.length, beams[index[1]].geometry.length)
-    if float(np.linalg.norm(pa - pb)) > 1e-9 * scale:
-        raise t.error("beams", f"'{names[0]}' {ends[0]} at {_vec(pa)} and '{names[1]}' {ends[1]} at {_vec(pb)} "
-                               f"do not meet (distance {float(np.linalg.norm(pa - pb)):.3g})")
-    return RigidJoint(index[0], s[0], index[1], s[1])
-
-
 def _named_beam(t: _Table, key: str, beams: tuple[Beam, ...]) -> int:
     name = t.string(key)
     for beam in beams:
@@ -1295,32 +1160,6 @@ def _named_beam(t: _Table, key: str, beams: tuple[Beam, ...]) -> int:
             return beam.index
     known = [b.name for b in beams]
     raise t.error(key, f"beam '{name}' does not exist (beams: {', '.join(known)}){_did_you_mean(name, known)}")
-
-
-def _parse_sliding_joint(t: _Table, beams: tuple[Beam, ...]) -> SlidingJoint:
-    t.check_keys(("slider", "at", "carrier", "discrete_gradient", "form", "at_carrier_end", "tolerance", "static"))
-    slider = _named_beam(t, "slider", beams)
-    carrier = _named_beam(t, "carrier", beams)
-    if slider == carrier:
-        raise t.error("carrier", f"a beam cannot slide on itself ('{beams[slider].name}')")
-    at = _parse_at(t, beams[slider].geometry.length) if t.has("at") else 0.0
-    tolerance = t.number("tolerance", check=lambda v: v > 0, requirement="> 0") if t.has("tolerance") else None
-    gradient = t.choice("discrete_gradient", ("exact", "midpoint"), "exact")
-    ancf_slider = beams[slider].formulation == "ancf"
-    # the seed's midpoint form is the spatial constraint as published
-    form = t.choice("form", ("frame", "spatial"), "spatial" if ancf_slider or gradient == "midpoint" else "frame")
-    if form == "frame" and ancf_slider:
-        raise t.error("form", f"'frame' needs a director slider: '{beams[slider].name}' is an ANCF cable, which has "
-                              "no directors (use 'spatial')")
-    return SlidingJoint(slider, at, carrier, gradient, t.choice("at_carrier_end", ("stop", "fail"), "stop"), tolerance,
-                        t.choice("static", ("held", "free"), "held"), form)
-
-
-def _parse_point_mass(t: _Table, beams: tuple[Beam, ...]) -> PointMass:
-    t.check_keys(("beam", "at", "mass"))
-    index = _beam_ref(t, beams)
-    return PointMass(index, _parse_at(t, beams[index].geometry.length),
-                     t.number("mass", check=lambda m: m > 0, requirement="> 0"))
 
 
 # ----------------------------------------------------------------------------
@@ -1331,54 +1170,128 @@ def _spec_default(p: ParamSpec) -> Any:
     return tomllib.loads(f"v = {p.default}")["v"]
 
 
-def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], base_dir: str = ".") -> EffectEntry:
-    """Validate one entry of a registry table ([[damping]], ...) against its spec (kinds, units,
-    defaults and bounds from the core) and turn it into the effect's parameters."""
-    t.check_keys(tuple(p.key for p in spec.params))
+_FORMULATIONS = {"director": "a director beam", "ancf": "an ANCF cable"}
+
+
+def _parse_effect_tables(data: dict[str, Any], tables: dict[str, tuple[EffectSpec, ...]], beams: tuple[Beam, ...],
+                         analysis: Analysis, file: str, base_dir: str) -> tuple[EffectEntry, ...]:
+    """Every entry of every registry table, tables in file order (the order the model adds them)."""
+    entries: list[EffectEntry] = []
+    for table in (key for key in data if key in tables):
+        specs = tables[table]
+        if specs[0].single:
+            raw = data[table]
+            if not isinstance(raw, dict):
+                raise SceneError(f"must be a table [{table}], got {_type_name(raw)}", file, "top level", table)
+            raws, labels = [raw], [f"[{table}]"]
+        else:
+            raws = _array_of_tables(data, table, file)
+            labels = [f"[[{table}]] #{i + 1}" for i in range(len(raws))]
+        for i, (raw, label) in enumerate(zip(raws, labels)):
+            t = _Table(raw, file, label, table)
+            entries.append(_parse_registry_entry(t, _variant(t, specs), beams, analysis, base_dir, i))
+    return _unique_labels(entries)
+
+
+def _variant(t: _Table, specs: tuple[EffectSpec, ...]) -> EffectSpec:
+    """The spec of an entry: the table's only one, or the variant its `type` key names."""
+    if len(specs) == 1 and not specs[0].variant:
+        return specs[0]
+    kind = t.choice("type", tuple(s.variant for s in specs))
+    return next(s for s in specs if s.variant == kind)
+
+
+def _unique_labels(entries: list[EffectEntry]) -> tuple[EffectEntry, ...]:
+    """Two entries that would share a label (two [[damping]] on one beam) are numbered, so that
+    their history columns stay apart."""
+    seen: dict[str, int] = {}
+    out = []
+    for e in entries:
+        n = seen[e.label] = seen.get(e.label, 0) + 1
+        out.append(e if n == 1 else dataclasses.replace(e, label=f"{e.label}#{n}"))
+    return tuple(out)
+
+
+def _where(beam: Beam, s: float) -> str:
+    if s == 0.0:
+        return f"{beam.name}@start"
+    if s == beam.geometry.length:
+        return f"{beam.name}@end"
+    return f"{beam.name}@s={s:g}"
+
+
+def _check_formulation(t: _Table, key: str, beam: Beam, p: ParamSpec, spec: EffectSpec) -> None:
+    if p.choices and beam.formulation not in p.choices:
+        what = f"[[{spec.table}]] type = '{spec.variant}'" if spec.variant else f"[[{spec.table}]]"
+        allowed = " or ".join(_FORMULATIONS[c] for c in p.choices)
+        raise t.error(key, f"beam '{beam.name}' is {_FORMULATIONS[beam.formulation]}: a {what} needs {allowed} "
+                           f"({p.meaning})")
+
+
+def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], analysis: Analysis,
+                          base_dir: str = ".", index: int = 0) -> EffectEntry:
+    """Validate one entry of a registry table ([[support]], [[damping]], ...) against its spec
+    (kinds, units, defaults and bounds from the core) and turn it into the effect's parameters."""
+    t.check_keys((("type",) if spec.variant else ()) + tuple(p.key for p in spec.params))
     num: dict[str, float] = {}
     vec: dict[str, list[float]] = {}
     text: dict[str, str] = {}
-    beam: int | None = None
+    on: dict[str, int] = {}      # beam parameters: key -> beam index
+    at: dict[str, float] = {}    # points: beam parameter -> s
+    pair: list[int] = []         # a `beams` parameter's two beams
+    label_parts: dict[str, str] = {}
     for p in spec.params:
+        if not t.has(p.key) and p.optional:
+            continue
+        if not t.has(p.key) and not p.default and p.kind != "time_function":
+            raise t.error(p.key, f"missing required key ({p.meaning})")
+        value = t.raw(p.key) if t.has(p.key) else (_spec_default(p) if p.default and p.default != "load" else None)
         if p.kind == "beam":
-            beam = _beam_ref(t, beams) if p.key == "beam" else None
-            if beam is None:
-                raise t.error(p.key, "internal: a beam parameter must be called 'beam'")
-            num[p.key] = float(beam)
-            continue
-        if p.kind == "point":  # key "at", on the table's beam: num["s"]
-            if beam is None or p.key != "at":
-                raise t.error(p.key, "internal: a point is the key 'at' after the table's beam")
-            if not t.has("at") and p.default:
-                t.data["at"] = _spec_default(p)
-            num["s"] = _parse_at(t, beams[beam].geometry.length)
-            continue
-        if p.kind == "time_function":
+            index_b = _named_beam(t, p.key, beams)
+            _check_formulation(t, p.key, beams[index_b], p, spec)
+            on[p.key] = index_b
+            num[p.key] = float(index_b)
+            label_parts[p.key] = beams[index_b].name
+        elif p.kind in ("point", "end"):
+            host = p.on or "beam"
+            beam = beams[on[host]]
+            s = _parse_at(t, beam.geometry.length, p.key, value)
+            if p.kind == "end":
+                s = _snap_to_end(t, s, beam.geometry.length, p.key)
+            at[host] = s
+            num["s" if host == "beam" else f"{host}_s"] = s
+            label_parts[host] = _where(beam, s)
+        elif p.kind == "position":
+            host = p.on or "beam"
+            _check_position(t, p.key, beams[on[host]], at[host])
+        elif p.kind == "motion":
+            _parse_motion(t.sub(p.key, f"{t.label}.{p.key}"), p.size, base_dir, num, vec, text)
+        elif p.kind == "beams":
+            pair = _parse_beam_pair(t, p, beams, spec)
+            stem = p.key.removesuffix("s")
+            num.update({f"{stem}_a": float(pair[0]), f"{stem}_b": float(pair[1])})
+            label_parts[p.key] = "-".join(beams[b].name for b in pair)
+        elif p.kind == "ends":
+            ends = _parse_ends(t, p.key, value, [beams[b] for b in pair])
+            num.update({"s_a": ends[0], "s_b": ends[1]})
+            label_parts["beams"] = "-".join(_where(beams[b], s) for b, s in zip(pair, ends))
+        elif p.kind == "time_function":
             if t.has(p.key):
                 tf = _parse_time_function(t.sub(p.key, f"{t.label}.{p.key}"), base_dir)
+            elif p.default == "load" and analysis.type == "static":  # loads grow with the load steps
+                tf = TimeFunction("ramp", 0.0, analysis.t_end, math.inf)
             else:
                 tf = TimeFunction("constant")
             tf_num, tf_vec, tf_text = tf.params()
             num.update(tf_num)
             vec.update(tf_vec)
             text.update(tf_text)
-            continue
-        if not t.has(p.key) and not p.default:
-            raise t.error(p.key, f"missing required key ({p.meaning})")
-        value = t.raw(p.key) if t.has(p.key) else _spec_default(p)
-        if p.kind in ("number", "integer"):
-            x = (t.number(p.key, value, allow_inf=math.isinf(p.max)) if p.kind == "number"
-                 else float(t.integer(p.key, value, positive=False)))
-            low_ok = x > p.min if p.min_open else x >= p.min
-            if not (low_ok and x <= p.max):
-                lo = f"{'>' if p.min_open else '>='} {p.min:g}" if math.isfinite(p.min) else ""
-                hi = f"<= {p.max:g}" if math.isfinite(p.max) else ""
-                raise t.error(p.key, f"must be {' and '.join(b for b in (lo, hi) if b)}"
-                                     f"{f' {p.unit}' if p.unit else ''}, got {_show(value)}")
-            num[p.key] = x
+        elif p.kind in ("number", "integer"):
+            num[p.key] = _bounded_number(t, p, value)
         elif p.kind == "vector":
             if not isinstance(value, list) or (len(value) != p.size and not (value == [] and p.default == "[]")):
-                raise t.error(p.key, f"must be an array of {p.size} numbers, got {_show(value)}")
+                raise t.error(p.key, f"must be an array of {p.size} numbers"
+                                     f"{f' ({p.unit})' if p.unit else ''}, got {_show(value)}")
             xs = [t._to_float(p.key, v) for v in value]
             if any(not (x > p.min if p.min_open else x >= p.min) or x > p.max for x in xs):
                 raise t.error(p.key, f"every entry must be >= {p.min:g}, got {_show(value)}")
@@ -1390,5 +1303,73 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
             text[p.key] = value
         else:
             raise t.error(p.key, f"internal: unknown parameter kind '{p.kind}'")
-    where = f"{beams[beam].name}" if beam is not None else ""
-    return EffectEntry(spec.type, f"{spec.type}[{where}]" if where else spec.type, num, vec, text)
+    where = " on ".join(label_parts.values())
+    return EffectEntry(spec.type, f"{spec.type}[{where}]" if where else spec.type, spec.table, index, spec.variant,
+                       num, vec, text)
+
+
+def _bounded_number(t: _Table, p: ParamSpec, value: Any) -> float:
+    x = (t.number(p.key, value, allow_inf=math.isinf(p.max)) if p.kind == "number"
+         else float(t.integer(p.key, value, positive=False)))
+    low_ok = x > p.min if p.min_open else x >= p.min
+    if not (low_ok and x <= p.max):
+        lo = f"{'>' if p.min_open else '>='} {p.min:g}" if math.isfinite(p.min) else ""
+        hi = f"<= {p.max:g}" if math.isfinite(p.max) else ""
+        raise t.error(p.key, f"must be {' and '.join(b for b in (lo, hi) if b)}"
+                             f"{f' {p.unit}' if p.unit else ''}, got {_show(value)}")
+    return x
+
+
+def _check_position(t: _Table, key: str, beam: Beam, s: float) -> None:
+    """A stated position must be the beam's reference point there (a check the user asked for)."""
+    position = t.vec3(key)
+    reference = beam.geometry.point_at(s)
+    gap = float(np.linalg.norm(np.subtract(position, reference)))
+    if gap > 1e-9 * beam.geometry.length + 1e-12:
+        raise t.error(key, f"must sit on its beam: {position} is {gap:.3g} away from the reference point "
+                           f"{reference} at s = {s}")
+
+
+def _parse_motion(t: _Table, size: int, base_dir: str, num: dict[str, float], vec: dict[str, list[float]],
+                  text: dict[str, str]) -> None:
+    """motion = {displacement = [m], rotation = [rad] (size 6), time_function = {...}}, which
+    must start from the drawn state (f(0) = 0)."""
+    turns = size == 6
+    t.check_keys(("displacement", "rotation", "time_function") if turns else ("displacement", "time_function"))
+    if not (t.has("displacement") or t.has("rotation")):
+        raise t.error("displacement", "a motion needs a displacement (m)" + (" or a rotation (rad)" if turns else ""))
+    tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"), base_dir)
+    if abs(tf.value(0.0)) > 0.0:
+        raise t.error("time_function", f"a motion must start from the drawn state: its time function is "
+                                       f"{tf.value(0.0):g} at t = 0, not 0 (use a ramp, a hat or a step that starts "
+                                       f"after 0)")
+    zero = [0.0, 0.0, 0.0]
+    vec["motion_displacement"] = list(t.vec3("displacement", zero))
+    if turns:
+        vec["motion_rotation"] = list(t.vec3("rotation", zero))
+    tf_num, tf_vec, tf_text = tf.params()
+    num.update(tf_num)
+    vec.update(tf_vec)
+    text.update(tf_text)
+
+
+def _parse_beam_pair(t: _Table, p: ParamSpec, beams: tuple[Beam, ...], spec: EffectSpec) -> list[int]:
+    names = t.raw(p.key)
+    if not (isinstance(names, list) and len(names) == p.size and all(isinstance(n, str) for n in names)):
+        raise t.error(p.key, f"must be {p.size} beam names, e.g. [\"leg1\", \"leg2\"], got {_show(names)}")
+    known = [b.name for b in beams]
+    out = []
+    for name in names:
+        if name not in known:
+            raise t.error(p.key, f"beam '{name}' does not exist (beams: {', '.join(known)}){_did_you_mean(name, known)}")
+        out.append(known.index(name))
+        _check_formulation(t, p.key, beams[out[-1]], p, spec)
+    if len(set(out)) < len(out):
+        raise t.error(p.key, f"needs {p.size} different beams, got {_show(names)}")
+    return out
+
+
+def _parse_ends(t: _Table, key: str, value: Any, beams: list[Beam]) -> list[float]:
+    if not (isinstance(value, list) and len(value) == len(beams) and all(e in ("start", "end") for e in value)):
+        raise t.error(key, f"must be {len(beams)} of 'start'/'end' (one per beam), got {_show(value)}")
+    return [0.0 if e == "start" else b.geometry.length for e, b in zip(value, beams)]

@@ -4,6 +4,7 @@
 #include "model/time_function.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace slidebeam {
@@ -45,6 +46,16 @@ TimeFunction TimeFunction::from(const EffectParams& p) {
 }
 
 namespace effects {
+
+std::string format_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+std::string format_point(const Eigen::Vector3d& p) {
+  return "(" + format_number(p[0]) + ", " + format_number(p[1]) + ", " + format_number(p[2]) + ")";
+}
 
 int beam_param(const Model& model, const EffectParams& p) {
   const double v = p.number("beam");

@@ -11,13 +11,20 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace slidebeam::effects {
 
-/// The spec of an effect the model creates itself (from [[beam]], or from a table the Python
-/// scene parser reads with its own rules): no table of its own here, its role in the energy balance.
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A number as %g writes it, and a point as (x, y, z): for messages a user reads.
+std::string format_number(double x);
+std::string format_point(const Eigen::Vector3d& p);
+
+/// The spec of an effect the model creates itself (one per [[beam]]): no table of its own,
+/// its role in the energy balance.
 inline EffectSpec model_effect_spec(const std::string& type, EnergyRole role, const std::string& meaning,
                                     const std::string& stored = "") {
   EffectSpec s;
@@ -26,6 +33,24 @@ inline EffectSpec model_effect_spec(const std::string& type, EnergyRole role, co
   s.meaning = meaning;
   s.stored = stored;
   return s;
+}
+
+/// The spec of an effect a scene creates with the entries of [[table]] (variant: the value of
+/// the entry's `type` key that picks this effect when several share the table).
+inline EffectSpec table_effect_spec(const std::string& type, const std::string& table, const std::string& variant,
+                                    EnergyRole role, const std::string& meaning, std::vector<ParamSpec> params,
+                                    const std::string& stored = "") {
+  EffectSpec s = model_effect_spec(type, role, meaning, stored);
+  s.table = table;
+  s.variant = variant;
+  s.params = std::move(params);
+  return s;
+}
+
+/// A parameter that may be left out (the effect then decides).
+inline ParamSpec optional_param(ParamSpec p) {
+  p.optional = true;
+  return p;
 }
 
 /// Beam index from parameters, checked against the model.

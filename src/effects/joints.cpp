@@ -44,8 +44,9 @@ class RigidJoint final : public Effect {
     const Eigen::Vector3d pa(qa[0], qa[1], qa[2]), pb(qb[0], qb[1], qb[2]);
     const double scale = std::max(A.length(), B.length());
     if ((pa - pb).norm() > 1e-9 * scale)
-      throw std::invalid_argument("rigid_joint: the ends of beams '" + A.name() + "' and '" + B.name() +
-                                  "' do not meet (distance " + std::to_string((pa - pb).norm()) + ")");
+      throw ParamError("beams", "'" + A.name() + "' " + (ca_ == 0 ? "start" : "end") + " at " + format_point(pa) +
+                                    " and '" + B.name() + "' " + (cb_ == 0 ? "start" : "end") + " at " +
+                                    format_point(pb) + " do not meet (distance " + format_number((pa - pb).norm()) + ")");
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         C_(i, j) = Eigen::Map<const Eigen::Vector3d>(qa + 3 + 3 * i).dot(Eigen::Map<const Eigen::Vector3d>(qb + 3 + 3 * j));
@@ -185,7 +186,13 @@ class RigidJoint final : public Effect {
 };
 
 void register_joint_effects(EffectRegistry& r) {
-  r.add(model_effect_spec("rigid_joint", EnergyRole::Constraint, "two beam points welded together, positions and directors"),
+  using K = ParamSpec::Kind;
+  r.add(table_effect_spec("rigid_joint", "rigid_joint", "", EnergyRole::Constraint,
+                          "two beam ends welded together, positions and directors",
+                          {{"beams", K::Beams, "", "the two beams' names, e.g. [\"leg1\", \"leg2\"] (the joint welds director triads, which an ANCF "
+                            "cable has not)", "", 0, 0, false, 2,
+                            {"director"}},
+                           {"at", K::Ends, "", "which end of each beam", "[\"end\", \"start\"]", 0, 0, false, 2}}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<RigidJoint>(m, p); });
 }
 

@@ -281,14 +281,45 @@ class PointLoad final : public Effect {
 };
 
 void register_load_effects(EffectRegistry& r) {
-  r.add(model_effect_spec("gravity", EnergyRole::Stored, "weight of every mass (potential energy; statics: ramped with the load steps)", "potential"),
-        [](const Model& m, const EffectParams& p) { return std::make_unique<Gravity>(m, p); });
-  r.add(model_effect_spec("point_mass", EnergyRole::Stored, "a lumped mass at a beam point (kinetic energy)", "kinetic"),
-        [](const Model& m, const EffectParams& p) { return std::make_unique<PointMass>(m, p); });
-  r.add(model_effect_spec("force", EnergyRole::Stored, "a point force with a time function (potential energy)", "potential"),
+  using K = ParamSpec::Kind;
+  const ParamSpec beam{"beam", K::Beam, "", "the beam it acts on", ""};
+  const ParamSpec at{"at", K::Point, "m", "the point: \"start\", \"end\" or an arc length in [0, L]", ""};
+  const ParamSpec load_tf{"time_function", K::TimeFunction, "",
+                          "scales the value over time (default: a ramp over the load steps in statics, constant "
+                          "in dynamics)",
+                          "load"};
+  r.add(table_effect_spec("force", "load", "force", EnergyRole::Stored,
+                          "a point force with a time function (potential energy)",
+                          {beam, at, {"value", K::Vector, "N", "the force", "", -kInf, kInf, false, 3},
+                           {"frame", K::Choice, "", "a force keeps its direction in space", "\"spatial\"", -kInf,
+                            kInf, false, 0, {"spatial"}},
+                           load_tf},
+                          "potential"),
         [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, false); });
-  r.add(model_effect_spec("moment", EnergyRole::External, "a point moment with a time function (its work is counted, it has no potential)"),
+  ParamSpec director_beam = beam;
+  director_beam.choices = {"director"};
+  director_beam.meaning = "the beam it acts on (an ANCF cable has no rotational unknowns: only forces act on it)";
+  r.add(table_effect_spec("moment", "load", "moment", EnergyRole::External,
+                          "a point moment with a time function (its work is counted, it has no potential)",
+                          {director_beam, at, {"value", K::Vector, "N m", "the moment", "", -kInf, kInf, false, 3},
+                           {"frame", K::Choice, "",
+                            "\"spatial\": fixed in space; \"material\": components along the section's directors "
+                            "d1, d2, d3, turning with it",
+                            "\"spatial\"", -kInf, kInf, false, 0, {"spatial", "material"}},
+                           load_tf}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<PointLoad>(m, p, true); });
+  r.add(table_effect_spec("point_mass", "point_mass", "", EnergyRole::Stored,
+                          "a lumped mass at a beam point (kinetic energy; its weight comes with [gravity])",
+                          {beam, at, {"mass", K::Number, "kg", "the mass", "", 0.0, kInf, true}}, "kinetic"),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<PointMass>(m, p); });
+  EffectSpec gravity = table_effect_spec(
+      "gravity", "gravity", "", EnergyRole::Stored,
+      "weight of every beam and point mass (potential energy)",
+      {{"g", K::Vector, "m/s^2", "the acceleration of gravity, e.g. [0, 0, -9.81]", "", -kInf, kInf, false, 3},
+       load_tf},
+      "potential");
+  gravity.single = true;
+  r.add(gravity, [](const Model& m, const EffectParams& p) { return std::make_unique<Gravity>(m, p); });
 }
 
 }  // namespace slidebeam::effects

@@ -54,7 +54,8 @@ class SlidingJoint final : public Effect {
     const int nb = static_cast<int>(m.beams().size());
     for (int beam : {slider_, carrier_})
       if (beam < 0 || beam >= nb) throw std::invalid_argument("sliding_joint: no beam with index " + std::to_string(beam));
-    if (slider_ == carrier_) throw std::invalid_argument("sliding_joint: a beam cannot slide on itself");
+    if (slider_ == carrier_)
+      throw ParamError("carrier", "a beam cannot slide on itself ('" + m.beam(slider_).name() + "')");
     const Beam &S = m.beam(slider_), &C = m.beam(carrier_);
     curve_ = {C.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, C.n_spans(), C.length()};
     const double sigma = p.number("slider_s");
@@ -79,8 +80,8 @@ class SlidingJoint final : public Effect {
     if (frame == "frame") frame_ = true;
     else if (frame != "spatial") throw std::invalid_argument("sliding_joint: form must be 'frame' or 'spatial', not '" + frame + "'");
     if (frame_ && S.is_ancf())
-      throw std::invalid_argument("sliding_joint: form 'frame' needs a director slider; beam '" + S.name() +
-                                  "' is an ANCF cable (no directors): use form 'spatial'");
+      throw ParamError("form", "'frame' needs a director slider: '" + S.name() +
+                                   "' is an ANCF cable, which has no directors (use 'spatial')");
 
     // initial s: the closest point of the slider point on the carrier (reference configuration),
     // found by the model's parallel search (closest_point_queries / set_closest_points)
@@ -524,7 +525,6 @@ class SlidingJoint final : public Effect {
     move_window(t.lo, t.hi);
     const Eigen::Vector3d lam = multipliers(ctx.x);
     const Eigen::Vector3d Lambda = t.E * lam, Lambda_pi = t.Epi * lam;
-    const Beam& C = ctx.model.beam(carrier_);
     const FrameDofs d = frame_dofs(ctx.model, win_lo_, win_hi_ + 1);
     const int ny = 3 * frame_st_.n, np = static_cast<int>(d.P.size()), nd = static_cast<int>(d.D.size());
     const int nde = nd + 4, npe = np + 4, nall = np + nd + 4;
@@ -652,7 +652,34 @@ class SlidingJoint final : public Effect {
 };
 
 void register_sliding_effects(EffectRegistry& r) {
-  r.add(model_effect_spec("sliding_joint", EnergyRole::Constraint, "a beam point sliding along another beam's centre line"),
+  using K = ParamSpec::Kind;
+  ParamSpec at{"at", K::Point, "m", "the slider's point: \"start\", \"end\" or an arc length", "\"start\""};
+  at.on = "slider";
+  r.add(table_effect_spec(
+            "sliding_joint", "sliding_joint", "", EnergyRole::Constraint,
+            "a point of one beam (the slider) kept on another beam's centre line (the carrier), free to slide along "
+            "it and to turn",
+            {{"slider", K::Beam, "", "the beam whose point slides", ""},
+             at,
+             {"carrier", K::Beam, "", "the beam it slides on", ""},
+             {"discrete_gradient", K::Choice, "",
+              "\"exact\": energy conserved across knots; \"midpoint\": the seed paper's form", "\"exact\"", -kInf,
+              kInf, false, 0, {"exact", "midpoint"}},
+             optional_param({"form", K::Choice, "",
+                             "\"frame\": the constraint in the slider's director frame (energy, linear and angular "
+                             "momentum exact under energy-momentum); \"spatial\": c(s) - p = 0. Default: frame for "
+                             "director sliders with the exact gradient, spatial otherwise",
+                             "", -kInf, kInf, false, 0, {"frame", "spatial"}}),
+             {"at_carrier_end", K::Choice, "",
+              "when the slider reaches an end of its carrier: \"stop\" the run (exit 0) or \"fail\" (exit 1)",
+              "\"stop\"", -kInf, kInf, false, 0, {"stop", "fail"}},
+             optional_param({"tolerance", K::Number, "m",
+                             "largest slider-carrier distance allowed at the start (default: 1e-6 of the carrier's "
+                             "length)",
+                             "", 0.0, kInf, true}),
+             {"static", K::Choice, "",
+              "in the equilibrium start: \"held\" keeps s, \"free\" lets the slider slide to equilibrium",
+              "\"held\"", -kInf, kInf, false, 0, {"held", "free"}}}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<SlidingJoint>(m, p); });
 }
 

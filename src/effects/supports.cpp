@@ -177,10 +177,14 @@ class Spherical final : public Effect {
     const Beam& b = m.beam(beam_);
     if (s_ < -1e-12 * b.length() || s_ > b.length() * (1 + 1e-12))
       throw std::invalid_argument("spherical support: s = " + std::to_string(s_) + " outside beam '" + b.name() + "'");
-    const auto& X = p.vector("position", 3);
-    X_ = Eigen::Vector3d(X[0], X[1], X[2]);
     cp_ = end_cp(b, s_);
     stencil_ = b.position_at(s_);
+    // the discretised reference centre line's point (a spline through a polyline's corner or
+    // along an arc passes beside the drawn one): the reference state meets the support
+    X_.setZero();
+    for (int j = 0; j < stencil_.n; ++j)
+      for (int k = 0; k < 3; ++k)
+        X_[k] += stencil_.w[j] * b.q_ref()[static_cast<size_t>(b.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
   }
   std::string type() const override { return "spherical"; }
   std::string label() const override { return "spherical[" + std::to_string(beam_) + "@" + std::to_string(s_) + "]"; }
@@ -266,11 +270,30 @@ class Spherical final : public Effect {
 };
 
 void register_support_effects(EffectRegistry& r) {
-  r.add(model_effect_spec("clamp", EnergyRole::Constraint, "a beam end held in place and orientation"),
+  using K = ParamSpec::Kind;
+  const ParamSpec beam{"beam", K::Beam, "", "the beam it holds", ""};
+  const ParamSpec motion{"motion", K::Motion, "",
+                         "prescribed motion: {displacement = [m], time_function = {...}} (the held point moves by "
+                         "f(t) times the displacement; f(0) = 0)",
+                         "", 0, 0, false, 3};
+  ParamSpec clamp_motion = motion;
+  clamp_motion.size = 6;
+  clamp_motion.meaning =
+      "prescribed motion: {displacement = [m], rotation = [rad], time_function = {...}} (the end moves by f(t) times "
+      "the displacement and turns by the rotation vector f(t) times rotation; f(0) = 0)";
+  r.add(table_effect_spec("clamp", "support", "clamp", EnergyRole::Constraint,
+                          "a beam end held in place and orientation",
+                          {beam, {"at", K::End, "", "which end: \"start\" or \"end\"", ""}, optional_param(clamp_motion)}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<Clamp>(m, p); });
-  r.add(model_effect_spec("fixed", EnergyRole::Constraint, "every control point of a beam held"),
+  r.add(table_effect_spec("fixed", "support", "fixed", EnergyRole::Constraint, "every control point of a beam held",
+                          {beam}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<Fixed>(m, p); });
-  r.add(model_effect_spec("spherical", EnergyRole::Constraint, "a beam point held in place, free to turn"),
+  r.add(table_effect_spec("spherical", "support", "spherical", EnergyRole::Constraint,
+                          "a beam point held in place, free to turn",
+                          {beam, {"at", K::Point, "m", "the point: \"start\", \"end\" or an arc length in [0, L]", ""},
+                           optional_param({"position", K::Position, "m",
+                                           "the point's position, as a check: it must be the beam's point at `at`", ""}),
+                           optional_param(motion)}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<Spherical>(m, p); });
 }
 

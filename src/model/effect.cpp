@@ -209,6 +209,11 @@ const char* kind_name(ParamSpec::Kind k) {
     case ParamSpec::Kind::Choice: return "choice";
     case ParamSpec::Kind::Beam: return "beam";
     case ParamSpec::Kind::Point: return "point";
+    case ParamSpec::Kind::End: return "end";
+    case ParamSpec::Kind::Position: return "position";
+    case ParamSpec::Kind::Motion: return "motion";
+    case ParamSpec::Kind::Beams: return "beams";
+    case ParamSpec::Kind::Ends: return "ends";
     case ParamSpec::Kind::TimeFunction: return "time_function";
   }
   return "number";
@@ -223,6 +228,7 @@ std::string EffectRegistry::specs_json() const {
     out += first ? "\n" : ",\n";
     first = false;
     out += "  {\"type\": " + json_string(s.type) + ", \"table\": " + json_string(s.table) +
+           ", \"variant\": " + json_string(s.variant) + ", \"single\": " + (s.single ? "true" : "false") +
            ", \"meaning\": " + json_string(s.meaning) + ", \"role\": " + json_string(energy_role_name(s.role)) + ", \"stored\": " + json_string(s.stored) +
            ", \"reports\": [";
     for (size_t i = 0; i < s.reports.size(); ++i) out += (i ? ", " : "") + json_string(s.reports[i]);
@@ -233,7 +239,8 @@ std::string EffectRegistry::specs_json() const {
              json_string(kind_name(p.kind)) + ", \"unit\": " + json_string(p.unit) + ", \"meaning\": " +
              json_string(p.meaning) + ", \"default\": " + json_string(p.fallback) + ", \"min\": " + json_number(p.min) +
              ", \"max\": " + json_number(p.max) + ", \"min_open\": " + (p.min_open ? "true" : "false") +
-             ", \"size\": " + std::to_string(p.size) + ", \"choices\": [";
+             ", \"size\": " + std::to_string(p.size) + ", \"optional\": " + (p.optional ? "true" : "false") +
+             ", \"on\": " + json_string(p.on) + ", \"choices\": [";
       for (size_t c = 0; c < p.choices.size(); ++c) out += (c ? ", " : "") + json_string(p.choices[c]);
       out += "]}";
     }

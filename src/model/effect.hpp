@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -143,8 +144,15 @@ struct ParamSpec {
     Vector,        ///< `size` floats
     Choice,        ///< one of `choices`
     Beam,          ///< a beam's name (EffectParams::num gets its index)
-    Point,         ///< arc length on the table's beam: "start", "end" or a number (num: s)
-    TimeFunction,  ///< a [time_function] table (num/str: tf_*)
+    Point,         ///< arc length on the beam `on`: "start", "end" or a number (num: s, or <on>_s)
+    End,           ///< as Point, at one end of the beam only
+    Position,      ///< a point the entry's Point must match (checked, not passed on)
+    Motion,        ///< a sub-table {displacement (m), rotation (rad; size 6 only), time_function}
+                   ///< starting from 0 (vec: motion_displacement, motion_rotation; num/str: tf_*)
+    Beams,         ///< two different beams' names (num: <key without s>_a, _b, e.g. beam_a)
+    Ends,          ///< one of "start"/"end" per beam of the Beams parameter (num: s_a, s_b)
+    TimeFunction,  ///< a [time_function] table (num/str: tf_*); fallback "load": a ramp over
+                   ///< the load steps in statics, constant in dynamics
   };
   std::string key;
   Kind kind = Kind::Number;
@@ -154,8 +162,18 @@ struct ParamSpec {
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();
   bool min_open = false;  ///< min itself is not allowed (x > min)
-  int size = 0;           ///< Vector: its length
+  int size = 0;           ///< Vector: its length; Motion: 3 (displacement) or 6 (and rotation)
+  /// Choice: the allowed values; Beam, Beams: the allowed formulations ("director", "ancf";
+  /// empty: any)
   std::vector<std::string> choices;
+  bool optional = false;  ///< may be left out (the effect then decides); no fallback
+  std::string on;         ///< Point, End, Position: the Beam parameter it lies on ("": "beam")
+};
+
+/// A scene parameter an effect refuses, by key: the scene layer names the table entry.
+struct ParamError : std::invalid_argument {
+  ParamError(std::string key_, const std::string& message) : std::invalid_argument(message), key(std::move(key_)) {}
+  std::string key;
 };
 
 /// What a scene may say about an effect type, and its place in the energy balance: given once,
@@ -163,6 +181,10 @@ struct ParamSpec {
 struct EffectSpec {
   std::string type;   ///< the registered name
   std::string table;  ///< the scene's [[table]] that creates one per entry ("": the model creates it)
+  /// Several effect types may share a table: the entry's `type` key picks the one whose variant
+  /// it names ("": the table has one type and no `type` key).
+  std::string variant;
+  bool single = false;  ///< a single [table], not an array of [[table]]s
   std::string meaning;
   std::vector<ParamSpec> params;
   EnergyRole role = EnergyRole::Stored;

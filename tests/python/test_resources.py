@@ -72,7 +72,7 @@ def test_estimate_counts_the_model_unknowns(scene, sets):
     sc = slidebeam.load_scene(ROOT / "runs" / scene, sets)
     est = resources.estimate(sc)
     actual = slidebeam.Simulation(sc).x.getSize()
-    extras = len(sc.supports) + len(sc.rigid_joints) + len(sc.sliding_joints)
+    extras = sum(1 for e in sc.effects if e.table in ("support", "rigid_joint", "sliding_joint"))
     assert actual <= est.unknowns <= actual + resources.UNKNOWNS_PER_EXTRA * extras
 
 

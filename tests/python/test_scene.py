@@ -158,8 +158,9 @@ def test_full_scene_top_level(full, tmp_path):
     assert full.description == "roll-up of a strip"
     assert full.file.endswith("rollup.toml")
     assert full.base_dir == str(tmp_path.resolve())
-    assert full.gravity == (0.0, -9.80665, 0.0)
-    assert all(isinstance(g, float) for g in full.gravity)
+    (gravity,) = full.entries("gravity")
+    assert gravity.vec["g"] == [0.0, -9.80665, 0.0]
+    assert all(isinstance(g, float) for g in gravity.vec["g"])
     assert full.petsc_options == {
         "snes_rtol": "1e-10", "snes_max_it": "50", "ksp_type": "preonly", "snes_monitor": "",
     }
@@ -239,21 +240,24 @@ def test_circle_and_explicit_sections(full):
 
 def test_full_scene_supports_loads_masses_output(full):
     quarter = 100.0 * math.pi / 4
-    s0, s1, s2, s3 = full.supports
-    assert (s0.type, s0.beam, s0.at, s0.position) == ("clamp", 0, 0.0, (0.0, 0.0, 0.0))
-    assert (s1.type, s1.beam, s1.at) == ("spherical", 2, 15.0)
-    assert s1.position == pytest.approx((-5.0, 10.0, 0.0))
-    assert s2.type == "clamp" and s2.at == quarter  # a float equal to L is normalised to L
-    assert (s3.type, s3.beam, s3.at, s3.position) == ("fixed", 0, None, None)
+    s0, s1, s2, s3 = full.entries("support")
+    assert (s0.type, s0.num["beam"], s0.num["s"], s0.label) == ("clamp", 0, 0.0, "clamp[strip@start]")
+    assert (s1.type, s1.num["beam"], s1.num["s"]) == ("spherical", 2, 15.0)
+    assert s2.type == "clamp" and s2.num["s"] == quarter  # a float equal to L is normalised to L
+    assert (s3.type, s3.num, s3.label) == ("fixed", {"beam": 0.0}, "fixed[strip]")
+    assert [(s.type, s.beam, s.at) for s in full.supports] == [
+        ("clamp", 0, 0.0), ("spherical", 2, 15.0), ("clamp", 1, quarter), ("fixed", 0, None)]
 
-    m, f = full.loads
-    assert (m.type, m.beam, m.at, m.value, m.frame) == ("moment", 0, 10.0, (0.0, 0.0, 62.83), "material")
+    m, f = full.entries("load")
+    assert (m.type, m.num["beam"], m.num["s"], m.vec["value"], m.text["frame"]) == (
+        "moment", 0, 10.0, [0.0, 0.0, 62.83], "material")
     # default time function of a static analysis: ramp from 0 to t_end
-    assert m.time_function == scene.TimeFunction("ramp", 0.0, 2.0, math.inf)
-    assert (f.type, f.beam, f.at, f.frame) == ("force", 1, 10.0, "spatial")
-    assert f.time_function == scene.TimeFunction("hat", 0.5, 1.0, 1.5)
+    assert scene.TimeFunction.of_entry(m) == scene.TimeFunction("ramp", 0.0, 2.0, math.inf)
+    assert (f.type, f.num["beam"], f.num["s"], f.text["frame"]) == ("force", 1, 10.0, "spatial")
+    assert scene.TimeFunction.of_entry(f) == scene.TimeFunction("hat", 0.5, 1.0, 1.5)
 
-    assert full.point_masses == (scene.PointMass(beam=2, at=20.0, mass=2.0),)
+    (pm,) = full.entries("point_mass")
+    assert (pm.num, pm.label) == ({"beam": 2.0, "s": 20.0, "mass": 2.0}, "point_mass[frame@end]")
     out = full.output
     assert out.every == 2 and out.samples_per_span == 8
     assert out.track == (scene.TrackPoint(0, 10.0), scene.TrackPoint(2, 5.0))
@@ -263,8 +267,8 @@ def test_defaults(tmp_path):
     sc = scene.load_scene(_write(tmp_path, SMALL, "tiny.toml"))
     assert sc.name == "tiny" and sc.description == ""
     assert sc.analysis == scene.Analysis("static", 10, 1.0, None, "energy-momentum", 0.25, 0.5, -0.1, None)
-    assert sc.supports == () and sc.loads == () and sc.point_masses == ()
-    assert sc.gravity is None and sc.petsc_options == {} and sc.petsc_options_file is None
+    assert sc.effects == () and sc.supports == () and sc.sliding_joints == ()
+    assert sc.petsc_options == {} and sc.petsc_options_file is None
     assert sc.output == scene.Output(1, (scene.TrackPoint(0, 10.0),), 8)
     assert sc.beams[0].section.rhoA == 0.0
 
@@ -280,8 +284,8 @@ def test_scene_from_dict_dynamic_default_time_function():
     assert sc.file == "<dict>" and sc.name == "scene"
     assert sc.analysis.t_end == 2.0 and isinstance(sc.analysis.t_end, float)
     assert sc.analysis.dt_min == pytest.approx(0.01 / 16)
-    assert sc.loads[0].time_function.type == "constant"
-    assert sc.loads[0].at == 3.0
+    assert sc.effects[0].text["tf_type"] == "constant"
+    assert sc.effects[0].num["s"] == 3.0
     assert (sc.beams[0].section.kGA2, sc.beams[0].section.kGA3) == (2.0, 3.0)
 
 
@@ -308,7 +312,7 @@ def test_time_function_parsing_defaults():
     tfs = [{"type": "step", "t0": 0.5}, {"type": "ramp", "t1": 2}, {"type": "constant"}]
     base["load"] = [{"type": "force", "beam": "a", "at": 0.5, "value": [0, 0, 1], "time_function": tf} for tf in tfs]
     sc = scene.scene_from_dict(base)
-    assert [ld.time_function for ld in sc.loads] == [
+    assert [scene.TimeFunction.of_entry(ld) for ld in sc.entries("load")] == [
         scene.TimeFunction("step", 0.5, math.inf, math.inf),
         scene.TimeFunction("ramp", 0.0, 2.0, math.inf),
         scene.TimeFunction("constant", 0.0, math.inf, math.inf),
@@ -466,7 +470,7 @@ def test_fixed_with_at(tmp_path):
 def test_spherical_off_the_beam(tmp_path):
     err = _error(tmp_path, SMALL + '[[support]]\ntype = "spherical"\nbeam = "strip"\nat = 5.0\n'
                                    "position = [5, 1, 0]\n")
-    _assert_names(err, "[[support]] #1", "key 'position'", "supports must sit on their beam")
+    _assert_names(err, "[[support]] #1", "key 'position'", "must sit on its beam")
 
 
 def test_load_beyond_the_end(tmp_path):
@@ -477,7 +481,7 @@ def test_load_beyond_the_end(tmp_path):
 def test_load_at_end_with_round_off_is_clamped(tmp_path):
     sc = scene.load_scene(_write(tmp_path, SMALL + '[[load]]\ntype = "force"\nbeam = "strip"\n'
                                                    "at = 10.000000000000001\nvalue = [0, 0, 1]\n"))
-    assert sc.loads[0].at == 10.0
+    assert sc.entries("load")[0].num["s"] == 10.0
 
 
 def test_material_force_rejected(tmp_path):
@@ -571,15 +575,29 @@ def _two_legs(joint):
     }
 
 
+def _model_error(data: dict) -> str:
+    """The message of the SceneError that building the model of a scene raises (checks an
+    effect makes itself, with the model's beams at hand)."""
+    from slidebeam.model import build_model
+    from slidebeam.scene import SceneError, scene_from_dict  # the package's (this file loads scene.py alone)
+
+    with pytest.raises(SceneError) as info:
+        build_model(scene_from_dict(data))
+    return str(info.value)
+
+
 def test_rigid_joint_parses_and_checks_its_ends():
     sc = scene.scene_from_dict(_two_legs({"beams": ["a", "b"], "at": ["end", "start"]}))
-    assert sc.rigid_joints == (scene.RigidJoint(0, 1.0, 1, 0.0),)
-    assert scene.scene_from_dict(_two_legs({"beams": ["a", "b"]})).rigid_joints == sc.rigid_joints  # default at
+    (joint,) = sc.entries("rigid_joint")
+    assert (joint.num, joint.label) == ({"beam_a": 0.0, "beam_b": 1.0, "s_a": 1.0, "s_b": 0.0},
+                                        "rigid_joint[a@end-b@start]")
+    assert scene.scene_from_dict(_two_legs({"beams": ["a", "b"]})).effects == sc.effects  # default at
+    text = _model_error(_two_legs({"beams": ["a", "b"], "at": ["start", "start"]}))
+    assert "[[rigid_joint]] #1, key 'beams'" in text and "do not meet" in text and "distance" in text, text
     for joint, words in (
-        ({"beams": ["a", "b"], "at": ["start", "start"]}, ("do not meet", "distance")),
-        ({"beams": ["a", "a"]}, ("two different beams",)),
+        ({"beams": ["a", "a"]}, ("2 different beams",)),
         ({"beams": ["a", "c"]}, ("'c' does not exist",)),
-        ({"beams": ["a"]}, ("two beam names",)),
+        ({"beams": ["a"]}, ("2 beam names",)),
         ({"beams": ["a", "b"], "at": ["end", 0.5]}, ("'start'/'end'",)),
         ({"beams": ["a", "b"], "where": 1}, ("where",)),
     ):
@@ -613,10 +631,11 @@ def test_sliding_joint_parses_and_checks_its_input():
     cable["beam"][1].update(formulation="ancf", section={"EA": 1, "EI": 1, "rhoA": 1})
     assert scene.scene_from_dict(cable).sliding_joints[0].form == "spatial"  # a cable has no directors
     cable["sliding_joint"][0]["form"] = "frame"
-    with pytest.raises(scene.SceneError, match=r"\[\[sliding_joint\]\] #1, key 'form'.*'hanger' is an ANCF cable"):
-        scene.scene_from_dict(cable)
+    text = _model_error(cable)
+    assert "[[sliding_joint]] #1, key 'form'" in text and "'hanger' is an ANCF cable" in text, text
+    text = _model_error(_slider({"slider": "hanger", "carrier": "hanger"}))
+    assert "[[sliding_joint]] #1, key 'carrier'" in text and "cannot slide on itself" in text, text
     for joint, words in (
-        ({"slider": "hanger", "carrier": "hanger"}, ("cannot slide on itself",)),
         ({"slider": "hanger", "carrier": "carier"}, ("'carier' does not exist", "did you mean 'carrier'")),
         ({"carrier": "carrier"}, ("slider",)),
         ({"slider": "hanger", "carrier": "carrier", "discrete_gradient": "seed"}, ("discrete_gradient", "exact")),

@@ -13,6 +13,7 @@ import pytest
 
 import slidebeam
 from slidebeam import scene as sc
+from slidebeam.scene import TimeFunction
 from test_dynamics import everything_scene
 
 SINE = {"type": "sine", "amplitude": 0.8, "frequency": 1.5, "phase": 0.4, "offset": 0.3}
@@ -58,14 +59,14 @@ def test_the_core_evaluates_what_the_scene_says(tf):
     force = free_rod(load=[{"type": "force", "beam": "rod", "at": 0.5, "value": [0.0, 3.0, 0.0], "time_function": tf}])
     scene = slidebeam.scene_from_dict(force)
     records = slidebeam.Simulation(scene).run_dynamic().records
-    f = scene.loads[0].time_function
+    f = TimeFunction.of_entry(scene.entries("load")[0])
     assert f.type == tf["type"]
     for r, J in zip(records, impulses(f, records)):
         assert r.linear_momentum[1] == pytest.approx(3.0 * J, abs=1e-9)
     assert max(abs(r.linear_momentum[1]) for r in records) > 0.1
 
     weight = slidebeam.scene_from_dict(free_rod(gravity={"g": [0.0, 0.0, -9.81], "time_function": tf}))
-    assert weight.gravity_time_function == f
+    assert TimeFunction.of_entry(weight.entries("gravity")[0]) == f
     records = slidebeam.Simulation(weight).run_dynamic().records
     for r, J in zip(records, impulses(f, records)):
         assert r.linear_momentum[2] == pytest.approx(-2.0 * 9.81 * J, abs=1e-9)
@@ -83,7 +84,7 @@ def test_table_from_a_csv_file_relative_to_the_scene(tmp_path):
     from_file = slidebeam.load_scene(tmp_path / "scene.toml")
     inline = slidebeam.scene_from_dict(free_rod(load=[{"type": "force", "beam": "rod", "at": 0.5,
                                                        "value": [0.0, 3.0, 0.0], "time_function": TABLE}]))
-    assert from_file.loads[0].time_function == inline.loads[0].time_function
+    assert from_file.entries("load") == inline.entries("load")
     a = slidebeam.Simulation(from_file).run_dynamic().records
     b = slidebeam.Simulation(inline).run_dynamic().records
     assert [r.linear_momentum for r in a] == [r.linear_momentum for r in b]
@@ -124,7 +125,8 @@ def test_scene_errors_name_file_table_and_key(tmp_path, tf, csv, parts, where):
 def test_gravity_keeps_its_defaults():
     """Without a time function gravity is ramped with the load steps in statics and constant in
     dynamics (model.py); [gravity] takes no other new key."""
-    assert slidebeam.scene_from_dict(free_rod(gravity={"g": [0, 0, -9.81]})).gravity_time_function is None
+    (gravity,) = slidebeam.scene_from_dict(free_rod(gravity={"g": [0, 0, -9.81]})).entries("gravity")
+    assert gravity.text["tf_type"] == "constant"  # dynamic
     with pytest.raises(slidebeam.SceneError, match="unknown key 'tf'"):
         slidebeam.scene_from_dict(free_rod(gravity={"g": [0, 0, -9.81], "tf": {}}))
     static = free_rod(gravity={"g": [0, 0, -9.81]}, support=[{"type": "clamp", "beam": "rod", "at": "start"}])
