@@ -25,6 +25,7 @@ import io
 import itertools
 import json
 import math
+import os
 import subprocess
 import sys
 import time
@@ -38,7 +39,9 @@ import numpy as np
 
 from .options_check import warnings_of_runs
 
-ROOT = Path(__file__).resolve().parents[2]
+# Each run is `python -m slidebeam run ...` under this interpreter, importing this same package
+# (the source tree's python/ or an installed copy: docs/install.md).
+PACKAGE_PARENT = Path(__file__).resolve().parents[1]
 
 
 class StudyError(ValueError):
@@ -186,13 +189,15 @@ def read_study_file(path: Path) -> dict[str, Any]:
 def _run_one(scene: Path, variant: Variant, base_sets: dict[str, str], out: Path,
              petsc_args: list[str], timeout: float | None = None) -> tuple[int, str]:
     # no XDMF series: a study compares histories, and 50 runs of series are hundreds of MB
-    cmd = [str(ROOT / "scripts" / "slidebeam"), "run", str(scene), "--out", str(out), "-q", "--set", "output.xdmf=false"]
+    cmd = [sys.executable, "-m", "slidebeam", "run", str(scene), "--out", str(out), "-q", "--set", "output.xdmf=false"]
     for k, v in {**base_sets, **variant.extra, **variant.sets}.items():
         cmd += ["--set", f"{k}={v}"]
     if petsc_args:
         cmd += ["--", *petsc_args]
     try:
-        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        path = os.environ.get("PYTHONPATH")
+        env = {**os.environ, "PYTHONPATH": str(PACKAGE_PARENT) + (os.pathsep + path if path else "")}
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
     except subprocess.TimeoutExpired:
         return -1, f"still running after {timeout:.0f} s (stopped by the caller)"
     return res.returncode, (res.stderr.strip().splitlines() or [""])[-1]
