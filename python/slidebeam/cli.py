@@ -348,7 +348,7 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
             _say(rank, f"  step {rec.step:4d}/{scene.analysis.steps}  t = {rec.t:.6g}  newton {rec.newton_iterations:2d}"
                        f"  |F| = {rec.residual_norm:.3e}  {'' if rec.converged else 'FAILED: ' + rec.reason}")
         if rec.converged:
-            output.write(rec.t)
+            output.write(rec.t, rec.joints)  # the record's joints: not computed again
 
     output.write(sim.t)  # the reference state (step 0)
     records = sim.solve_static(progress)
@@ -419,7 +419,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
 
     def progress(rec) -> None:
         if rec.converged:
-            output.write(rec.t)
+            output.write(rec.t, rec.joints)  # the record's joints: not computed again
         if args.quiet:
             return
         if rec.converged and rec.step < next_report[0] and rec.t < a.t_end * (1 - 1e-12):
