@@ -21,7 +21,7 @@ from .scene import Scene, SceneError, load_scene
 from .checkpoint import CheckpointError
 from .costs import output_phase
 from . import options_check
-from .resources import check_memory, memory_line
+from .resources import check_memory, memory_line, size_text
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -176,18 +176,34 @@ def _finish_costs(sim, summary: dict, t0: float, rank: int, quiet: bool) -> None
         _say(rank, "cost by phase (largest over ranks):\n" + cost_table(rows, wall))
 
 
-def _check_disk_space(scene: Scene, out: Path, t0: float) -> None:
-    """Refuse at the start a run whose XDMF output cannot fit on the disk (an estimate: the
-    records the run will write, at most one per step)."""
+def _history_row_bytes(scene: Scene) -> int:
+    """history.csv per record: ~25 characters a value (repr of a float and a comma)."""
+    values = 25 + 3 * len(scene.output.track) + 6 * len(scene.sliding_joints) + 6 * (len(scene.supports) +
+                                                                                   len(scene.rigid_joints))
+    return 25 * values
+
+
+def _check_output_size(scene: Scene, out: Path, t0: float, rank: int) -> None:
+    """Before the run: refuse a run whose XDMF output cannot fit on the disk, and warn (once,
+    on stderr) when the results are estimated larger than output.warn_size_gb. An estimate: the
+    records the run will write, one every output.every steps."""
     import shutil
 
     a = scene.analysis
     steps = a.steps if a.type == "static" else math.ceil((a.t_end - t0) / a.dt - 1e-9)
-    need = (steps // max(1, scene.output.every) + 2) * bytes_per_record(scene)
+    records = (steps if a.type == "static" else steps // max(1, scene.output.every)) + 2
+    need = records * bytes_per_record(scene)
     free = shutil.disk_usage(out).free
     if need > free:
         raise OutputFailure(f"the XDMF output of this run needs about {need / 1e6:.1f} MB, but only "
                             f"{free / 1e6:.1f} MB are free in {out} (raise output.every or free space)")
+    total = need + records * _history_row_bytes(scene)
+    limit = scene.output.warn_size_gb * 1e9
+    if limit > 0 and total > limit:
+        _say(rank, f"slidebeam: warning: the results of this run will take about {size_text(total)} "
+                   f"({records} records of {size_text(total / records)}), more than output.warn_size_gb = "
+                   f"{scene.output.warn_size_gb:g}; raise output.every (now {scene.output.every}) to write fewer",
+             sys.stderr)
 
 
 def _exit_after_output_failure(code: int) -> None:
@@ -321,7 +337,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
         state = read_checkpoint(sim, restart)
         _say(rank, f"restarting from {restart} at t = {sim.t:.6g} (step {state.step})")
     try:
-        _check_disk_space(scene, out, sim.t)
+        _check_output_size(scene, out, sim.t, rank)
     except OutputFailure as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT

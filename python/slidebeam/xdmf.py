@@ -274,9 +274,9 @@ class NoOutput:
 # HDF5 object of each field (header and link), and the step's XDMF text
 FLOATS_PER_SAMPLE = 34  # displacement, velocity, d1-d3, strain (6), force, moment, tension, section_d2/d3
 FLOATS_PER_SLIDER = 8  # displacement, s, ds_dt, reaction
-BYTES_PER_DATASET = 400
+BYTES_PER_DATASET = 500
 XDMF_BYTES_PER_FIELD = 150
-XDMF_BYTES_PER_STEP = 600
+XDMF_BYTES_PER_STEP = 1000
 
 
 def bytes_per_record(scene) -> int:

@@ -197,7 +197,7 @@ def test_a_series_written_before_issue_22_is_continued_in_the_new_structure(tmp_
     import xml.etree.ElementTree as ET
 
     from meshio.xdmf import TimeSeriesWriter
-    from slidebeam.xdmf import _series_class
+    from slidebeam.xdmf import Series
 
     monkeypatch.chdir(tmp_path)  # meshio's own writer puts the .h5 in the working directory
     points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
@@ -205,10 +205,10 @@ def test_a_series_written_before_issue_22_is_continued_in_the_new_structure(tmp_
         old.write_points_cells(points, [("line", np.array([[0, 1], [1, 2]]))])
         for t in (0.0, 0.1, 0.2):
             old.write_data(t, point_data={"displacement": np.full((3, 3), t)})
-    series = _series_class()(tmp_path / "old.xdmf", resume_after=0.1).__enter__()
-    assert series.has_mesh
-    series.write_data(0.15, point_data={"displacement": np.full((3, 3), 0.15)})
-    series.__exit__(None, None, None)
+    lines = np.array([[0, 1], [1, 2]])
+    series = Series(tmp_path / "old.xdmf", points, lines, "Polyline", {}, resume_after=0.1)
+    series.add(0.15, {"displacement": np.full((3, 3), 0.15)})
+    series.close()
     domain = ET.parse(tmp_path / "old.xdmf").getroot().find("Domain")
     assert [g.get("GridType") for g in domain.findall("Grid")] == ["Collection"]
     text = (tmp_path / "old.xdmf").read_text()
