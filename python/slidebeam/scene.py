@@ -288,7 +288,7 @@ class TrackPoint:
 
 @dataclass(frozen=True)
 class Output:
-    every: int
+    every: int  # steps between records (dynamic; default: default_every)
     track: tuple[TrackPoint, ...]
     samples_per_span: int
     checkpoint_every: int = 0  # steps between checkpoints (0: only when the run ends)
