@@ -7,6 +7,7 @@ Exit codes: 0 success, 1 the solve failed (Newton), 2 bad input or unusable outp
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
 import sys
@@ -16,11 +17,12 @@ import warnings
 from pathlib import Path
 
 from . import interrupts
-from .scene import Scene, SceneError, load_scene
+from .effect_tables import effect_specs
+from .scene import Scene, SceneError, load_scene, scene_from_dict
 from .checkpoint import CheckpointError
 from .costs import output_phase
 from . import options_check
-from .resources import check_memory, memory_line
+from .resources import check_memory, memory_line, size_text
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -170,18 +172,34 @@ def _finish_costs(sim, summary: dict, t0: float, rank: int, quiet: bool) -> None
         _say(rank, "cost by phase (largest over ranks):\n" + cost_table(rows, wall))
 
 
-def _check_disk_space(scene: Scene, out: Path, t0: float) -> None:
-    """Refuse at the start a run whose XDMF output cannot fit on the disk (an estimate: the
-    records the run will write, at most one per step)."""
+def _history_row_bytes(scene: Scene) -> int:
+    """history.csv per record: ~25 characters a value (repr of a float and a comma)."""
+    constraints = sum(1 for e in scene.effects if effect_specs()[e.type].role == "constraint")
+    values = 25 + 3 * len(scene.output.track) + 6 * constraints  # a joint's s, rate, reaction; a support's reaction
+    return 25 * values
+
+
+def _check_output_size(scene: Scene, out: Path, t0: float, rank: int) -> None:
+    """Before the run: refuse a run whose XDMF output cannot fit on the disk, and warn (once,
+    on stderr) when the results are estimated larger than output.warn_size_gb. An estimate: the
+    records the run will write, one every output.every steps."""
     import shutil
 
     a = scene.analysis
     steps = a.steps if a.type == "static" else math.ceil((a.t_end - t0) / a.dt - 1e-9)
-    need = (steps // max(1, scene.output.every) + 2) * bytes_per_record(scene)
+    records = (steps if a.type == "static" else steps // max(1, scene.output.every)) + 2
+    need = records * bytes_per_record(scene)
     free = shutil.disk_usage(out).free
     if need > free:
         raise OutputFailure(f"the XDMF output of this run needs about {need / 1e6:.1f} MB, but only "
                             f"{free / 1e6:.1f} MB are free in {out} (raise output.every or free space)")
+    total = need + records * _history_row_bytes(scene)
+    limit = scene.output.warn_size_gb * 1e9
+    if limit > 0 and total > limit:
+        _say(rank, f"slidebeam: warning: the results of this run will take about {size_text(total)} "
+                   f"({records} records of {size_text(total / records)}), more than output.warn_size_gb = "
+                   f"{scene.output.warn_size_gb:g}; raise output.every (now {scene.output.every}) to write fewer",
+             sys.stderr)
 
 
 def _exit_after_output_failure(code: int) -> None:
@@ -227,6 +245,10 @@ def _restart_scene(args: argparse.Namespace, restart: Path, rank: int) -> Scene:
                  sys.stderr)
         else:
             _say(rank, f"restart: changed since the checkpoint: {listed}")
+    if "every" not in scene.data.get("output", {}):
+        # the default interval follows t_end: keep the one the checkpoint's run recorded with
+        every = scene_from_dict(data, scene.file, scene.base_dir).output.every
+        scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, every=every))
     return scene
 
 
@@ -315,7 +337,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
         state = read_checkpoint(sim, restart)
         _say(rank, f"restarting from {restart} at t = {sim.t:.6g} (step {state.step})")
     try:
-        _check_disk_space(scene, out, sim.t)
+        _check_output_size(scene, out, sim.t, rank)
     except OutputFailure as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
@@ -342,7 +364,7 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
             _say(rank, f"  step {rec.step:4d}/{scene.analysis.steps}  t = {rec.t:.6g}  newton {rec.newton_iterations:2d}"
                        f"  |F| = {rec.residual_norm:.3e}  {'' if rec.converged else 'FAILED: ' + rec.reason}")
         if rec.converged:
-            output.write(rec.t)
+            output.write(rec.t, rec.joints)  # the record's joints: not computed again
 
     output.write(sim.t)  # the reference state (step 0)
     records = sim.solve_static(progress)
@@ -413,7 +435,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
 
     def progress(rec) -> None:
         if rec.converged:
-            output.write(rec.t)
+            output.write(rec.t, rec.joints)  # the record's joints: not computed again
         if args.quiet:
             return
         if rec.converged and rec.step < next_report[0] and rec.t < a.t_end * (1 - 1e-12):

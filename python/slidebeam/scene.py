@@ -260,11 +260,12 @@ class TrackPoint:
 
 @dataclass(frozen=True)
 class Output:
-    every: int
+    every: int  # steps between records (dynamic; default: default_every)
     track: tuple[TrackPoint, ...]
     samples_per_span: int
     checkpoint_every: int = 0  # steps between checkpoints (0: only when the run ends)
     xdmf: bool = True          # write beams.xdmf/sliders.xdmf
+    warn_size_gb: float = 1.0  # warn before a run whose output is estimated larger (0: never)
 
 
 @dataclass(frozen=True)
@@ -550,7 +551,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
                                  "rhoA")
     entries = _parse_effect_tables(data, registry_tables, beams, analysis, file, base_dir)
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
-    output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams)
+    output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams, analysis)
 
     return Scene(
         name=meta.string("name", default_name),
@@ -744,8 +745,21 @@ def _resolve_options_file(t: _Table, base_dir: str) -> str:
     return str(path.resolve())
 
 
-def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
-    t.check_keys(("every", "track", "samples_per_span", "checkpoint_every", "xdmf"))
+RECORDS_BY_DEFAULT = 200  # a dynamic run without output.every records at least this many steps
+
+
+def default_every(analysis: Analysis) -> int:
+    """output.every when the scene leaves it out: every step of a static run; about
+    RECORDS_BY_DEFAULT records (200 to 399) of a dynamic one, so that the output stays small
+    next to the solve however many steps the run takes."""
+    if analysis.type != "dynamic" or not analysis.dt:
+        return 1
+    steps = round(analysis.t_end / analysis.dt)
+    return max(1, steps // RECORDS_BY_DEFAULT)
+
+
+def _parse_output(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Output:
+    t.check_keys(("every", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb"))
     xdmf = t.raw("xdmf", True)
     if not isinstance(xdmf, bool):
         raise t.error("xdmf", f"must be true or false, got {_show(xdmf)}")
@@ -758,11 +772,12 @@ def _parse_output(t: _Table, beams: tuple[Beam, ...]) -> Output:
     else:
         track = tuple(TrackPoint(b.index, b.geometry.length) for b in beams)
     return Output(
-        every=t.integer("every", 1),
+        every=t.integer("every", default_every(analysis)),
         track=track,
         samples_per_span=t.integer("samples_per_span", 8),
         checkpoint_every=_non_negative_integer(t, "checkpoint_every"),
         xdmf=xdmf,
+        warn_size_gb=t.number("warn_size_gb", 1.0, lambda x: x >= 0, "a size in GB >= 0 (0: never warn)"),
     )
 
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""XDMF/HDF5 time series for ParaView, written with meshio.
+"""XDMF/HDF5 time series for ParaView (and meshio).
 
 Files in the output folder (names are stable):
 
@@ -17,14 +17,19 @@ Files in the output folder (names are stable):
   slider's start position, with ``displacement``, ``s``, ``ds_dt``, ``reaction`` (force of the
   carrier on the slider) and ``joint_id``.
 
-meshio's ``TimeSeriesWriter`` opens the ``.h5`` in the current directory; ``_Series`` puts it
-beside its ``.xdmf`` instead. meshio also writes the mesh as a grid of its own beside the temporal
-collection and XIncludes it into every step: ParaView's legacy ``XDMFReader`` then shows that
-reference grid as a second copy of everything, frozen at the first record (issue 22). ``_Series``
-writes no such grid: every step's grid names the same reference ``Geometry`` and ``Topology``
-datasets itself, which all three ParaView readers and meshio's ``TimeSeriesReader`` understand. The XDMF text is written at every ``flush`` by a temporary file and a
-rename, so the ``.xdmf`` on disk always describes complete steps (every ``FLUSH_EVERY`` records, at checkpoints and at the end). Sampling is collective;
-rank 0 writes.
+In the ``.h5``: ``/mesh/points``, ``/mesh/cells`` and the fields that never change (``s``,
+``beam_id``, ``joint_id``) under ``/mesh``, written once; every other field one dataset per
+record, ``/<field>/<record>``. Every step's grid names the reference mesh itself (issue 22:
+a separate mesh grid showed twice in ParaView's legacy reader) and its datasets by plain HDF
+DataItems. Not one extendable dataset per field read through hyperslabs: meshio's
+``TimeSeriesReader`` reads no hyperslabs, ParaView 5.11's Xdmf3 readers skip them and its legacy
+reader reads them in single precision; one dataset per record is what all of them read.
+
+Records are kept in memory (rank 0) and written at each flush: every ``FLUSH_EVERY`` records or
+``PENDING_BYTES`` of data, at checkpoints and at the end. The data goes first; then the new steps
+are appended to a copy of the ``.xdmf`` (the text so far is copied, not rebuilt) that is renamed
+over it, so the ``.xdmf`` on disk always describes complete steps whose data is on disk.
+Sampling is collective; rank 0 writes.
 """
 from __future__ import annotations
 
@@ -32,6 +37,7 @@ import contextlib
 import copy
 import os
 import re
+import shutil
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -40,13 +46,21 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from .dynamics import JointState
     from .simulation import Simulation
 
 BEAMS = "beams"
 SLIDERS = "sliders"
-_ABANDONED: list = []  # writers whose files failed (see XdmfOutput._abandon)
-_XINCLUDE = "{http://www.w3.org/2003/XInclude}include"  # as meshio writes it
-FLUSH_EVERY = 100  # records between rewrites of the .xdmf text (and at the end, and checkpoints)
+_ABANDONED: list = []  # series whose files failed (see XdmfOutput._abandon)
+_XINCLUDE = "{http://www.w3.org/2003/XInclude}include"  # as meshio wrote it (series before issue 22)
+FLUSH_EVERY = 100  # records between writes of the data and the .xdmf text (and at checkpoints, the end)
+PENDING_BYTES = 16 << 20  # ... or sooner, so that records held in memory stay below this
+COMPACT_BYTES = 32 << 10  # datasets up to this size live in their object header: one write each
+_HEAD = (b'<?xml version="1.0"?>\n<Xdmf Version="3.0"><Domain>'
+         b'<Grid Name="TimeSeries" GridType="Collection" CollectionType="Temporal">')
+_TAIL = b"</Grid></Domain></Xdmf>\n"
+_ATTRIBUTE_TYPE = {1: "Scalar", 3: "Vector", 6: "Tensor6"}
+_RECORD_PATH = re.compile(r":/[^/<]+/(\d+)<")  # ...h5:/<field>/<record>< in a step's DataItems
 
 
 class OutputFailure(Exception):
@@ -78,108 +92,175 @@ def _h5py_stderr_silenced():
         os.close(devnull)
 
 
-def _series_class():
-    from meshio.xdmf.time_series import TimeSeriesWriter, write_xml
+def _data_item(h5_name: str, path: str, shape: tuple[int, ...], dtype: np.dtype) -> str:
+    kind = "Int" if dtype.kind in "iu" else "Float"
+    dims = " ".join(str(d) for d in shape)
+    return (f'<DataItem DataType="{kind}" Dimensions="{dims}" Format="HDF" Precision="{dtype.itemsize}">'
+            f"{h5_name}:{path}</DataItem>")
 
-    class _Series(TimeSeriesWriter):
-        """meshio's writer with the .h5 beside the .xdmf, an XDMF text that can be rewritten at any
-        time, and continuation of an existing series (restart)."""
 
-        def __init__(self, filename: Path, resume_after: float | None = None) -> None:
-            super().__init__(filename)
-            self.h5_filename = str(Path(filename).with_suffix(".h5"))
-            self._resume_after = resume_after
+def _attribute(name: str, item: str, shape: tuple[int, ...]) -> str:
+    width = shape[1] if len(shape) > 1 else 1
+    return f'<Attribute Name="{name}" AttributeType="{_ATTRIBUTE_TYPE[width]}" Center="Node">{item}</Attribute>'
 
-        def __enter__(self):
-            import h5py
 
-            if self._resume_after is not None and self.filename.is_file() and Path(self.h5_filename).is_file():
-                self._resume(h5py)
-            else:
-                self.h5_file = h5py.File(self.h5_filename, "w")
-            return self
+class Series:
+    """One time series (rank 0): ``<name>.xdmf`` and ``<name>.h5`` beside it. ``points`` and
+    ``cells`` are the reference mesh (``topology``: "Polyline" or "Polyvertex"), ``constants``
+    the point data that never changes. ``resume_after``: continue the series on disk, keeping
+    its steps up to that time (restart)."""
 
-        def _resume(self, h5py) -> None:
-            """Continue the series: keep the steps up to the restart time, append after them."""
-            tree = ET.parse(self.filename)
-            self.xdmf_file = tree.getroot()
-            self.domain = self.xdmf_file.find("Domain")
-            self.collection = self.domain.find("Grid[@CollectionType='Temporal']")
-            for grid in list(self.collection):
-                time = grid.find("Time")
-                if time is not None and float(time.get("Value")) > self._resume_after * (1 + 1e-12) + 1e-300:
-                    self.collection.remove(grid)
-            self._adopt_mesh()
-            self.h5_file = h5py.File(self.h5_filename, "a")
-            used = [int(m.group(1)) for k in self.h5_file.keys() if (m := re.fullmatch(r"data(\d+)", k))]
-            self.data_counter = max(used, default=-1) + 1
+    def __init__(self, xdmf: Path, points: np.ndarray, cells: np.ndarray, topology: str,
+                 constants: dict[str, np.ndarray], resume_after: float | None = None) -> None:
+        import h5py
 
-        def _adopt_mesh(self) -> None:
-            """On resume: take the reference Geometry and Topology from the file. A series written
-            before issue 22 keeps them in a separate ``mesh`` grid that every step XIncludes:
-            that grid is dropped and the steps get their own copies, so the continued file has one
-            structure throughout."""
-            mesh = next((g for g in self.domain.findall("Grid") if g.get("GridType") == "Uniform"), None)
-            if mesh is not None:
-                self.domain.remove(mesh)
-            else:
-                mesh = next((g for g in self.collection if g.find("Geometry") is not None), None)
-            if mesh is None:  # no step left to take it from: the caller writes it anew
-                self.has_mesh = False
-                return
-            self._mesh_items = [mesh.find("Topology"), mesh.find("Geometry")]
-            for grid in self.collection:
-                self._own_mesh(grid)
-            self.has_mesh = True
+        self.xdmf = Path(xdmf)
+        self.h5_path = self.xdmf.with_suffix(".h5")
+        self.next_record = 0
+        self._pending: list[tuple[float, dict[str, np.ndarray]]] = []
+        self._text: list[str] = []  # steps whose data is written, not yet in the .xdmf
+        self._size = 0  # bytes of the .xdmf on disk before its tail (0: none written yet)
+        self._template: str | None = None
+        self._groups: dict[str, object] = {}
+        self._last = None  # the dataset being written: kept alive after a failure (see XdmfOutput._abandon)
+        resume = resume_after is not None and self.xdmf.is_file() and self.h5_path.is_file()
+        kept = self._kept_steps(resume_after) if resume else []
+        self.h5 = h5py.File(self.h5_path, "a" if resume else "w")
+        self._dcpl = {}
+        for compact in (True, False):  # no time stamps: the same run writes the same bytes
+            plist = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
+            plist.set_obj_track_times(False)
+            if compact:
+                plist.set_layout(h5py.h5d.COMPACT)
+            self._dcpl[compact] = plist
+        if resume:
+            self._drop_records_after(kept)
+        self._mesh = self._write_mesh(points, cells, topology, constants)
+        if kept:  # the .xdmf as it was up to the restart time, in this structure
+            self._text = kept
+            self.write_text()
 
-        def write_points_cells(self, points, cells) -> None:
-            # meshio's helpers fill a detached grid: only copies of its children enter the file
-            mesh = ET.Element("Grid")
-            self.points(mesh, np.asarray(points))
-            self.cells(cells, mesh)
-            topo = mesh.find("Topology")
-            # XDMF 3 (ParaView's Xdmf3 readers) requires NodesPerElement on Polyline and
-            # Polyvertex topologies; meshio leaves it out
-            kind = topo.get("TopologyType")
-            if kind in ("Polyline", "Polyvertex") and topo.get("NodesPerElement") is None:
-                topo.set("NodesPerElement", "2" if kind == "Polyline" else "1")
-            self._mesh_items = [topo, mesh.find("Geometry")]
-            self.has_mesh = True
-
-        def write_data(self, t, point_data=None, cell_data=None) -> None:
-            super().write_data(t, point_data, cell_data)
-            self._own_mesh(self.collection[-1])
-
-        def _own_mesh(self, grid: ET.Element) -> None:
-            """Replace meshio's XInclude of the mesh grid by the reference Topology and Geometry
-            (the same datasets in every step). GridType is explicit because meshio's reader
-            looks for a grid marked Uniform to read the points and cells from."""
+    # -- resume ------------------------------------------------------------------------------
+    def _kept_steps(self, resume_after: float) -> list[str]:
+        """The steps on disk up to resume_after, as XDMF text. A series written before issue 22
+        keeps its mesh in a separate grid that every step XIncludes: the steps get copies of
+        its Topology and Geometry, so the continued file has one structure throughout."""
+        domain = ET.parse(self.xdmf).getroot().find("Domain")
+        collection = domain.find("Grid[@CollectionType='Temporal']")
+        mesh = next((g for g in domain.findall("Grid") if g.get("GridType") == "Uniform"), None)
+        kept = []
+        for grid in collection:
+            time = grid.find("Time")
+            if time is not None and float(time.get("Value")) > resume_after * (1 + 1e-12) + 1e-300:
+                continue
             include = grid.find(_XINCLUDE)
             if include is not None:
                 grid.remove(include)
-            if grid.find("Geometry") is None:
-                for k, item in enumerate(self._mesh_items):
+            if mesh is not None and grid.find("Geometry") is None:
+                for k, item in enumerate((mesh.find("Topology"), mesh.find("Geometry"))):
                     grid.insert(k, copy.deepcopy(item))
-            grid.set("GridType", "Uniform")
+            grid.set("GridType", "Uniform")  # meshio's reader takes the mesh from a Uniform grid
+            grid.tail = None
+            kept.append(ET.tostring(grid, encoding="unicode"))
+        return kept
 
-        def flush(self) -> None:
-            # data first: the .xdmf may only name datasets that are on disk
-            self.h5_file.flush()
-            tmp = self.filename.with_name(f".{self.filename.name}.tmp")
-            write_xml(tmp, self.xdmf_file)
-            os.replace(tmp, self.filename)
+    def _drop_records_after(self, kept: list[str]) -> None:
+        """New records follow the kept steps; datasets of records after them (written past the
+        checkpoint by the run that stopped) are removed."""
+        used = [int(m) for text in kept for m in _RECORD_PATH.findall(text)]
+        self.next_record = max(used, default=-1) + 1
+        for name, group in self.h5.items():
+            if name == "mesh" or not hasattr(group, "keys"):
+                continue
+            for key in [k for k in group.keys() if k.isdigit() and int(k) >= self.next_record]:
+                del group[key]
 
-        def __exit__(self, *_):
-            self.flush()
-            self.h5_file.close()
+    # -- structure ---------------------------------------------------------------------------
+    def _write_mesh(self, points: np.ndarray, cells: np.ndarray, topology: str,
+                    constants: dict[str, np.ndarray]) -> str:
+        """Write the reference mesh and the constant fields (unless a resumed file has them);
+        return the XDMF text every step carries for them."""
+        if "mesh" not in self.h5:
+            group = self.h5.create_group("mesh")
+            group["points"] = points
+            group["cells"] = cells
+            for name, values in constants.items():
+                group[name] = values
+        h5 = self.h5_path.name
+        text = (f'<Topology TopologyType="{topology}" NumberOfElements="{len(cells)}" '
+                f'NodesPerElement="{cells.shape[1]}">{_data_item(h5, "/mesh/cells", cells.shape, cells.dtype)}'
+                f'</Topology><Geometry GeometryType="XYZ">'
+                f'{_data_item(h5, "/mesh/points", points.shape, points.dtype)}</Geometry>')
+        consts = "".join(_attribute(name, _data_item(h5, f"/mesh/{name}", v.shape, v.dtype), v.shape)
+                         for name, v in constants.items())
+        return text + "{steps}" + consts
 
-    return _Series
+    def _step_template(self, data: dict[str, np.ndarray]) -> str:
+        """A step's grid with {t} and {r} (record) to fill in: the same for every record."""
+        h5 = self.h5_path.name
+        fields = "".join(_attribute(name, _data_item(h5, f"/{name}/{{r}}", v.shape, v.dtype), v.shape)
+                         for name, v in data.items())
+        mesh, consts = self._mesh.split("{steps}")
+        return f'<Grid GridType="Uniform">{mesh}<Time Value="{{t}}" />{fields}{consts}</Grid>'
+
+    # -- writing -----------------------------------------------------------------------------
+    def add(self, t: float, data: dict[str, np.ndarray]) -> None:
+        """Hold a record until the next write_pending."""
+        self._pending.append((float(t), data))
+
+    def write_pending(self) -> None:
+        """Write the held records into the .h5 (one dataset per field and record)."""
+        from h5py import h5d, h5s, h5t
+
+        for t, data in self._pending:
+            if self._template is None:
+                self._template = self._step_template(data)
+            r = self.next_record
+            name = str(r).encode()
+            for field, values in data.items():
+                values = np.ascontiguousarray(values)
+                group = self._groups.get(field)
+                if group is None:
+                    group = self._groups[field] = self.h5.require_group(field)
+                kind = h5t.STD_I32LE if values.dtype == np.int32 else h5t.IEEE_F64LE
+                self._last = h5d.create(group.id, name, kind, h5s.create_simple(values.shape),
+                                        dcpl=self._dcpl[values.nbytes <= COMPACT_BYTES])
+                self._last.write(h5s.ALL, h5s.ALL, values)
+            self._text.append(self._template.format(t=repr(t), r=r))
+            self.next_record += 1
+        self._pending = []
+        self.h5.flush()
+
+    def write_text(self) -> None:
+        """Append the steps written since the last call to the .xdmf: into a copy of it, renamed
+        over it (a reader never sees a half-written file)."""
+        if not self._text and self._size:
+            return
+        new = "".join(self._text).encode()
+        tmp = self.xdmf.with_name(f".{self.xdmf.name}.tmp")
+        if self._size:
+            shutil.copyfile(self.xdmf, tmp)
+            with open(tmp, "r+b") as f:
+                f.seek(self._size)
+                f.write(new + _TAIL)
+                f.truncate()
+        else:
+            tmp.write_bytes(_HEAD + new + _TAIL)
+            self._size = len(_HEAD)
+        os.replace(tmp, self.xdmf)
+        self._size += len(new)
+        self._text = []
+
+    def close(self) -> None:
+        self.write_pending()
+        self.write_text()
+        self.h5.close()
 
 
 class NoOutput:
     """Stands in for XdmfOutput when the scene says [output] xdmf = false."""
 
-    def write(self, t: float) -> None:
+    def write(self, t: float, joints: list[JointState] | None = None) -> None:
         pass
 
     def flush(self) -> None:
@@ -189,17 +270,30 @@ class NoOutput:
         pass
 
 
+# Bytes of one record, measured on the seed scenes (scripts/bench_output.py): the values, the
+# HDF5 object of each field (header and link), and the step's XDMF text
+FLOATS_PER_SAMPLE = 34  # displacement, velocity, d1-d3, strain (6), force, moment, tension, section_d2/d3
+FLOATS_PER_SLIDER = 8  # displacement, s, ds_dt, reaction
+BYTES_PER_DATASET = 500
+XDMF_BYTES_PER_FIELD = 150
+XDMF_BYTES_PER_STEP = 1000
+
+
 def bytes_per_record(scene) -> int:
-    """Disk space one recorded step takes (data and XDMF text), for the check at start."""
+    """Disk space one recorded step takes (data and XDMF text), for the checks at the start."""
     if not scene.output.xdmf:
         return 0
     n = sum(b.spans * scene.output.samples_per_span + 1 for b in scene.beams)
-    values = n * (3 * 10 + 6 + 1) + n // 2 + len(scene.sliding_joints) * 8
-    return 8 * values + 4500  # XDMF text: ~4.4 kB a record, each naming the reference mesh too
+    size = 8 * FLOATS_PER_SAMPLE * n + 11 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD) + XDMF_BYTES_PER_STEP
+    if scene.sliding_joints:
+        size += 8 * FLOATS_PER_SLIDER * len(scene.sliding_joints) + 4 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD)
+        size += XDMF_BYTES_PER_STEP
+    return size
 
 
 class XdmfOutput:
-    """The beams (and sliders) time series of one run. All ranks call ``write`` and ``close``."""
+    """The beams (and sliders) time series of one run. All ranks call ``write``, ``flush`` and
+    ``close``."""
 
     def __init__(self, sim: "Simulation", out: Path, rank: int, resume_after: float | None = None) -> None:
         self.sim = sim
@@ -207,40 +301,75 @@ class XdmfOutput:
         self.k = sim.scene.output.samples_per_span
         self.closed = False
         self.writes = 0
-        ref, self._slider_ref = self._reference_positions()
+        self._held = 0  # records since the last flush
+        self._flush_every = FLUSH_EVERY
+        self._last_t = 0.0
+        ref, s = self._reference()
         self._ref_points = ref
-        self._series: list = []
+        self._half2, self._half3 = self._section_halves()
+        self._slider_rows = self._slider_sample_rows()
+        self._slider_ref = self._slider_positions(ref, sim_x=self._ref_x) if sim.scene.sliding_joints else None
+        self._ref_x.destroy()
+        self._series: list[Series] = []
         if rank != 0:
             return
-        Series = _series_class()
         try:
-            beams = Series(out / f"{BEAMS}.xdmf", resume_after).__enter__()
-            self._series.append(beams)
-            if not (resume_after is not None and beams.has_mesh):
-                beams.write_points_cells(ref, [("line", self._lines())])
+            ids = np.concatenate([np.full(b.spans * self.k + 1, b.index, dtype=np.int32) for b in sim.scene.beams])
+            self._series.append(Series(out / f"{BEAMS}.xdmf", ref, self._lines(), "Polyline",
+                                       {"s": s, "beam_id": ids}, resume_after))
             if sim.scene.sliding_joints:
-                sliders = Series(out / f"{SLIDERS}.xdmf", resume_after).__enter__()
-                self._series.append(sliders)
-                if not (resume_after is not None and sliders.has_mesh):
-                    n = len(self._slider_ref)
-                    sliders.write_points_cells(self._slider_ref, [("vertex", np.arange(n).reshape(n, 1))])
+                n = len(self._slider_ref)
+                self._series.append(Series(out / f"{SLIDERS}.xdmf", self._slider_ref, np.arange(n).reshape(n, 1),
+                                           "Polyvertex", {"joint_id": np.arange(n, dtype=np.int32)}, resume_after))
         except OSError as err:
             raise OutputFailure(f"cannot write the XDMF output in {out}: {err}") from err
 
     # -- sampling (collective) -------------------------------------------------------------
-    def _sample(self, beam: int, x, v) -> dict[str, np.ndarray]:
-        return self.sim._model.sample_beam(beam, x, v, self.k)
+    def _sample(self, x, v) -> dict[str, np.ndarray]:
+        """Every beam's samples, one array per field over all beams (beam order)."""
+        model = self.sim._model
+        parts = [model.sample_beam(b.index, x, v, self.k) for b in self.sim.scene.beams]
+        if len(parts) == 1:
+            return dict(parts[0])
+        return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
 
-    def _reference_positions(self) -> tuple[np.ndarray, np.ndarray]:
-        """Sample points of the beams and slider points in the reference configuration (the
-        mesh; displacements are measured from it, also after a restart)."""
-        sim = self.sim
-        ref = sim._model.x.duplicate()
-        sim._model.set_reference_state(ref)
-        points = np.concatenate([self._sample(b.index, ref, None)["position"] for b in sim.scene.beams])
-        sliders = np.array([sim.evaluate(j.slider, j.at, ref)[0, :3] for j in sim.scene.sliding_joints])
-        ref.destroy()
-        return points, sliders.reshape(-1, 3)
+    def _reference(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sample points of the beams in the reference configuration (the mesh; displacements are
+        measured from it, also after a restart) and their arc lengths."""
+        self._ref_x = self.sim._model.x.duplicate()
+        self.sim._model.set_reference_state(self._ref_x)
+        ref = self._sample(self._ref_x, None)
+        return ref["position"], ref["s"]
+
+    def _section_halves(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per sample point, the half extent of the section along d2 and along d3."""
+        half2, half3 = [], []
+        for b in self.sim.scene.beams:
+            sec, n = b.section, b.spans * self.k + 1
+            half2.append(np.full((n, 1), np.sqrt(3.0 * sec.EI3 / sec.EA)))
+            half3.append(np.full((n, 1), np.sqrt(3.0 * sec.EI2 / sec.EA)))
+        return np.concatenate(half2), np.concatenate(half3)
+
+    def _slider_sample_rows(self) -> list[int | None]:
+        """Per sliding joint, the sample point that is its slider point (a beam end), or None
+        (a point inside the beam: evaluated apart)."""
+        first, firsts = 0, {}
+        for b in self.sim.scene.beams:
+            firsts[b.index] = first
+            first += b.spans * self.k + 1
+        rows: list[int | None] = []
+        for j in self.sim.scene.sliding_joints:
+            b = self.sim.scene.beams[j.slider]
+            rows.append(firsts[b.index] if j.at == 0.0 else
+                        firsts[b.index] + b.spans * self.k if j.at == b.geometry.length else None)
+        return rows
+
+    def _slider_positions(self, points: np.ndarray, sim_x=None) -> np.ndarray:
+        joints = self.sim.scene.sliding_joints
+        pos = np.empty((len(joints), 3))
+        for i, (j, row) in enumerate(zip(joints, self._slider_rows)):
+            pos[i] = points[row] if row is not None else self.sim.evaluate(j.slider, j.at, sim_x)[0, :3]
+        return pos
 
     def _lines(self) -> np.ndarray:
         cells, first = [], 0
@@ -250,61 +379,50 @@ class XdmfOutput:
             first += n
         return np.concatenate(cells)
 
-    def fields(self) -> dict[str, np.ndarray]:
-        """Point data of the current state (collective): what ``write`` stores."""
-        sim = self.sim
-        v = sim.v
-        parts = [self._sample(b.index, sim.x, v) for b in sim.scene.beams]
-        data = {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
-        data["displacement"] = data.pop("position") - self._ref_points
-        half2, half3 = [], []
-        for b, p in zip(sim.scene.beams, parts):
-            sec = b.section
-            n = len(p["s"])
-            half2.append(np.full((n, 1), np.sqrt(3.0 * sec.EI3 / sec.EA)))
-            half3.append(np.full((n, 1), np.sqrt(3.0 * sec.EI2 / sec.EA)))
-        data["section_d2"] = data["d2"] * np.concatenate(half2)
-        data["section_d3"] = data["d3"] * np.concatenate(half3)
-        data["beam_id"] = np.concatenate([np.full(len(p["s"]), b.index, dtype=np.int32)
-                                          for b, p in zip(sim.scene.beams, parts)])
-        return data
+    def fields(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Point data of the current state that changes from record to record (collective), and
+        the sample points' positions."""
+        data = self._sample(self.sim.x, self.sim.v)
+        position = data.pop("position")
+        del data["s"]  # the reference arc length: constant, written once
+        data["displacement"] = position - self._ref_points
+        data["section_d2"] = data["d2"] * self._half2
+        data["section_d3"] = data["d3"] * self._half3
+        return data, position
 
-    def slider_fields(self) -> dict[str, np.ndarray]:
-        sim = self.sim
-        joints = sim.joint_states()
-        pos = np.array([sim.evaluate(j.slider, j.at)[0, :3] for j in sim.scene.sliding_joints])
+    def slider_fields(self, position: np.ndarray, joints: list[JointState] | None = None) -> dict[str, np.ndarray]:
+        """The sliders' point data; ``joints``: the sliding joints' states if the caller has them
+        (a record), else they are computed (collective)."""
+        joints = self.sim.joint_states() if joints is None else joints
         return {
-            "displacement": pos - self._slider_ref,
+            "displacement": self._slider_positions(position) - self._slider_ref,
             "s": np.array([j.s for j in joints]),
             "ds_dt": np.array([j.ds_dt for j in joints]),
-            "reaction": np.array([j.reaction for j in joints]),
-            "joint_id": np.arange(len(joints), dtype=np.int32),
+            "reaction": np.array([j.reaction for j in joints]).reshape(-1, 3),
         }
 
     # -- writing ---------------------------------------------------------------------------
-    def write(self, t: float) -> None:
-        """Append the current state at time t (collective)."""
+    def write(self, t: float, joints: list[JointState] | None = None) -> None:
+        """Append the current state at time t (collective); ``joints`` as for slider_fields."""
         from .costs import output_phase
 
         with output_phase():
-            self._write(t)
+            self._write(t, joints)
 
-    def _write(self, t: float) -> None:
-        beams = self.fields()
-        sliders = self.slider_fields() if self.sim.scene.sliding_joints else None
-        error = None
-        if self.rank == 0:
-            try:
-                with _h5py_stderr_silenced():
-                    self._series[0].write_data(t, point_data=beams)
-                    if sliders is not None:
-                        self._series[1].write_data(t, point_data=sliders)
-            except Exception as err:  # h5py reports a full disk as OSError, RuntimeError or ValueError
-                self._abandon()
-                error = f"writing the XDMF output at t = {t:.6g} failed: {_first_line(err)}"
-        self._raise_on_any_rank(error)
+    def _write(self, t: float, joints: list[JointState] | None) -> None:
+        beams, position = self.fields()
+        sliders = self.slider_fields(position, joints) if self.sim.scene.sliding_joints else None
+        if self.writes == 0:  # every rank holds the same arrays: the same flush points everywhere
+            size = sum(v.nbytes for v in beams.values()) + sum(v.nbytes for v in (sliders or {}).values())
+            self._flush_every = max(1, min(FLUSH_EVERY, PENDING_BYTES // max(1, size)))
+        if self._series:
+            self._series[0].add(t, beams)
+            if sliders is not None:
+                self._series[1].add(t, sliders)
+        self._last_t = t
         self.writes += 1
-        if self.writes % FLUSH_EVERY == 0:
+        self._held += 1
+        if self._held >= self._flush_every:
             self.flush()
 
     def _raise_on_any_rank(self, error: str | None) -> None:
@@ -328,28 +446,32 @@ class XdmfOutput:
         self._series = []
 
     def flush(self) -> None:
-        """Make the files on disk describe every step written so far (collective)."""
+        """Write the records held so far and make the .xdmf describe them (collective)."""
         error = None
+        self._held = 0
         try:
             with _h5py_stderr_silenced():
                 for s in self._series:
-                    s.flush()
-        except Exception as err:  # noqa: BLE001 - see write
+                    s.write_pending()
+                for s in self._series:
+                    s.write_text()
+        except Exception as err:  # h5py reports a full disk as OSError, RuntimeError or ValueError
             self._abandon()
-            error = f"writing the XDMF output failed: {_first_line(err)}"
+            error = f"writing the XDMF output at t = {self._last_t:.6g} failed: {_first_line(err)}"
         self._raise_on_any_rank(error)
 
     def close(self) -> None:
-        """Write the .xdmf files and close the .h5 files (collective)."""
+        """Write what is held, the .xdmf files, and close the .h5 files (collective)."""
         if self.closed:
             return
+        self.flush()
         self.closed = True
         errors = []
         for s in self._series:
             try:
                 with _h5py_stderr_silenced():
-                    s.__exit__(None, None, None)
-            except Exception as err:  # noqa: BLE001 - see write
+                    s.close()
+            except Exception as err:  # noqa: BLE001 - see flush
                 errors.append(_first_line(err))
         self._series = []
         self._raise_on_any_rank("closing the XDMF output failed: " + "; ".join(errors) if errors else None)

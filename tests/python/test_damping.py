@@ -69,7 +69,7 @@ def cantilever(**damping: object) -> slidebeam.Scene:
         "load": [{"type": "force", "beam": "rod", "at": "end", "value": [0.0, 0.0, 0.05],
                   "time_function": {"type": "hat", "t0": 0.0, "t1": 0.4, "t2": 0.8}}],
         "damping": [{"beam": "rod", **damping}],
-        "output": {"track": [{"beam": "rod", "at": "end"}]},
+        "output": {"track": [{"beam": "rod", "at": "end"}], "every": 1},  # peaks need every step
     })
 
 
@@ -86,7 +86,7 @@ def pendulum(**damping: object) -> slidebeam.Scene:
         "support": [{"type": "spherical", "beam": "rod", "at": "start"}],
         "gravity": {"g": [0.0, 0.0, -9.81]},
         "damping": [{"beam": "rod", **damping}],
-        "output": {"track": [{"beam": "rod", "at": "end"}]},
+        "output": {"track": [{"beam": "rod", "at": "end"}], "every": 1},  # peaks need every step
     })
 
 

@@ -31,6 +31,25 @@ def assert_same_history(a: list[dict], b: list[dict]) -> None:
             assert abs(x - y) <= 1e-12 * max(1.0, abs(x)), (ra["t"], key, x, y)
 
 
+def test_a_restart_keeps_the_default_output_interval(run_cli, root, tmp_path):
+    """Without output.every the interval follows t_end (about 200 records): a restart to a later
+    t_end records at the interval of the run that wrote the checkpoint, as that run would have."""
+    text = (root / "runs" / "seed" / "free_fall_1+4.toml").read_text()
+    scene = tmp_path / "seed.toml"
+    scene.write_text("\n".join(line for line in text.splitlines() if not line.startswith("every")))
+    common = ["-q", "--set", "output.xdmf=false"]
+    first = run_cli("run", str(scene), "--out", "parts", *common, "--set", "analysis.t_end=0.5")  # 500 steps: every 2
+    assert first.returncode == 0, first.stderr
+    second = run_cli("run", str(scene), "--restart", "parts/checkpoint.h5", *common, "--set", "analysis.t_end=1.0")
+    assert second.returncode == 0, second.stderr
+    whole = run_cli("run", str(scene), "--out", "whole", *common, "--set", "analysis.t_end=1.0",
+                    "--set", "output.every=2")  # (1000 steps alone would record every 5th)
+    assert whole.returncode == 0, whole.stderr
+    a, b = rows(tmp_path / "whole" / "history.csv"), rows(tmp_path / "parts" / "history.csv")
+    assert len(a) == len(b) == 501
+    assert_same_history(a, b)
+
+
 @pytest.mark.parametrize("integrator", ["energy-momentum", "newmark"])
 def test_restarted_run_equals_the_uninterrupted_one(run_cli, root, tmp_path, integrator):
     """S2-incl (sliding joint, knot crossing near t = 0.2) to t = 0.3 in one go, and to 0.15 then

@@ -289,6 +289,33 @@ def test_scene_from_dict_dynamic_default_time_function():
     assert (sc.beams[0].section.kGA2, sc.beams[0].section.kGA3) == (2.0, 3.0)
 
 
+@pytest.mark.parametrize("analysis, output, every", [
+    ({"type": "dynamic", "dt": 1e-3, "t_end": 1.0}, {}, 5),        # 1000 steps: 200 records
+    ({"type": "dynamic", "dt": 1e-3, "t_end": 0.399}, {}, 1),      # fewer than 400 steps: all
+    ({"type": "dynamic", "dt": 1e-4, "t_end": 20.0}, {}, 1000),
+    ({"type": "dynamic", "dt": 1e-3, "t_end": 1.0}, {"every": 1}, 1),  # the scene's own choice
+    ({"type": "static", "steps": 5000}, {}, 1),                    # statics record every load step
+])
+def test_default_output_interval_gives_about_200_records(analysis, output, every):
+    data = {
+        "analysis": analysis,
+        "beam": [{"name": "a", "start": [0, 0, 0], "end": [0, 0, 3], "spans": 2,
+                  "section": {"EA": 1, "kGA2": 2, "kGA3": 3, "GJ": 1, "EI2": 1, "EI3": 1, "rhoA": 1}}],
+        "output": output,
+    }
+    assert scene.scene_from_dict(data).output.every == every
+
+
+@pytest.mark.parametrize("value, words", [(-1.0, "a size in GB >= 0"), ("1 GB", "must be a number")])
+def test_warn_size_gb_is_checked(value, words):
+    data = {"beam": [{"name": "a", "start": [0, 0, 0], "end": [0, 0, 3], "spans": 2,
+                      "section": {"EA": 1, "kGA2": 2, "kGA3": 3, "GJ": 1, "EI2": 1, "EI3": 1}}],
+            "output": {"warn_size_gb": value}}
+    with pytest.raises(scene.SceneError, match=words) as err:
+        scene.scene_from_dict(data)
+    assert "warn_size_gb" in str(err.value) and "[output]" in str(err.value)
+
+
 # ----------------------------------------------------------------------------
 # time functions
 

@@ -77,6 +77,43 @@ def test_beams_and_sliders_read_back_against_the_history(run_cli, root, tmp_path
             [float(row[f"CM@0.{c}"]) for c in "xyz"], abs=1e-12)
 
 
+def test_the_series_reads_back_with_meshio_as_the_simulation_sampled(root, tmp_path, monkeypatch):
+    """meshio's TimeSeriesReader reads, at every record, the very numbers the simulation sampled
+    (Simulation.sample_beam per beam, the sliding joint's state), and the .xdmf on disk describes
+    the flushed records only: with FLUSH_EVERY = 3, after 4 records it has 3 steps."""
+    import slidebeam
+    from slidebeam import xdmf
+
+    monkeypatch.setattr(xdmf, "FLUSH_EVERY", 3)
+    scene = slidebeam.load_scene(root.joinpath(*SEED), ["analysis.t_end=0.007", "output.every=1",
+                                                       "output.samples_per_span=3"])
+    sim = slidebeam.Simulation(scene)
+    output = xdmf.XdmfOutput(sim, tmp_path, rank=0)
+    sampled, steps_on_disk = [], []
+
+    def on_step(rec) -> None:
+        output.write(rec.t, rec.joints)
+        beams = [sim.sample_beam(b.index, 3) for b in scene.beams]
+        sampled.append((rec.t, {key: np.concatenate([p[key] for p in beams]) for key in beams[0]},
+                        sim.joint_states()[0]))
+        if len(sampled) == 4:
+            steps_on_disk.append(len(read_series(tmp_path / "beams.xdmf")[1]))
+
+    sim.run_dynamic(on_step)
+    output.close()
+    assert steps_on_disk == [3]
+    points, steps = read_series(tmp_path / "beams.xdmf")
+    _, slider_steps = read_series(tmp_path / "sliders.xdmf")
+    assert len(steps) == len(slider_steps) == len(sampled) == 8  # t = 0, 0.001, ..., 0.007
+    for (t, data), (_, slider), (ts, want, joint) in zip(steps, slider_steps, sampled):
+        assert t == ts
+        for key in ("velocity", "d1", "d2", "d3", "strain", "force", "moment", "tension", "s"):
+            assert np.array_equal(data[key], want[key]), key
+        assert np.abs(points + data["displacement"] - want["position"]).max() <= 1e-15
+        assert slider["s"][0] == joint.s and np.array_equal(slider["reaction"][0], joint.reaction)
+    assert np.abs(steps[-1][1]["displacement"]).max() > 1e-6  # the beams moved: the check compares something
+
+
 def test_static_runs_write_the_series_too(run_cli, root, tmp_path):
     out = run_cli("run", str(root / "runs" / "rollup.toml"), "--out", "r", "-q", "--set", "analysis.steps=3",
                   "--set", "beam.0.spans=6")
@@ -197,7 +234,7 @@ def test_a_series_written_before_issue_22_is_continued_in_the_new_structure(tmp_
     import xml.etree.ElementTree as ET
 
     from meshio.xdmf import TimeSeriesWriter
-    from slidebeam.xdmf import _series_class
+    from slidebeam.xdmf import Series
 
     monkeypatch.chdir(tmp_path)  # meshio's own writer puts the .h5 in the working directory
     points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])
@@ -205,10 +242,10 @@ def test_a_series_written_before_issue_22_is_continued_in_the_new_structure(tmp_
         old.write_points_cells(points, [("line", np.array([[0, 1], [1, 2]]))])
         for t in (0.0, 0.1, 0.2):
             old.write_data(t, point_data={"displacement": np.full((3, 3), t)})
-    series = _series_class()(tmp_path / "old.xdmf", resume_after=0.1).__enter__()
-    assert series.has_mesh
-    series.write_data(0.15, point_data={"displacement": np.full((3, 3), 0.15)})
-    series.__exit__(None, None, None)
+    lines = np.array([[0, 1], [1, 2]])
+    series = Series(tmp_path / "old.xdmf", points, lines, "Polyline", {}, resume_after=0.1)
+    series.add(0.15, {"displacement": np.full((3, 3), 0.15)})
+    series.close()
     domain = ET.parse(tmp_path / "old.xdmf").getroot().find("Domain")
     assert [g.get("GridType") for g in domain.findall("Grid")] == ["Collection"]
     text = (tmp_path / "old.xdmf").read_text()
@@ -217,6 +254,23 @@ def test_a_series_written_before_issue_22_is_continued_in_the_new_structure(tmp_
     assert np.array_equal(got_points, points)
     assert [t for t, _ in steps] == [0.0, 0.1, 0.15]
     assert [d["displacement"][0, 0] for _, d in steps] == [0.0, 0.1, 0.15]
+
+
+def test_a_run_warns_once_when_its_results_would_be_large(run_cli, root, tmp_path):
+    """The estimate (12 records of about 23 kB) against output.warn_size_gb: above it one warning
+    before the run, naming the key and output.every; below it, or with 0, none."""
+    scene = str(root / "runs" / "seed" / "free_fall_1+4.toml")
+    short = ["--set", "analysis.t_end=0.01", "--set", "output.every=1"]
+    out = run_cli("run", scene, "--out", "a", "-q", *short, "--set", "output.warn_size_gb=1e-4")
+    assert out.returncode == 0, out.stderr
+    assert out.stderr.count("warning: the results of this run will take about") == 1, out.stderr
+    assert "output.warn_size_gb = 0.0001" in out.stderr and "output.every (now 1)" in out.stderr
+    size = sum(f.stat().st_size for f in (tmp_path / "a").iterdir() if f.name != "checkpoint.h5")
+    estimate = float(out.stderr.split("take about ")[1].split(" kB")[0]) * 1e3
+    assert 0.7 * size < estimate < 1.5 * size  # the estimate is near what is written
+    for limit in ("1e-3", "0"):
+        quiet = run_cli("run", scene, "--out", "b", "-q", *short, "--set", f"output.warn_size_gb={limit}")
+        assert quiet.returncode == 0 and "warning" not in quiet.stderr, quiet.stderr
 
 
 def _small_file_limit() -> None:
