@@ -221,7 +221,7 @@ class TimeFunction:
 @dataclass(frozen=True)
 class SlidingJoint:
     """A point of the slider beam (arc length `at`) kept on the carrier's centre line, free to
-    slide along it and to rotate (formulation.md section 5)."""
+    slide along it and to rotate (docs/theory.md, "The sliding joint")."""
 
     slider: int
     at: float
