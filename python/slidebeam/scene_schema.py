@@ -38,7 +38,8 @@ class Table:
 
 SCENE = Table("scene", "[scene]", "The scene's name and description (optional table).", (
     Key("name", "name of the scene: the default output folder is out/<name>", "", "the file's name without .toml"),
-    Key("description", "free text, printed by `slidebeam check`", "", '""'),
+    Key("description", "free text describing the scene (the run does not use it; scripts/stability_table.py "
+                        "lists the hard scenes by it)", "", "\"\""),
 ))
 
 ANALYSIS = Table("analysis", "[analysis]", "What is solved: load stepping (static) or time stepping (dynamic).", (
