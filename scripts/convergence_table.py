@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """Locking and accuracy of the director beam's quadratures (full, reduced, assumed_strain):
-prints the markdown tables of docs/verification.md, "Slender beams".
+prints the markdown tables of docs/verification.md, "Locking: convergence tables".
 
   - cantilever elastica (runs/elastica.toml), L = 1, EI = 1, EA = kGA = 1e7 and 1e9: largest tip
     error over P L^2 / EI = 1 and 10 against the inextensible elastica, 8 / 16 / 32 / 64 spans,

@@ -16,7 +16,8 @@ from .scene import Beam
 def default_d2(d1: np.ndarray) -> np.ndarray:
     """Section axis d2 when the scene gives none: the coordinate axis cyclically after the
     dominant component of d1 (x -> y, y -> z, z -> x), made orthogonal to d1. Gives the
-    triads (e_X, e_Y, e_Z) for a beam along X and (e_Z, e_X, e_Y) along Z (benchmarks.md S2)."""
+    triads (e_X, e_Y, e_Z) for a beam along X and (e_Z, e_X, e_Y) along Z (the seed benchmark S2,
+    docs/verification.md "Benchmarks")."""
     k = (int(np.argmax(np.abs(d1))) + 1) % 3
     e = np.eye(3)[k]
     v = e - e.dot(d1) * d1

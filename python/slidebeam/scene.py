@@ -221,7 +221,7 @@ class TimeFunction:
 @dataclass(frozen=True)
 class SlidingJoint:
     """A point of the slider beam (arc length `at`) kept on the carrier's centre line, free to
-    slide along it and to rotate (formulation.md section 5)."""
+    slide along it and to rotate (docs/theory.md, "The sliding joint")."""
 
     slider: int
     at: float
@@ -480,6 +480,7 @@ def _array_of_tables(data: dict[str, Any], key: str, file: str) -> list[Any]:
 
 # tables of the scene's own; effect tables ([[support]], [gravity], ...) come from the core's registry
 _TOP_KEYS = ("scene", "analysis", "petsc", "beam", "output")
+_SCENE_KEYS = ("name", "description")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
     "em_dissipation", "start",
@@ -501,6 +502,11 @@ _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
               "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
 # sub-tables an override may create when absent
+_OUTPUT_KEYS = ("every", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
+_TRACK_KEYS = ("beam", "at")
+_MOTION_KEYS = ("displacement", "rotation", "time_function")  # rotation: clamps only (6 components)
+# every key above is described, with its unit and default, in scene_schema.py (the scene reference;
+# tests/python/test_scene_schema.py keeps the two in step)
 _CREATABLE = {"scene", "analysis", "petsc", "output", "section", "arc", "time_function"}
 
 
@@ -538,7 +544,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
     top.check_keys(_TOP_KEYS + tuple(sorted(registry_tables)))
 
     meta = _Table(top.raw("scene", {}), file, "[scene]", "scene")
-    meta.check_keys(("name", "description"))
+    meta.check_keys(_SCENE_KEYS)
     default_name = Path(file).stem if file != "<dict>" else "scene"
 
     analysis = _parse_analysis(_Table(top.raw("analysis", {}), file, "[analysis]", "analysis"))
@@ -759,7 +765,7 @@ def default_every(analysis: Analysis) -> int:
 
 
 def _parse_output(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Output:
-    t.check_keys(("every", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb"))
+    t.check_keys(_OUTPUT_KEYS)
     xdmf = t.raw("xdmf", True)
     if not isinstance(xdmf, bool):
         raise t.error("xdmf", f"must be true or false, got {_show(xdmf)}")
@@ -789,7 +795,7 @@ def _non_negative_integer(t: _Table, key: str) -> int:
 
 
 def _parse_track_point(t: _Table, beams: tuple[Beam, ...]) -> TrackPoint:
-    t.check_keys(("beam", "at"))
+    t.check_keys(_TRACK_KEYS)
     index = _beam_ref(t, beams)
     return TrackPoint(index, _parse_at(t, beams[index].geometry.length))
 
@@ -1350,7 +1356,7 @@ def _parse_motion(t: _Table, size: int, base_dir: str, num: dict[str, float], ve
     """motion = {displacement = [m], rotation = [rad] (size 6), time_function = {...}}, which
     must start from the drawn state (f(0) = 0)."""
     turns = size == 6
-    t.check_keys(("displacement", "rotation", "time_function") if turns else ("displacement", "time_function"))
+    t.check_keys(_MOTION_KEYS if turns else tuple(k for k in _MOTION_KEYS if k != "rotation"))
     if not (t.has("displacement") or t.has("rotation")):
         raise t.error("displacement", "a motion needs a displacement (m)" + (" or a rotation (rad)" if turns else ""))
     tf = _parse_time_function(t.sub("time_function", f"{t.label}.time_function"), base_dir)

@@ -25,7 +25,7 @@ class SpanEffect : public ElementEffect<3, kernels::kNqEl> {
   Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
 };
 
-/// Strain energy of one beam (README, "How it is built"; docs/theory.md), integrated span by span. With the
+/// Strain energy of one beam (docs/theory.md; docs/developer.md, "Design notes"), integrated span by span. With the
 /// assumed-strain quadrature the membrane and shear strains enter through their values at the
 /// knots (kernels::GammaMoments): a knot's value takes the moments of the spans on both sides,
 /// the spans' Gamma stresses are the knots' interpolated, and the material part of the tangent
@@ -267,7 +267,7 @@ class DirectorConstraints final : public Effect {
   std::vector<PetscInt> cps_;
 };
 
-/// Kinetic energy of one beam (formulation.md section 4): the constant consistent mass
+/// Kinetic energy of one beam (docs/theory.md, "Inertia, gravity, point masses"): the constant consistent mass
 /// M^AB = int N^A N^B ds (x) diag(rho A, 0, rho I3, rho I2). d1 carries no inertia. Assembled
 /// once into the mass matrix; the time integrator applies it.
 class BeamInertia final : public SpanEffect {

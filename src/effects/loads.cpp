@@ -186,7 +186,8 @@ class Gravity final : public Effect {
 
 /// Force (fixed direction) or moment at a beam point, times a time function.
 /// A moment M acts through director forces F_i = 1/2 M x d_i, whose virtual work is M . dtheta
-/// (benchmarks.md 3.5). In the material frame M = sum_j m_j d_j follows the section.
+/// (docs/theory.md, "Loads: moments as director forces"). In the material frame M = sum_j m_j d_j
+/// follows the section.
 class PointLoad final : public Effect {
  public:
   PointLoad(const Model& m, const EffectParams& p, bool moment)

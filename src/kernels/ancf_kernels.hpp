@@ -10,7 +10,7 @@
 /// Strain energy: Green axial strain and the quadratic bending form of Berzeri & Shabana (2000),
 ///   U_e = 1/2 int EA eps^2 dx + 1/2 int EI |r'' - r0''|^2 dx,   eps = 1/2 (r'.r' - r0'.r0'),
 /// with r0 the reference (stress-free) configuration. Both strains are quadratic (eps) or linear
-/// (r'') in q, so, exactly as for the director beam (formulation.md section 6), the averaged-strain
+/// (r'') in q, so, exactly as for the director beam (docs/theory.md, "The schemes"), the averaged-strain
 /// energy-momentum force is an exact discrete gradient.
 ///
 /// Limitations, by construction:
@@ -114,7 +114,7 @@ double energy(const AncfSection& sec, const AncfElement& el, const ElVec& q);
 /// overwritten (not accumulated).
 void internal_force(const AncfSection& sec, const AncfElement& el, const ElVec& q, ElVec& f, ElMat* K);
 
-/// Energy-momentum internal force of the step q0 -> q1 (formulation.md section 6):
+/// Energy-momentum internal force of the step q0 -> q1 (docs/theory.md, "The schemes"):
 ///   f = int EA eps_avg (d eps/dq)(q_m) dx + int EI S''^T (r''(q_m) - r0'') dx,
 /// eps_avg = 1/2 (eps(q0) + eps(q1)), q_m = 1/2 (q0 + q1). Then f . (q1 - q0) = U(q1) - U(q0)
 /// exactly (up to roundoff). K (if given) = d f / d q1, exact. Both overwritten.

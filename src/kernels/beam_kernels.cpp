@@ -20,7 +20,7 @@ constexpr StrainTable kSimoReissner = {{
     {2, {{{kD1, kD3S, 0.5}, {kD3, kD1S, -0.5}}}},
     {2, {{{kD2, kD1S, 0.5}, {kD1, kD2S, -0.5}}}},
 }};
-// The seed's small-strain Green-Lagrange measure, corrected (formulation.md section 3):
+// The seed's small-strain Green-Lagrange measure, corrected (docs/theory.md, "Strain measures"):
 //   eps = 1/2 phi'.phi' (- 1/2), gamma_a = phi'.d_a, kappa1 = 1/2 (d2'.d3 - d3'.d2),
 //   kappa2 = phi'.d3', kappa3 = phi'.d2'.
 constexpr StrainTable kSeed = {{

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file Element kernels of the director beam (formulation.md sections 1-4).
+/// @file Element kernels of the director beam (docs/theory.md, "The director beam").
 ///
 /// Every strain of both measures is a bilinear form c * z_a . z_b in the field vector at a
 /// quadrature point, z = (phi', d1, d2, d3, d1', d2', d3', d1'', d2'', d3'') in R^30. One table of such terms per
@@ -139,7 +139,7 @@ double beam_gp_energy(const StrainTable& T, const Stiffness& C, const Vec6& eps0
 void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                               const VecEl& q, VecEl& r, MatEl* K, const Eigen::Vector3d* gamma_sigma = nullptr);
 
-/// Energy-momentum internal force of one quadrature point (formulation.md section 6): the
+/// Energy-momentum internal force of one quadrature point (docs/theory.md, "The schemes"): the
 /// gradient at the midpoint q_m = (q0 + q1)/2 with the AVERAGED strain,
 /// r += w B(q_m)^T C (1/2 (eps(q0) + eps(q1)) - eps0), so that U(q1) - U(q0) = r . (q1 - q0) exactly.
 /// K (if given) += d r / d q1 = w [1/2 sum_k sigma_k d^2 eps_k/dq^2 + (1+xi)/2 B(q_m)^T C B(q1)].

@@ -30,7 +30,8 @@ int span_of(int n_spans, double L, double s);
 /// w += f * d^k N_A / ds^k (s), A over the 3 control points of span `span` (k = 0, 1, 2).
 void add_basis(int n_spans, double L, int span, double s, int k, double f, Weights& w);
 
-/// Exact discrete derivative of the basis between s0 and s1 (formulation.md section 6):
+/// Exact discrete derivative of the basis between s0 and s1 (docs/theory.md, "The exact discrete
+/// derivative across knots"):
 ///   D_A = (N_A(s1) - N_A(s0)) / (s1 - s0)   and   dD_A / ds1,
 /// evaluated without dividing by s1 - s0: [s0, s1] is split at knots, D is the length-weighted
 /// mean of N'_A at the pieces' midpoints, and dD/ds1 = (1/ds^2) int N''(t) |t - s0| dt is summed

@@ -14,7 +14,7 @@
 
 namespace slidebeam {
 
-/// Section resultant stiffness and inertia (formulation.md sections 3-4).
+/// Section resultant stiffness and inertia (docs/theory.md, "The director beam").
 struct Section {
   double EA = 0, kGA2 = 0, kGA3 = 0, GJ = 0, EI2 = 0, EI3 = 0;
   double rhoA = 0, rhoI2 = 0, rhoI3 = 0;

@@ -89,7 +89,7 @@ class LocalValues {
   PetscScalar* data_;
 };
 
-/// How an effect evaluates its forces within a time step (formulation.md section 6).
+/// How an effect evaluates its forces within a time step (docs/theory.md, "Time integration").
 ///  - Endpoint: forces at x (statics, Newmark, HHT).
 ///  - Theta: forces at the state xf = (1 - theta) x_old + theta x, so their derivative with
 ///    respect to x is theta times the derivative at xf (midpoint rule: theta = 1/2).

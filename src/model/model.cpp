@@ -226,7 +226,7 @@ Momenta Model::momenta(Vec x, Vec p) const {
   for (PetscInt cp = 0; cp < n_cp_total_; ++cp) {
     if (!map_.owns_cp(cp)) continue;
     const PetscInt o = map_.q(cp, 0) - map_.owned_lo();
-    // J = sum_A phi^A x p_phi^A + sum_i d_i^A x p_di^A (benchmarks.md 3.7). The same sum over
+    // J = sum_A phi^A x p_phi^A + sum_i d_i^A x p_di^A (docs/theory.md, "Invariants"). The same sum over
     // every 3-block of coordinates holds for any interpolation r = sum_a S_a y_a whose position
     // blocks' shape functions sum to one (ANCF: r, r'); L is the sum over the position blocks.
     for (int blk = 0; blk < map_.n_coordinates(cp) / 3; ++blk) {

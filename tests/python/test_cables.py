@@ -116,10 +116,10 @@ def test_static_start_with_held_sliders_keeps_them_in_place(tmp_path):
 @pytest.mark.parametrize("quadrature", ["full", "assumed_strain"])
 def test_static_start_with_free_sliders_finds_the_low_point(tmp_path, quadrature):
     """Free sliders on a symmetric sagging rope all end at its low point, the middle, and stay.
-    With assumed strains (the default) the carrier's energy ripples with the load's place in a
+    With assumed strains the carrier's energy ripples with the load's place in a
     span (the knots' averaged strains hide part of the kink under the load): on this nearly
     flat landscape they settle 0.26 m off the middle, less than half a span (0.625 m);
-    docs/verification.md, "assumed strains"."""
+    docs/theory.md, "Where assumed strains lose, and the default"."""
     sim = _ropeway(tmp_path, "free", quadrature)
     outcome = sim.run_dynamic()
     assert outcome.complete

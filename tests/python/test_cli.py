@@ -142,7 +142,7 @@ DYNAMIC_SCENES = ("flying_spaghetti_2d", "flying_spaghetti_3d", "right_angle_can
 @pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint", "newmark", "hht"))
 def test_dynamic_scenes_run_with_every_integrator(run_cli, root, tmp_path, integrator):
     """Every D-scene starts and steps with every integrator (short runs; the full runs are in
-    the README's tables)."""
+    docs/verification.md, "Dynamics")."""
     for name in DYNAMIC_SCENES:
         out = run_cli("run", str(root / "runs" / f"{name}.toml"), "--out", name, "-q",
                       "--set", f'analysis.integrator="{integrator}"', "--set", "analysis.t_end=0.3"

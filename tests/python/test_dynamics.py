@@ -202,8 +202,8 @@ def test_newmark_starts_from_a_consistent_acceleration():
 
 
 def test_failed_step_stops_cleanly_with_a_message():
-    # Newmark at dt = 0.1 blows up on D1 (benchmarks.md: the structural integrators are expected
-    # to fail on hard cases); with dt_min = 0.05 the retries end quickly.
+    # Newmark at dt = 0.1 blows up on D1 (docs/theory.md, "The schemes": the structural integrators
+    # may fail on hard cases); with dt_min = 0.05 the retries end quickly.
     sim = slidebeam.Simulation(d1("newmark", **{"analysis.dt_min": 0.05}))
     run = sim.run_dynamic()
     assert not run.complete

@@ -33,7 +33,7 @@ def circle_tip(lam: float) -> np.ndarray:
 
 
 def test_rollup_reproduces_reference_errors_and_second_order(root):
-    """formulation.md section 3: |tip - circle| at lambda = 0.25 from an independent implementation,
+    """|tip - circle| at lambda = 0.25 from an independent implementation (docs/verification.md, "Benchmarks"),
     8/16/32/64 spans: 1.2e-1, 5.9e-2, 1.6e-2, 4.2e-3 (to two digits)."""
     reference = {8: 1.2e-1, 16: 5.9e-2, 32: 1.6e-2, 64: 4.2e-3}
     errors = {n: float(np.linalg.norm(rollup_tip(root, n, 0.25) - circle_tip(0.25))) for n in reference}
@@ -45,7 +45,7 @@ def test_rollup_reproduces_reference_errors_and_second_order(root):
 
 def test_rollup_seed_measure_converges_to_its_own_continuum_tip(root):
     """With the seed's strains the continuum tip is (6.36148, 6.36642), not the circle
-    (formulation.md section 3)."""
+    (docs/theory.md, "Strain measures")."""
     seed_tip = np.array([6.36148, 6.36642, 0.0])
     tips = {n: rollup_tip(root, n, 0.25, strain="seed") for n in (16, 32, 64)}
     err = {n: float(np.linalg.norm(t - seed_tip)) for n, t in tips.items()}

@@ -152,7 +152,7 @@ def _paraview_available() -> bool:
 @pytest.mark.skipif(not _paraview_available(), reason="python3-paraview is not installed")
 def test_paraview_opens_the_run(run_cli, root, tmp_path):
     """ParaView's own XDMF reader sees every time step, the polyline and the arrays, and the
-    README's filter chain (Warp By Vector, Extract Surface, Ribbon) runs."""
+    user guide's filter chain (Warp By Vector, Extract Surface, Ribbon) runs."""
     out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
     assert out.returncode == 0, out.stderr
     script = f"""
