@@ -252,6 +252,7 @@ KSP TimeIntegrator::constrained_mass_solver() {
   MPI_Comm_size(model_.comm(), &size);
   SB_CHECK(KSPCreate(model_.comm(), &ksp));
   SB_CHECK(KSPSetOptionsPrefix(ksp, kMassPrefix));  // -sb_mass_ksp_type ... (plain options do not apply)
+  SB_CHECK(default_mumps_workspace(kMassPrefix));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(KSPGetPC(ksp, &pc));
   SB_CHECK(PCSetType(pc, PCLU));
