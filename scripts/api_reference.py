@@ -240,7 +240,8 @@ def fields_table(cls) -> list[str]:
     rows = ["| field | type | default | meaning |", "|---|---|---|---|"]
     for n in names:
         ftype, default, note = found.get(n, ("", "", ""))
-        rows.append(f"| `{n}` | `{ftype}` | {f'`{default}`' if default else ''} | {note} |")
+        cells = [f"`{n}`", f"`{ftype}`", f"`{default}`" if default else "", note]
+        rows.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     return [""] + rows
 
 

@@ -146,7 +146,7 @@ class RunOutcome:
 
     records: list[DynamicRecord]  # every output.every-th step, the last one and a failed attempt
     complete: bool                # reached t_end
-    message: str
+    message: str                  # "completed", or why the run ended before t_end
     steps: int                    # accepted steps
     rejected_steps: int           # failed attempts (retried with a smaller step)
     newton_iterations: int        # over all attempts

@@ -218,7 +218,7 @@ def _records_and_summary(sim: Simulation, result, wall_time: float | None) -> tu
     if isinstance(records[0], DynamicRecord):  # records without their outcome: summarised from the records
         last = records[-1]
         complete = last.converged and last.t >= sim.scene.analysis.t_end * (1 - 1e-12)
-        outcome = RunOutcome(records, complete, "reached t_end" if complete else "stopped before t_end",
+        outcome = RunOutcome(records, complete, "completed" if complete else "stopped before t_end",
                              steps=last.step, rejected_steps=sum(r.rejected_steps for r in records),
                              newton_iterations=sum(r.newton_iterations for r in records))
         return records, dynamic_summary(sim, outcome, wall_time)

@@ -187,3 +187,11 @@ def test_a_plain_option_read_through_its_copy_is_not_unused():
         opts.delValue("snes_max_it")
         opts.delValue("sb_static_snes_rtoll")
         options_check._initial = None
+
+
+def test_write_results_of_dynamic_records_without_their_outcome(tmp_path):
+    sim = slidebeam.Simulation(pendulum(t_end=0.003))
+    outcome = sim.run_dynamic()
+    summary = slidebeam.write_results(sim, outcome.records, tmp_path / "records")
+    assert summary["complete"] and summary["message"] == "completed" and summary["steps"] == 3
+    assert summary["final_energy"]["total"] == pytest.approx(outcome.records[-1].total_energy)
