@@ -3,17 +3,18 @@
 """Scripting slidebeam from Python (petsc4py).
 
 Builds a cantilever scene in Python (the same layout as a TOML scene), solves it by driving
-the load steps from the script, and reaches the state, residual, Jacobian and SNES as
-petsc4py objects: the very objects the C++ core uses, no copies.
+the load steps from the script, reaches the state, residual, Jacobian and SNES as petsc4py
+objects (the very objects the C++ core uses, no copies), and writes the results as
+`slidebeam run` does. docs/api.md is the reference.
 
-    PYTHONPATH=python /usr/bin/python3 runs/scripting_example.py
-    mpirun -n 2 env PYTHONPATH=python /usr/bin/python3 runs/scripting_example.py -snes_monitor
+    PYTHONPATH=python /usr/bin/python3 runs/scripting_example.py [output folder]
+    mpirun -n 2 env PYTHONPATH=python /usr/bin/python3 runs/scripting_example.py -sb_static_snes_monitor
 """
 import sys
 
 import petsc4py
 
-petsc4py.init(sys.argv)  # PETSc options from the command line, e.g. -snes_monitor
+petsc4py.init(sys.argv)  # PETSc options from the command line, e.g. -snes_monitor or -sb_static_snes_monitor
 from mpi4py import MPI  # noqa: E402
 from petsc4py import PETSc  # noqa: E402
 
@@ -34,17 +35,19 @@ rank = MPI.COMM_WORLD.Get_rank()
 if rank == 0:
     print("active effects:", [e.label for e in sim.active_effects])
 
-# The script drives the load steps itself.
+# The script drives the load steps itself, keeping a history record of each.
+records = [sim.record(0, None)]
 for k in range(1, 5):
     result = sim.solve_step(t=k / 4)
-    tip = sim.evaluate("rod", 2.0)[0, :3]
+    tip = sim.point("rod", 2.0).phi  # BeamPoint(phi, d1, d2, d3)
     if rank == 0:
         print(f"load step {k}: {result.iterations} Newton iterations, tip = {tip.round(6).tolist()}")
     assert result.converged
+    records.append(sim.record(k, result))
 
 # The core's PETSc objects, shared with petsc4py.
 x: PETSc.Vec = sim.x
-F: PETSc.Vec = sim.residual()
+F: PETSc.Vec = sim.static_residual()
 J: PETSc.Mat = sim.assemble_jacobian()
 snes: PETSc.SNES = sim.snes
 assert snes.getFunction()[0].handle == F.handle  # the SNES evaluates into the same vector
@@ -59,3 +62,10 @@ e = sim.energies()
 EI = 2.1e11 * 3.141592653589793 * 0.01**4 / 4
 if rank == 0:
     print(f"strain energy {e['strain']:.6f} J; linear theory tip deflection {300 * 8 / (3 * EI):.6f} m")
+
+# history.csv, final_configuration.csv and summary.json, as `slidebeam run` writes them
+folder = next((a for a in sys.argv[1:] if not a.startswith("-")), None)
+if folder:
+    summary = slidebeam.write_results(sim, records, folder)
+    if rank == 0:
+        print(f"results in {folder}/: complete = {summary['complete']}")

@@ -6,7 +6,8 @@ the "did you mean" of unused PETSc options (python/slidebeam/options_check.py).
 The names come from PETSc's own `-help` output of small runs that take the solver paths
 slidebeam uses and the common alternatives (SuperLU, MUMPS, Schwarz, ASM, GMRES, ILU, trust
 region, ...), serial and on 2 ranks, plus options PETSc reads without listing them in -help
-(EXTRA below) and every "-sb_..." option the C++ core queries (grep of src/).
+(EXTRA below) and every "-sb_..." option the C++ core queries (grep of src/). A solver's options
+are listed without its prefix (sb_ts_snes_rtol as snes_rtol): options_check adds the prefixes.
 
     scripts/petsc_option_names.py          (a minute or two; run after a PETSc upgrade)
 """
@@ -55,6 +56,7 @@ mpi_return_on_error petsc_sleep tmp shared_tmp not_shared_tmp nox nox_warning
 snes_test_jacobian snes_test_jacobian_view snes_test_jacobian_display snes_test_jacobian_display_threshold
 snes_monitor snes_converged_reason snes_view ksp_view ksp_monitor ksp_converged_reason mat_view vec_view
 """.split()
+SOLVER_PREFIXES = ("sb_static_", "sb_eq_", "sb_ts_", "sb_mass_")  # src/solvers/solver_options.hpp
 OPTION = re.compile(r"^\s*-([a-z][a-z0-9_]*|sb_[A-Za-z][A-Za-z0-9_]*)(?=[\s:<]|$)")  # not lines two ranks interleaved
 
 
@@ -66,14 +68,23 @@ def help_names(ranks: int, args: list[str], out: Path) -> set[str]:
     res = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, timeout=600)
     if res.returncode not in (0, 1):  # a solve that fails still lists its options
         sys.exit(f"{' '.join(cmd)} failed ({res.returncode}):\n{res.stderr}")
-    return {m.group(1) for line in res.stdout.splitlines() if (m := OPTION.match(line))}
+    return {strip_solver_prefix(m.group(1)) for line in res.stdout.splitlines() if (m := OPTION.match(line))}
+
+
+def strip_solver_prefix(name: str) -> str:
+    """-help lists a solver's options under its prefix (sb_ts_snes_rtol): the list holds the
+    plain name, which options_check extends by the prefixes itself."""
+    for prefix in SOLVER_PREFIXES:
+        if name.startswith(prefix):
+            return name[len(prefix):]
+    return name
 
 
 def source_names() -> set[str]:
     """Every "-sb_..." option the C++ core queries."""
     names = set()
     for path in (ROOT / "src").rglob("*.[ch]pp"):
-        names |= set(re.findall(r'"-(sb_[A-Za-z0-9_]+)"', path.read_text()))
+        names |= set(re.findall(r'"-(sb_[A-Za-z0-9_]+)"', path.read_text())) - {"sb_"}
     return names
 
 

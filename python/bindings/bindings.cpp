@@ -7,6 +7,7 @@
 #include "kernels/bspline.hpp"
 #include "model/model.hpp"
 #include "solvers/equilibrium_solver.hpp"
+#include "solvers/solver_options.hpp"
 #include "solvers/static_solver.hpp"
 #include "solvers/time_integrator.hpp"
 #include "util/petsc_check.hpp"
@@ -233,6 +234,11 @@ PYBIND11_MODULE(_core, m) {
         return out;
       },
       "[(name without the leading dash, value or None)] of the options database's entries never queried");
+  m.def("plain_option_copies", &plain_option_copies,
+        "[(copy, plain option)], names without the dash: the plain solver options (-snes_rtol) copied under "
+        "a solver's prefix (sb_static_snes_rtol) when it was created");
+  m.attr("SOLVER_PREFIXES") = py::dict(py::arg("static") = kStaticPrefix, py::arg("equilibrium") = kEquilibriumPrefix,
+                                       py::arg("time_steps") = kStepPrefix, py::arg("mass") = kMassPrefix);
 
   py::class_<EquilibriumResult>(m, "EquilibriumResult")
       .def_readonly("converged", &EquilibriumResult::converged)
@@ -332,6 +338,10 @@ PYBIND11_MODULE(_core, m) {
            "force of each given sliding joint on its slider over the last step (at t_n before any "
            "step), global frame (collective)")
       .def("prepare_step", &TimeIntegrator::prepare_step, py::arg("h"))
-      .def("step_residual", [](TimeIntegrator& s, Vec x, Vec F) { SB_CHECK(s.step_residual(x, F)); })
+      .def("step_residual", [](TimeIntegrator& s, Vec x, Vec F) { SB_CHECK(s.step_residual(x, F)); },
+           py::arg("x"), py::arg("F"), "F = the residual of the prepared step (prepare_step) at x")
+      .def("last_step_residual", &TimeIntegrator::last_step_residual, py::arg("F"),
+           "F = the residual of the last converged step at the current state x (its norm is that step's "
+           "residual_norm); RuntimeError before the first step")
       .def("step_jacobian", [](TimeIntegrator& s, Vec x, Mat J) { SB_CHECK(s.step_jacobian(x, J)); });
 }

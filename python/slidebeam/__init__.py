@@ -11,20 +11,20 @@ from typing import Any
 
 from .scene import Scene, SceneError, load_scene, scene_from_dict
 
-__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "Simulation", "Reaction", "ConstraintWarning"]
+__all__ = ["Scene", "SceneError", "load_scene", "scene_from_dict", "Simulation", "BeamPoint", "StepRecord",
+           "DynamicRecord", "RunOutcome", "JointState", "Reaction", "ConstraintWarning", "EquilibriumFailure",
+           "ResultWriter", "write_results"]
+
+# name -> the module that defines it (imported on first use: they need petsc4py)
+_LAZY = {"Simulation": "simulation", "BeamPoint": "simulation", "StepRecord": "simulation",
+         "ConstraintWarning": "simulation", "EquilibriumFailure": "simulation",
+         "DynamicRecord": "dynamics", "RunOutcome": "dynamics", "JointState": "dynamics", "Reaction": "dynamics",
+         "ResultWriter": "results", "write_results": "results"}
 
 
 def __getattr__(name: str) -> Any:
-    if name == "Simulation":
-        from .simulation import Simulation
+    if name in _LAZY:
+        import importlib
 
-        return Simulation
-    if name == "ConstraintWarning":
-        from .simulation import ConstraintWarning
-
-        return ConstraintWarning
-    if name == "Reaction":
-        from .dynamics import Reaction
-
-        return Reaction
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
     raise AttributeError(f"module 'slidebeam' has no attribute {name!r}")

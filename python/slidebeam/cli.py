@@ -305,7 +305,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     start_logging()
     from mpi4py import MPI
 
-    from .results import prepare_output_dir, write_results
+    from .results import prepare_output_dir
     from .simulation import ConstraintWarning, Simulation
 
     check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
@@ -357,7 +357,7 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
 
 def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
                 output: XdmfOutput) -> int:
-    from .results import write_results
+    from .results import static_summary, write_files
 
     def progress(rec) -> None:
         if not args.quiet:
@@ -371,38 +371,12 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
     with output_phase():
         output.close()
     wall = time.perf_counter() - t0
-    last = records[-1]
-    complete = sim.stopped is None and last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
-    newton_failed = sim.stopped is None and not last.converged
-    if complete:
-        message = "converged"
-    elif not newton_failed:
-        message = f"{sim.stopped}; results are marked incomplete"
-    else:
-        message = (f"Newton failed at load step {last.step} (t = {last.t:.6g}, after halving the increment 8 times): "
-                   f"{last.reason}, residual norm {last.residual_norm:.3e}; results hold the last converged state "
-                   f"and are marked incomplete")
-    good = [r for r in records if r.converged]
-    summary = {
-        "scene": scene.name, "scene_file": os.path.abspath(scene.file),
-        "analysis": scene.analysis.type, "complete": complete, "converged": not newton_failed, "message": message,
-        "stopped": sim.stopped,
-        "active_effects": [e.label for e in sim.active_effects],
-        "steps": good[-1].step, "steps_requested": scene.analysis.steps,
-        "newton_iterations": sum(r.newton_iterations for r in records),
-        "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
-        "load_step_cuts": sim.load_step_cuts,
-        "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
-        "final_energy": {"strain": good[-1].strain_energy, "potential": good[-1].potential_energy},
-        "reactions": [r.as_dict() for r in good[-1].reactions],
-    }
-    if scene.sliding_joints:
-        from .results import sliding_joint_summary
-        summary["sliding_joints"] = sliding_joint_summary(sim, good[-1].joints)
+    summary = static_summary(sim, records, wall)
+    complete, message = summary["complete"], summary["message"]
     _finish_costs(sim, summary, t0, rank, args.quiet)
     options_check.report_unused(sim, summary, rank)
     with output_phase():
-        write_results(sim, out, records, summary, rank)
+        write_files(sim, out, records, summary, rank)
     if sim.stop_signal:
         _say(rank, f"slidebeam: {message}", sys.stderr)
         return interrupts.exit_code(sim.stop_signal)
@@ -419,7 +393,7 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
 def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
                  output: XdmfOutput, state=None) -> int:
     from .checkpoint import write_checkpoint
-    from .results import write_results
+    from .results import dynamic_summary, write_files
 
     checkpoint = out / "checkpoint.h5"
 
@@ -463,41 +437,12 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
         output.close()
         write_checkpoint(sim, outcome.state, checkpoint)  # the last good state, whatever ended the run
     wall = time.perf_counter() - t0
-    recs = outcome.records
-    last = recs[-1] if recs[-1].converged else recs[-2]
-    newton_failed = outcome.failed and outcome.stopped is None
-    summary = {
-        "scene": scene.name, "scene_file": os.path.abspath(scene.file), "analysis": "dynamic",
-        "integrator": a.integrator, "complete": outcome.complete, "converged": not newton_failed,
-        "message": outcome.message, "stopped": outcome.stopped, "active_effects": [e.label for e in sim.active_effects],
-        "t_end": a.t_end, "t_reached": sim.t, "dt": a.dt, "dt_min": a.dt_min,
-        "steps": outcome.steps, "rejected_steps": outcome.rejected_steps,
-        "newton_iterations": outcome.newton_iterations,
-        "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": wall,
-        "final_energy": {"kinetic": last.kinetic_energy, "strain": last.strain_energy,
-                         "potential": last.potential_energy, "total": last.total_energy},
-        "max_constraint_residual": max(r.constraint_residual for r in recs),
-        "checkpoint": str(checkpoint),
-    }
-    if sim.settled is not None:
-        summary["static_start"] = {"continuation_steps": sim.settled.pseudo_steps,
-                                   "newton_iterations": sim.settled.newton_iterations,
-                                   "residual_initial": sim.settled.residual0, "residual": sim.settled.residual}
-    p = sim.velocity_projection
-    if p is not None and state is None:
-        summary["initial_velocity"] = {
-            "projected": p["projected"], "failed": p["failed"],
-            "relative_change": p["change"] / p["size"] if p["size"] > 0 else 0.0,
-            "largest_change": p["largest"], "kinetic_energy_given": p["kinetic_before"],
-            "kinetic_energy": p["kinetic_after"]}
-    if scene.sliding_joints:
-        from .results import sliding_joint_summary
-        summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
-    summary["reactions"] = [r.as_dict() for r in last.reactions]
+    summary = dynamic_summary(sim, outcome, wall, initial_velocity=state is None)
+    summary["checkpoint"] = str(checkpoint)
     _finish_costs(sim, summary, t0, rank, args.quiet)
     options_check.report_unused(sim, summary, rank)
     with output_phase():
-        write_results(sim, out, recs, summary, rank)
+        write_files(sim, out, outcome.records, summary, rank)
     if outcome.signal:
         _say(rank, f"slidebeam: {outcome.message}; results in {out}/", sys.stderr)
         return interrupts.exit_code(outcome.signal)
@@ -530,7 +475,7 @@ def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, 
                         output: XdmfOutput, err: Exception) -> int:
     """The static start found no equilibrium: nothing is stepped; the folder still gets the XDMF
     (the initial state), a history with that state, and a summary saying what happened."""
-    from .results import write_results
+    from .results import write_files
 
     signum = sim.settled.interrupted
     causes = [] if signum else _likely_causes(scene)
@@ -552,7 +497,7 @@ def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, 
     }
     options_check.report_unused(sim, summary, rank)
     with output_phase():
-        write_results(sim, out, [rec], summary, rank)
+        write_files(sim, out, [rec], summary, rank)
     if signum:
         _say(rank, f"slidebeam: {message} (results in {out}/ hold the initial state)", sys.stderr)
         return interrupts.exit_code(signum)

@@ -51,7 +51,9 @@ class JointState:
 
 @dataclass
 class DynamicRecord:
-    """One time step as it goes to history.csv."""
+    """One time step as it goes to history.csv (``RunOutcome.records``); step 0 is the initial
+    state. Energies in J, momenta in the global frame; ``tracked``, ``joints`` and
+    ``reactions`` as in :class:`~slidebeam.simulation.StepRecord`."""
 
     step: int
     t: float
@@ -140,9 +142,11 @@ class RunState:
 
 @dataclass
 class RunOutcome:
+    """What ``Simulation.run_dynamic`` returns: the history records and how the run ended."""
+
     records: list[DynamicRecord]  # every output.every-th step, the last one and a failed attempt
     complete: bool                # reached t_end
-    message: str
+    message: str                  # "completed", or why the run ended before t_end
     steps: int                    # accepted steps
     rejected_steps: int           # failed attempts (retried with a smaller step)
     newton_iterations: int        # over all attempts

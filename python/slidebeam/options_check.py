@@ -10,6 +10,11 @@ where each came from and the closest known option name (``petsc_options.txt``: t
 PETSc's ``-help`` output of the solver paths slidebeam uses, plus the core's ``-sb_`` options;
 regenerate with scripts/petsc_option_names.py).
 
+Each solver reads its options under a prefix of ours (``sb_static_``, ``sb_eq_``, ``sb_ts_``,
+``sb_mass_``; docs/petsc-options.md); a plain solver option (``-snes_rtol``) is copied under the
+prefixes of the SNES solvers when they are created. A plain option counts as read when any of
+its copies was read, and a prefixed name is checked against the known plain names.
+
 Options PETSc reads only at PetscFinalize (``-options_left``, ``-options_view``) or that change
 nothing about the solve are never reported (:data:`READ_AT_FINALIZE`).
 """
@@ -65,8 +70,22 @@ def known_options() -> tuple[str, ...]:
     return tuple(line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#"))
 
 
+# The solvers' options prefixes (src/solvers/solver_options.hpp)
+SOLVER_PREFIXES = ("sb_static_", "sb_eq_", "sb_ts_", "sb_mass_")
+
+
 def closest(name: str) -> str | None:
-    """The known option name closest to `name` (without dash), `name` itself if known, or None."""
+    """The known option name closest to `name` (without dash), `name` itself if known, or None.
+    A name under a solver's prefix (sb_ts_snes_rtoll) is matched without it, and the prefix
+    kept (sb_ts_snes_rtol)."""
+    for prefix in SOLVER_PREFIXES:
+        if name.lower().startswith(prefix) and len(name) > len(prefix):
+            near = _closest(name[len(prefix):])
+            return None if near is None else name[:len(prefix)] + near
+    return _closest(name)
+
+
+def _closest(name: str) -> str | None:
     known = known_options()
     lowered = {k.lower(): k for k in known}
     if name.lower() in lowered:
@@ -161,12 +180,17 @@ def unused_options(scene=None, comm=None) -> list[UnusedOption]:
     unread_everywhere = set(left)
     for other in comm.allgather(set(left)):
         unread_everywhere &= other
+    copies: dict[str, list[str]] = {}  # plain option -> its copies under the solvers' prefixes
+    for copy, plain in _core.plain_option_copies():
+        copies.setdefault(plain.lower(), []).append(copy.lower())
     given = set(_initial or {}) | {k.lower() for k in _scene_option_keys}
     result = []
     sources = _sources(scene)
     for key in sorted(unread_everywhere & given):
         name, value = left[key]
         if key in READ_AT_FINALIZE:
+            continue
+        if any(c not in unread_everywhere for c in copies.get(key, [])):  # read by a solver under its prefix
             continue
         where, dash = "an options file, PETSC_OPTIONS or a .petscrc file", True
         for label, names, with_dash in sources:

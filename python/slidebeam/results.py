@@ -1,16 +1,22 @@
 # SPDX-License-Identifier: MIT
-"""Results on disk (rank 0 writes): summary.json, history.csv, final_configuration.csv.
-Files are written whole or not at all (temporary file + rename)."""
+"""Results on disk, as ``slidebeam run`` writes them: summary.json, history.csv,
+final_configuration.csv and the XDMF series beams.xdmf/.h5 (and sliders.xdmf/.h5).
+
+From a script: :class:`ResultWriter` writes all of them (the XDMF series as the run goes, the rest
+at its end), :func:`write_results` the files without the series after a run. Collective: every
+rank calls them, rank 0 writes. Files are written whole or not at all (temporary file +
+rename)."""
 from __future__ import annotations
 
 import csv
 import io
 import json
 import os
+import time
 from pathlib import Path
 from typing import Any
 
-from .dynamics import DynamicRecord, JointState
+from .dynamics import DynamicRecord, JointState, RunOutcome
 from .simulation import Simulation, StepRecord
 
 
@@ -108,9 +114,10 @@ def end_positions(sim: Simulation) -> dict[str, dict[str, list[float]]]:
     return out
 
 
-def write_results(sim: Simulation, out: Path, records: list[StepRecord] | list[DynamicRecord], summary: dict[str, Any],
-                  rank: int) -> None:
-    """Collective (evaluation gathers), rank 0 writes. The summary is written last, so a
+def write_files(sim: Simulation, out: Path, records: list[StepRecord] | list[DynamicRecord], summary: dict[str, Any],
+                rank: int) -> None:
+    """history.csv, final_configuration.csv and summary.json (with the final end positions
+    added). Collective (evaluation gathers), rank 0 writes. The summary is written last, so a
     summary marked complete is never beside partial files."""
     history = history_csv(sim, records)
     config = configuration_csv(sim)
@@ -120,3 +127,187 @@ def write_results(sim: Simulation, out: Path, records: list[StepRecord] | list[D
     _atomic_write(out / "history.csv", history)
     _atomic_write(out / "final_configuration.csv", config)
     _atomic_write(out / "summary.json", json.dumps(summary, indent=2) + "\n")
+
+
+def _scene_file(sim: Simulation) -> str:
+    f = sim.scene.file
+    return f if not f or f.startswith("<") else os.path.abspath(f)
+
+
+def static_summary(sim: Simulation, records: list[StepRecord], wall_time: float | None = None,
+                   max_cuts: int = 8) -> dict[str, Any]:
+    """summary.json of a static run (the records of ``solve_static``): whether it is complete
+    and converged, a message, steps, Newton iterations, final energies, reactions, sliding
+    joints. Collective."""
+    scene = sim.scene
+    last = records[-1]
+    complete = sim.stopped is None and last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
+    newton_failed = sim.stopped is None and not last.converged
+    if complete:
+        message = "converged"
+    elif not newton_failed:
+        message = f"{sim.stopped}; results are marked incomplete"
+    else:
+        message = (f"Newton failed at load step {last.step} (t = {last.t:.6g}, after halving the increment "
+                   f"{max_cuts} times): {last.reason}, residual norm {last.residual_norm:.3e}; results hold the last "
+                   f"converged state and are marked incomplete")
+    good = [r for r in records if r.converged]
+    summary: dict[str, Any] = {
+        "scene": scene.name, "scene_file": _scene_file(sim),
+        "analysis": scene.analysis.type, "complete": complete, "converged": not newton_failed, "message": message,
+        "stopped": sim.stopped,
+        "active_effects": [e.label for e in sim.active_effects],
+        "steps": good[-1].step, "steps_requested": scene.analysis.steps,
+        "newton_iterations": sum(r.newton_iterations for r in records),
+        "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
+        "load_step_cuts": sim.load_step_cuts,
+        "unknowns": sim.x.getSize(), "ranks": sim.x.getComm().getSize(), "wall_time_s": wall_time,
+        "final_energy": {"strain": good[-1].strain_energy, "potential": good[-1].potential_energy},
+        "reactions": [r.as_dict() for r in good[-1].reactions],
+    }
+    if scene.sliding_joints:
+        summary["sliding_joints"] = sliding_joint_summary(sim, good[-1].joints)
+    return summary
+
+
+def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | None = None,
+                    initial_velocity: bool = True) -> dict[str, Any]:
+    """summary.json of a dynamic run (the outcome of ``run_dynamic``): completeness, message,
+    steps, rejected steps, Newton iterations, final energies, the largest constraint residual,
+    the static start and the initial velocities' projection (``initial_velocity``: not for a
+    restart), sliding joints and reactions. Collective."""
+    scene, a = sim.scene, sim.scene.analysis
+    recs = outcome.records
+    last = recs[-1] if recs[-1].converged or len(recs) == 1 else recs[-2]
+    newton_failed = outcome.failed and outcome.stopped is None
+    summary: dict[str, Any] = {
+        "scene": scene.name, "scene_file": _scene_file(sim), "analysis": "dynamic",
+        "integrator": a.integrator, "complete": outcome.complete, "converged": not newton_failed,
+        "message": outcome.message, "stopped": outcome.stopped, "active_effects": [e.label for e in sim.active_effects],
+        "t_end": a.t_end, "t_reached": sim.t, "dt": a.dt, "dt_min": a.dt_min,
+        "steps": outcome.steps, "rejected_steps": outcome.rejected_steps,
+        "newton_iterations": outcome.newton_iterations,
+        "unknowns": sim.x.getSize(), "ranks": sim.x.getComm().getSize(), "wall_time_s": wall_time,
+        "final_energy": {"kinetic": last.kinetic_energy, "strain": last.strain_energy,
+                         "potential": last.potential_energy, "total": last.total_energy},
+        "max_constraint_residual": max(r.constraint_residual for r in recs),
+    }
+    if sim.settled is not None:
+        summary["static_start"] = {"continuation_steps": sim.settled.pseudo_steps,
+                                   "newton_iterations": sim.settled.newton_iterations,
+                                   "residual_initial": sim.settled.residual0, "residual": sim.settled.residual}
+    p = sim.velocity_projection
+    if p is not None and initial_velocity:
+        summary["initial_velocity"] = {
+            "projected": p["projected"], "failed": p["failed"],
+            "relative_change": p["change"] / p["size"] if p["size"] > 0 else 0.0,
+            "largest_change": p["largest"], "kinetic_energy_given": p["kinetic_before"],
+            "kinetic_energy": p["kinetic_after"]}
+    if scene.sliding_joints:
+        summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
+    summary["reactions"] = [r.as_dict() for r in last.reactions]
+    return summary
+
+
+def _records_and_summary(sim: Simulation, result, wall_time: float | None) -> tuple[list, dict[str, Any]]:
+    if isinstance(result, RunOutcome):
+        return result.records, dynamic_summary(sim, result, wall_time)
+    records = list(result)
+    if not records:
+        raise ValueError("no records to write")
+    if isinstance(records[0], DynamicRecord):  # records without their outcome: summarised from the records
+        last = records[-1]
+        complete = last.converged and last.t >= sim.scene.analysis.t_end * (1 - 1e-12)
+        outcome = RunOutcome(records, complete, "completed" if complete else "stopped before t_end",
+                             steps=last.step, rejected_steps=sum(r.rejected_steps for r in records),
+                             newton_iterations=sum(r.newton_iterations for r in records))
+        return records, dynamic_summary(sim, outcome, wall_time)
+    return records, static_summary(sim, records, wall_time)
+
+
+def _rank(sim: Simulation) -> int:
+    return sim.x.getComm().getRank()
+
+
+def _prepare(sim: Simulation, folder: Path) -> None:
+    """Create the folder on rank 0; raise OSError on every rank if it is not writable."""
+    comm = sim.x.getComm().tompi4py()
+    error = None
+    if comm.Get_rank() == 0:
+        try:
+            prepare_output_dir(folder)
+        except OSError as err:
+            error = str(err)
+    error = comm.bcast(error, root=0)
+    if error:
+        raise OSError(error)
+
+
+def write_results(sim: Simulation, result, folder: str | Path, wall_time: float | None = None) -> dict[str, Any]:
+    """Write history.csv, final_configuration.csv and summary.json of a run into `folder` (made
+    if needed), as ``slidebeam run`` does: `result` is what the run returned, the records of
+    ``solve_static`` (or a script's own :meth:`Simulation.record` list) or the
+    :class:`~slidebeam.dynamics.RunOutcome` of ``run_dynamic``. The final configuration is the
+    current state. The XDMF series needs the states as they pass: use :class:`ResultWriter` for it.
+    Returns the summary. Collective: every rank calls it, rank 0 writes."""
+    folder = Path(folder)
+    _prepare(sim, folder)
+    records, summary = _records_and_summary(sim, result, wall_time)
+    write_files(sim, folder, records, summary, _rank(sim))
+    return {**summary, "final_end_positions": end_positions(sim)}
+
+
+class ResultWriter:
+    """Everything ``slidebeam run`` writes, from a script: the XDMF series (beams.xdmf/.h5 and,
+    with sliding joints, sliders.xdmf/.h5; unless the scene says ``[output] xdmf = false``)
+    recorded as the run goes, then history.csv, final_configuration.csv and summary.json.
+
+    Create it before the run (a static scene's current state is written as the first
+    record), pass :meth:`record` as the run's ``on_step`` (or call :meth:`write` after each of
+    a script's own steps), and call :meth:`finish` with the run's result. As a context
+    manager it closes the series if the run raises. Collective: every rank makes the same
+    calls, rank 0 writes.
+
+    Args:
+        sim: the simulation whose run is written.
+        folder: the output folder (made if needed).
+        xdmf: write the XDMF series (default: the scene's ``output.xdmf``).
+    """
+
+    def __init__(self, sim: Simulation, folder: str | Path, xdmf: bool | None = None) -> None:
+        from .xdmf import NoOutput, XdmfOutput
+
+        self.sim = sim
+        self.folder = Path(folder)
+        self._t0 = time.perf_counter()
+        _prepare(sim, self.folder)
+        use_xdmf = sim.scene.output.xdmf if xdmf is None else xdmf
+        self._series = XdmfOutput(sim, self.folder, _rank(sim)) if use_xdmf else NoOutput()
+        if sim.integrator is None:
+            self._series.write(sim.t)  # the reference state: step 0 of the history
+
+    def write(self) -> None:
+        """Add the current state to the XDMF series at the current time."""
+        self._series.write(self.sim.t)
+
+    def record(self, record: StepRecord | DynamicRecord) -> None:
+        """``on_step`` of ``solve_static`` and ``run_dynamic``: the state of every converged
+        record goes into the XDMF series."""
+        if record.converged:
+            self._series.write(record.t, record.joints)
+
+    def close(self) -> None:
+        """Write what the series holds and close its files (also done by finish)."""
+        self._series.close()
+
+    def finish(self, result) -> dict[str, Any]:
+        """Close the series and write history.csv, final_configuration.csv and summary.json of
+        `result` (as :func:`write_results`); returns the summary."""
+        self.close()
+        return write_results(self.sim, result, self.folder, wall_time=time.perf_counter() - self._t0)
+
+    def __enter__(self) -> "ResultWriter":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -270,6 +270,10 @@ class Output:
 
 @dataclass(frozen=True)
 class Scene:
+    """A validated scene (``load_scene``, ``scene_from_dict``): the TOML file's tables as typed,
+    checked values with every default filled in (``analysis``, ``beams``, ``output``, the effect
+    tables in ``effects``), plus the file it came from and the raw data."""
+
     name: str
     description: str
     file: str
@@ -522,7 +526,9 @@ _ZERO: Vec3 = (0.0, 0.0, 0.0)
 
 
 def load_scene(path: str | os.PathLike[str], overrides: list[str] | None = None) -> Scene:
-    """Read a TOML scene file, apply ``--set`` overrides, validate."""
+    """Read a TOML scene file, apply overrides as ``slidebeam run --set`` does (``"KEY=VALUE"``
+    strings, e.g. ``"beam.0.spans=32"`` or ``"analysis.t_end=2"``), validate, and return the
+    :class:`Scene`. Raises SceneError naming the file, table and key at fault."""
     file = os.fspath(path)
     try:
         with open(file, "rb") as fh:
@@ -538,7 +544,9 @@ def load_scene(path: str | os.PathLike[str], overrides: list[str] | None = None)
 
 
 def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = ".") -> Scene:
-    """Validate a raw scene dict (same layout as the TOML file)."""
+    """Validate a scene given as a dict with the layout of the TOML file (tables as dicts,
+    arrays of tables as lists of dicts) and return the :class:`Scene`; relative paths in it
+    are taken from base_dir. Raises SceneError."""
     top = _Table(data, file, "top level")
     registry_tables = table_specs()
     top.check_keys(_TOP_KEYS + tuple(sorted(registry_tables)))

@@ -11,7 +11,7 @@ import shlex
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 from petsc4py import PETSc
@@ -32,9 +32,23 @@ class EquilibriumFailure(RuntimeError):
     """The static start of a dynamic run found no equilibrium."""
 
 
+class BeamPoint(NamedTuple):
+    """A point of a beam (:meth:`Simulation.point`): the centre line position phi and the
+    directors d1, d2, d3, each an array of 3. ANCF cables have no directors: d1 is the tangent
+    r' = dr/ds (not of unit length), d2 and d3 are None."""
+
+    phi: np.ndarray
+    d1: np.ndarray
+    d2: np.ndarray | None
+    d3: np.ndarray | None
+
+
 @dataclass
 class StepRecord:
-    """One load step (static) as it goes to history.csv."""
+    """One load step (static) as it goes to history.csv: ``Simulation.solve_static`` returns a
+    list of them, step 0 being the state before the first step. ``tracked`` holds the
+    ``[output] track`` points (x, y, z), ``joints`` every sliding joint, ``reactions`` every
+    support and rigid joint."""
 
     step: int
     t: float
@@ -98,11 +112,23 @@ def _apply_petsc_options(scene: Scene) -> None:
 
 
 class Simulation:
-    """Model + solver of a scene.
+    """Model + solver of a scene: build it, then solve (``solve_static``, ``solve_step``,
+    ``run_dynamic``) and look at the state (``point``, ``evaluate``, ``energies``,
+    ``sample_beam``, ``joint_states``, ``reactions``). Collective: under MPI every rank makes
+    the same calls. The scene's ``[petsc]`` options go into the PETSc options database first;
+    options already there (the command line's) win.
 
     Args:
         scene: a validated scene (``load_scene`` or ``scene_from_dict``).
         comm: an mpi4py communicator (default: PETSc's world communicator).
+
+    Attributes:
+        scene: the scene.
+        integrator: the C++ ``TimeIntegrator`` of a dynamic scene (None in statics).
+        settled: the result of the static start (``settle``), once done.
+        stopped: why the last ``solve_static`` ended early without failing (None otherwise).
+        warnings: what the start found and corrected (initial velocities).
+        use_predictor: ``solve_static`` starts each load step from the secant predictor.
     """
 
     def __init__(self, scene: Scene, comm: object | None = None) -> None:
@@ -199,6 +225,8 @@ class Simulation:
 
     @property
     def snes(self) -> PETSc.SNES:
+        """The SNES of the solves: the load steps' (options prefix ``sb_static_``), or in a
+        dynamic simulation the time steps' (``sb_ts_``); petsc4py, shared with the core."""
         return self.integrator.snes if self.integrator is not None else self._solver.snes
 
     @property
@@ -208,6 +236,8 @@ class Simulation:
 
     @property
     def residual_vector(self) -> PETSc.Vec:
+        """The vector the residuals are assembled into (shared with the core; the SNES of
+        :attr:`snes` evaluates into it too)."""
         return self._model.residual_vector
 
     @property
@@ -217,12 +247,34 @@ class Simulation:
 
     @property
     def active_effects(self) -> list[EffectInfo]:
+        """Every effect of the model (supports, loads, joints, gravity, ...) in model order,
+        each with its ``type`` and ``label`` (as in history.csv's column names)."""
         return list(self.effects)
 
     # -- evaluation ------------------------------------------------------------------------
-    def residual(self, t: float | None = None, x: PETSc.Vec | None = None) -> PETSc.Vec:
-        """Assemble F(x; t) into the shared residual vector and return it."""
+    def static_residual(self, t: float | None = None, x: PETSc.Vec | None = None) -> PETSc.Vec:
+        """The residual of static equilibrium F(x; t): internal minus external forces and the
+        constraints (no inertia), at the current time and state unless t or x are given,
+        assembled into :attr:`residual_vector` and returned (collective). Zero at a converged
+        load step; in a dynamic scene it is the out-of-balance force, not the time step's
+        residual (see :meth:`step_residual`)."""
         self._model.assemble_residual(self.t if t is None else t, x or self.x, self.residual_vector)
+        return self.residual_vector
+
+    def residual(self, t: float | None = None, x: PETSc.Vec | None = None) -> PETSc.Vec:
+        """The static residual F(x; t): the same as :meth:`static_residual`, in static and
+        dynamic scenes alike."""
+        return self.static_residual(t, x)
+
+    def step_residual(self) -> PETSc.Vec:
+        """The residual of the last time step at the current state (dynamic scenes): what that
+        step's Newton solve drove to zero, inertia included, so that its norm is the step's
+        ``residual_norm``. Assembled into :attr:`residual_vector` and returned (collective).
+        Raises RuntimeError before the first step (or after a restart) and ValueError in a
+        static scene."""
+        if self.integrator is None:
+            raise ValueError("step_residual() needs a dynamic scene; the static residual is static_residual()")
+        self.integrator.last_step_residual(self.residual_vector)
         return self.residual_vector
 
     def assemble_jacobian(self, t: float | None = None, x: PETSc.Vec | None = None) -> PETSc.Mat:
@@ -231,8 +283,16 @@ class Simulation:
         return self._model.jacobian
 
     def energies(self) -> dict[str, float]:
-        """Strain energy (beams) and potential energy of conservative external loads (each effect's
-        part of H as its registry spec says)."""
+        """The energies of the current state in J (collective): ``strain`` (the beams),
+        ``potential`` (conservative external loads, gravity; each effect's part as its registry
+        spec says), ``kinetic`` (dynamic scenes: 1/2 v^T M v; 0 in statics) and ``total``, their
+        sum: the H of the energy balance in history.csv."""
+        e = self._potential_energies()
+        kinetic = self.integrator.kinetic_energy() if self.integrator is not None else 0.0
+        return {**e, "kinetic": kinetic, "total": e["strain"] + e["potential"] + kinetic}
+
+    def _potential_energies(self) -> dict[str, float]:
+        """Strain and potential energy (see energies)."""
         from .effect_tables import effect_specs
 
         specs = effect_specs()
@@ -246,9 +306,20 @@ class Simulation:
         6), r and r') in the current state, or in x (collective)."""
         return self._model.beam_coordinates(self._beam(beam), self.x if x is None else x)
 
+    def point(self, beam: int | str, s: float, x: PETSc.Vec | None = None) -> BeamPoint:
+        """The position and directors of a beam at arc length s (m, from its start), in the
+        current state or in x, as a :class:`BeamPoint` (phi, d1, d2, d3) (collective)."""
+        q = self.evaluate(beam, float(s), x)[0]
+        if q.shape[0] == 6:  # ANCF cable: r, r'
+            return BeamPoint(q[:3].copy(), q[3:].copy(), None, None)
+        return BeamPoint(q[:3].copy(), q[3:6].copy(), q[6:9].copy(), q[9:].copy())
+
     def evaluate(self, beam: int | str, s: np.ndarray | float, x: PETSc.Vec | None = None) -> np.ndarray:
-        """Interpolated (phi, d1, d2, d3) at arc lengths s: array (len(s), 12) (ANCF cable: (r, r'),
-        (len(s), 6)), in the current state or in x (collective)."""
+        """The interpolated coordinates at arc lengths s (a number or a sequence, m from the
+        beam's start), in the current state or in x (collective): an array with one row per arc
+        length, always 2-D, so a single s gives shape (1, 12). Columns 0-2: the centre line phi,
+        3-5: d1, 6-8: d2, 9-11: d3. ANCF cables: (len(s), 6), columns 0-2 the position r, 3-5
+        the tangent r'. For one point with named fields see :meth:`point`."""
         b = self._beam(beam)
         q = self.control_points(b, x)
         spec = self.scene.beams[b]
@@ -289,12 +360,18 @@ class Simulation:
 
     # -- solving ---------------------------------------------------------------------------
     def solve_step(self, t: float) -> _core.SolveResult:
-        """Newton solve of the static equilibrium at (pseudo-)time t from the current state."""
+        """Newton solve of the static equilibrium at (pseudo-)time t from the current state
+        (loads scale with t as the scene's time functions say; t = 1 is the full load unless
+        ``analysis.t_end`` says otherwise). The state is left at the solution, or at the last
+        iterate if the solve failed (see ``result.converged``)."""
         self.t = t
         return self._solver.solve(t)
 
     def record(self, step: int, result: _core.SolveResult | None) -> StepRecord:
-        e = self.energies()
+        """The history record of the current state as load step `step` solved with `result`
+        (None: the initial state), e.g. to collect the records of a script's own load steps
+        for :func:`slidebeam.write_results`."""
+        e = self._potential_energies()
         tracked = self.tracked_points()
         return StepRecord(
             step=step, t=self.t,
@@ -308,7 +385,9 @@ class Simulation:
 
     def solve_static(self, on_step: Callable[[StepRecord], None] | None = None,
                      max_cuts: int = 8) -> list[StepRecord]:
-        """Load stepping to t_end in ``analysis.steps`` equal increments.
+        """Load stepping to t_end in ``analysis.steps`` equal increments. Returns the history:
+        one :class:`StepRecord` per load step, the initial state first; ``on_step`` is called
+        with each as it is taken.
 
         Each step starts from a secant predictor: the last two converged states extrapolated,
         linearly but for the director triads, which turn on by their last rotation (scaled to
@@ -389,6 +468,7 @@ class Simulation:
         return tuple(self._model.cp_unknowns(cp))
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
+        """Positions (x, y, z) of the scene's ``[output] track`` points in the current state."""
         return [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]
 
     def elimination_order(self) -> list[int]:
@@ -459,7 +539,7 @@ class Simulation:
         """Energies, momenta, constraint residual, tracked points and sliding joints (`joints`:
         their s and ds/dt if the caller has them already) of the current state."""
         assert self.integrator is not None
-        e = self.energies()
+        e = self._potential_energies()
         kinetic, lin, ang = self.integrator.motion()
         flows = self.integrator.energy_flows
         work = sum(w for _, role, w in flows if role != "dissipative")
@@ -495,8 +575,13 @@ class Simulation:
 
     def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None, state: RunState | None = None,
                     on_checkpoint: Callable[[RunState], None] | None = None) -> RunOutcome:
-        """Integrate a dynamic scene to t_end (see :func:`slidebeam.dynamics.run_dynamic`);
-        ``state`` (from :func:`slidebeam.checkpoint.read_checkpoint`) resumes a run."""
+        """Integrate a dynamic scene to ``analysis.t_end`` with step control (see
+        :func:`slidebeam.dynamics.run_dynamic`), first settling into equilibrium if the scene says
+        ``analysis.start = "equilibrium"``. Returns a :class:`~slidebeam.dynamics.RunOutcome`: its
+        ``records`` are the history (one :class:`~slidebeam.dynamics.DynamicRecord` every
+        ``output.every`` steps and at the end), ``complete`` says whether t_end was reached and
+        ``message`` why not. ``on_step`` is called with every record as it is taken; ``state``
+        (from :func:`slidebeam.checkpoint.read_checkpoint`) resumes a run."""
         if self.integrator is None:
             raise ValueError("run_dynamic needs [analysis] type = \"dynamic\"")
         if state is None and self.scene.analysis.start == "equilibrium" and self.settled is None:

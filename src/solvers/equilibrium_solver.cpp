@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/equilibrium_solver.hpp"
 
+#include "solvers/solver_options.hpp"
 #include "util/petsc_check.hpp"
 #include "util/stop_signal.hpp"
 
@@ -16,13 +17,14 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
   SB_CHECK(VecDuplicate(model.x(), &x_k_));
   SB_CHECK(VecDuplicate(model.x(), &work_));
   SB_CHECK(SNESCreate(model.comm(), &snes_));
+  SB_CHECK(set_solver_prefix(snes_, kEquilibriumPrefix));  // -sb_eq_snes_rtol, or plain -snes_rtol
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &EquilibriumSolver::form_function, this));
   SB_CHECK(SNESSetJacobian(snes_, J_, J_, &EquilibriumSolver::form_jacobian, this));
   SB_CHECK(configure_newton(snes_, &test_));
   SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-12, 1e-12, 25, 10000));
   SB_CHECK(SNESSetConvergenceTest(snes_, &EquilibriumSolver::converged, this, nullptr));
   // Direct LU whatever -sb_schwarz says: near equilibrium the continuation's matrix approaches
-  // the singular tangent of a mechanism, where GMRES stalls. (-pc_type and friends still apply.)
+  // the singular tangent of a mechanism, where GMRES stalls. (-pc_type and friends, or -sb_eq_pc_type, still apply.)
   manifold_ = std::make_unique<ManifoldNewton>(model, snes_);
   SB_CHECK(SNESSetFromOptions(snes_));
 }

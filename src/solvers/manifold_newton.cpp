@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/manifold_newton.hpp"
 
+#include "solvers/solver_options.hpp"
 #include "util/petsc_check.hpp"
 
 #include <algorithm>
@@ -9,17 +10,16 @@
 namespace slidebeam {
 
 ManifoldNewton::ManifoldNewton(const Model& model, SNES snes) : snes_(snes) {
-  PetscBool on = PETSC_TRUE;
-  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_condense_directors", &on, nullptr));
-  if (!on) return;
-  PetscBool exponential = PETSC_TRUE;
-  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_exponential_update", &exponential, nullptr));
+  const CoreOptions options = core_options(model.comm());
+  if (!options.condense_directors) return;
+  const PetscBool exponential = options.exponential_update;
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
   // A solver or preconditioner from the options database is the user's: keep it (full system).
-  PetscBool user_solver = PETSC_FALSE, user_pc = PETSC_FALSE;
-  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-pc_factor_mat_solver_type", &user_solver));
-  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-pc_type", &user_pc));
+  const char* prefix = nullptr;
+  SB_CHECK(SNESGetOptionsPrefix(snes, &prefix));
+  const bool user_solver = solver_option_set(prefix, "-pc_factor_mat_solver_type");
+  const bool user_pc = solver_option_set(prefix, "-pc_type");
   if (size == 1 && !user_solver && !user_pc) {
     condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order());
     if (condensation_->empty()) {

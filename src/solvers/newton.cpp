@@ -4,6 +4,7 @@
 #include "util/petsc_check.hpp"
 
 #include <cmath>
+#include <string>
 
 namespace slidebeam {
 
@@ -41,9 +42,22 @@ PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
   PetscCall(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
   // MUMPS sizes its workspace from the analysis; pivoting on the zero diagonal of the
   // saddle-point matrix needs more (INFOG(1) = -9 otherwise). Users' own value wins.
+  const char* prefix = nullptr;
+  PetscCall(SNESGetOptionsPrefix(snes, &prefix));
+  PetscCall(default_mumps_workspace(prefix));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode default_mumps_workspace(const char* prefix) {
+  PetscFunctionBeginUser;
+  // The factored matrix exists only at the first solve: the default goes into the database,
+  // under the solver's prefix.
   PetscBool has = PETSC_FALSE;
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_14", &has));
-  if (!has) PetscCall(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", "200"));
+  PetscCall(PetscOptionsHasName(nullptr, prefix, "-mat_mumps_icntl_14", &has));
+  if (!has) {
+    const std::string key = std::string("-") + (prefix ? prefix : "") + "mat_mumps_icntl_14";
+    PetscCall(PetscOptionsSetValue(nullptr, key.c_str(), "200"));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -45,6 +45,9 @@ struct RoundoffTest {
 /// Newton line search off, tolerances, divergence test off, roundoff test, direct LU (SuperLU
 /// serial, MUMPS parallel). Call before SNESSetFromOptions.
 PetscErrorCode configure_newton(SNES snes, RoundoffTest* test);
+/// MUMPS's workspace (ICNTL(14) = 200 %: pivoting on the zero diagonal of the saddle-point
+/// matrix needs more than its analysis reserves) for the solver of `prefix`, unless given.
+PetscErrorCode default_mumps_workspace(const char* prefix);
 
 /// After the Jacobian's sparsity pattern changed (a sliding joint moved its window of carrier
 /// points: CooAssembly::generation differs from *seen), reset the SNES's preconditioner so that

@@ -2,6 +2,7 @@
 #include "solvers/schwarz.hpp"
 
 #include "solvers/newton.hpp"
+#include "solvers/solver_options.hpp"
 
 #include <algorithm>
 #include <string>
@@ -9,17 +10,15 @@
 
 namespace slidebeam {
 
-bool schwarz_requested(MPI_Comm comm) {
-  PetscBool flag = PETSC_FALSE, set = PETSC_FALSE;
-  PetscOptionsGetBool(nullptr, nullptr, "-sb_schwarz", &flag, &set);
-  if (set) return flag == PETSC_TRUE;
+bool schwarz_requested(MPI_Comm comm, const char* prefix) {
+  const CoreOptions options = core_options(comm);
+  if (options.schwarz_set) return options.schwarz == PETSC_TRUE;
   // default: on more than one rank, unless the options name another solver
   int size = 1;
   MPI_Comm_size(comm, &size);
-  PetscBool pc = PETSC_FALSE, solver = PETSC_FALSE, ksp = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, nullptr, "-pc_type", &pc);
-  PetscOptionsHasName(nullptr, nullptr, "-pc_factor_mat_solver_type", &solver);
-  PetscOptionsHasName(nullptr, nullptr, "-ksp_type", &ksp);
+  const bool pc = solver_option_set(prefix, "-pc_type");
+  const bool solver = solver_option_set(prefix, "-pc_factor_mat_solver_type");
+  const bool ksp = solver_option_set(prefix, "-ksp_type");
   return size > 1 && !pc && !solver && !ksp;
 }
 
@@ -101,11 +100,12 @@ std::vector<std::string>& default_keys() {
 }
 }  // namespace
 
-bool user_sets_schwarz_option(const char* key) {
+bool user_sets_schwarz_option(const char* prefix, const char* key) {
   PetscBool has = PETSC_FALSE;
-  PetscOptionsHasName(nullptr, nullptr, key, &has);
+  PetscOptionsHasName(nullptr, prefix, key, &has);
+  const std::string name = std::string("-") + (prefix ? prefix : "") + (key + 1);
   const auto& d = default_keys();
-  return has && std::find(d.begin(), d.end(), std::string(key)) == d.end();
+  return has && std::find(d.begin(), d.end(), name) == d.end();
 }
 
 PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
@@ -120,14 +120,19 @@ PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(prepare_schwarz(pc, model, J, true));
   const bool asm_ = schwarz_overlap() > 0;
+  // The blocks' solvers exist only at the first solve: their defaults go into the database,
+  // under the solver's prefix (-sb_ts_sub_pc_type lu, ...), unless given.
+  const char* prefix = nullptr;
+  PetscCall(SNESGetOptionsPrefix(snes, &prefix));
   for (const auto& [key, value] : {std::pair{"-sub_ksp_type", "preonly"}, {"-sub_pc_type", "lu"},
                                    {"-sub_pc_factor_mat_solver_type", "petsc"},
                                    {"-sub_pc_factor_mat_ordering_type", asm_ ? "natural" : kModelOrdering}}) {
     PetscBool has = PETSC_FALSE;
-    PetscCall(PetscOptionsHasName(nullptr, nullptr, key, &has));
+    PetscCall(PetscOptionsHasName(nullptr, prefix, key, &has));
     if (!has) {
-      PetscCall(PetscOptionsSetValue(nullptr, key, value));
-      default_keys().emplace_back(key);
+      const std::string name = std::string("-") + (prefix ? prefix : "") + (key + 1);
+      PetscCall(PetscOptionsSetValue(nullptr, name.c_str(), value));
+      default_keys().emplace_back(name);
     }
   }
   PetscFunctionReturn(0);

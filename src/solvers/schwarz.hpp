@@ -18,16 +18,18 @@
 
 namespace slidebeam {
 
-/// True if the options database holds key and configure_schwarz did not put it there.
-bool user_sets_schwarz_option(const char* key);
+/// True if the options database holds key under the solver's prefix (e.g. -sb_ts_sub_pc_type,
+/// or the copy of a plain -sub_pc_type) and configure_schwarz did not put it there.
+bool user_sets_schwarz_option(const char* prefix, const char* key);
 
 /// Whether to use the Schwarz path: -sb_schwarz [true|false] if given; otherwise on more than
 /// one rank (where it beats MUMPS on the saddle-point systems, whose zero diagonals make MUMPS
-/// delay nearly every multiplier pivot), unless the options name a KSP, PC or factor package.
-bool schwarz_requested(MPI_Comm comm);
+/// delay nearly every multiplier pivot), unless the options name a KSP, PC or factor package
+/// for the solver of `prefix` (plain or prefixed).
+bool schwarz_requested(MPI_Comm comm, const char* prefix);
 /// Set snes's KSP to GMRES and its PC to ASM on the model's subdomains (before
 /// SNESSetFromOptions, so options still win), with sub-solvers PETSc LU in natural order unless
-/// the options database names others.
+/// the options database names others (under the SNES's prefix: -sb_ts_sub_pc_type, ...).
 PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J);
 /// ASM: (re)build the subdomains from J's pattern.
 PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/static_solver.hpp"
 
+#include "solvers/solver_options.hpp"
 #include "util/petsc_check.hpp"
 
 namespace slidebeam {
@@ -8,6 +9,7 @@ namespace slidebeam {
 StaticSolver::StaticSolver(Model& model) : model_(model) {
   if (!model.finalized()) model.finalize();
   SB_CHECK(SNESCreate(model.comm(), &snes_));
+  SB_CHECK(set_solver_prefix(snes_, kStaticPrefix));  // -sb_static_snes_rtol, or plain -snes_rtol
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &StaticSolver::form_function, this));
   SB_CHECK(SNESSetJacobian(snes_, model.jacobian(), model.jacobian(), &StaticSolver::form_jacobian, this));
   SB_CHECK(configure_newton(snes_, &test_));

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "solvers/schwarz.hpp"
+#include "solvers/solver_options.hpp"
 
 #include "util/petsc_check.hpp"
 
@@ -65,6 +66,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
 
   SB_CHECK(MatDuplicate(model.jacobian(), MAT_DO_NOT_COPY_VALUES, &J_));
   SB_CHECK(SNESCreate(model.comm(), &snes_));
+  SB_CHECK(set_solver_prefix(snes_, kStepPrefix));  // -sb_ts_snes_rtol, or plain -snes_rtol
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &TimeIntegrator::form_function, this));
   SB_CHECK(SNESSetJacobian(snes_, J_, J_, &TimeIntegrator::form_jacobian, this));
   SB_CHECK(configure_newton(snes_, &test_));
@@ -77,21 +79,17 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   // good (use_pivoting_lu). An explicit -pc_factor_mat_solver_type wins over both.
   // An explicit solver or preconditioner (-pc_type asm, -pc_type fieldsplit, ...) from the
   // options database wins.
-  PetscBool user_solver = PETSC_FALSE, user_pc = PETSC_FALSE;
-  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-pc_factor_mat_solver_type", &user_solver));
-  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-pc_type", &user_pc));
-  if (user_pc) user_solver = PETSC_TRUE;
+  const bool user_solver = solver_option_set(kStepPrefix, "-pc_factor_mat_solver_type") ||
+                           solver_option_set(kStepPrefix, "-pc_type");
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
-  PetscBool condense = PETSC_TRUE;
-  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_condense_directors", &condense, nullptr));
-  if (schwarz_requested(model.comm())) {
+  const CoreOptions options = core_options(model.comm());
+  const PetscBool condense = options.condense_directors;
+  if (schwarz_requested(model.comm(), kStepPrefix)) {
     SB_CHECK(configure_schwarz(snes_, model, J_));
-    const bool user_sub = user_sets_schwarz_option("-sub_pc_type");
+    const bool user_sub = user_sets_schwarz_option(kStepPrefix, "-sub_pc_type");
     schwarz_ = true;
-    PetscInt overlap = 0;
-    SB_CHECK(PetscOptionsGetInt(nullptr, nullptr, "-sb_schwarz_overlap", &overlap, nullptr));
-    if (condense && overlap == 0 && !user_sub) {  // block Jacobi: each rank's block solved condensed, exactly
+    if (condense && options.schwarz_overlap == 0 && !user_sub) {  // block Jacobi: each rank's block solved condensed, exactly
       block_condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order(),
                                                                    DirectorCondensation::Mode::Exact);
       int any = block_condensation_->empty() ? 0 : 1;
@@ -116,10 +114,10 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
       else SB_CHECK(condensation_->attach(snes_));
     }
   }
-  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_jacobian_reuse", &reuse_, nullptr));
-  SB_CHECK(PetscOptionsGetReal(nullptr, nullptr, "-sb_jacobian_reuse_rate", &reuse_rate_, nullptr));
-  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_full_newton_after_rebuild", &full_newton_after_rebuild_, nullptr));
-  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_floor_stop", &floor_stop_, nullptr));
+  reuse_ = options.jacobian_reuse;
+  reuse_rate_ = options.jacobian_reuse_rate;
+  full_newton_after_rebuild_ = options.full_newton_after_rebuild;
+  floor_stop_ = options.floor_stop;
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
   SB_CHECK(SNESSetFromOptions(snes_));
 }
@@ -163,9 +161,8 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   projection_ = {};
   PetscReal speed = 0.0;
   SB_CHECK(VecNorm(v_, NORM_INFINITY, &speed));
-  PetscBool project = PETSC_TRUE;  // -sb_project_velocity false: the velocity as given, sliding rates 0
-  SB_CHECK(PetscOptionsGetBool(nullptr, nullptr, "-sb_project_velocity", &project, nullptr));
-  if (!project) speed = 0.0;
+  // -sb_project_velocity false: the velocity as given, sliding rates 0
+  if (!core_options(model_.comm()).project_velocity) speed = 0.0;
   const bool newmark = !is_midpoint_type(params_.kind);
   if (speed == 0.0 && !newmark) return;
   KSP ksp = constrained_mass_solver();
@@ -254,11 +251,14 @@ KSP TimeIntegrator::constrained_mass_solver() {
   int size = 1;
   MPI_Comm_size(model_.comm(), &size);
   SB_CHECK(KSPCreate(model_.comm(), &ksp));
+  SB_CHECK(KSPSetOptionsPrefix(ksp, kMassPrefix));  // -sb_mass_ksp_type ... (plain options do not apply)
+  SB_CHECK(default_mumps_workspace(kMassPrefix));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(KSPGetPC(ksp, &pc));
   SB_CHECK(PCSetType(pc, PCLU));
   SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
   SB_CHECK(KSPSetOperators(ksp, J_, J_));
+  SB_CHECK(KSPSetFromOptions(ksp));
   return ksp;
 }
 
@@ -412,9 +412,11 @@ void TimeIntegrator::prepare_step(double h) {
   if (condensation_) condensation_->set_force_state(x_, step_eval().theta, scale_);
 }
 
-PetscErrorCode TimeIntegrator::step_forces(Vec x1, Vec F) {
+PetscErrorCode TimeIntegrator::step_forces(Vec x1, Vec F) { return step_forces(x1, F, step_eval()); }
+
+PetscErrorCode TimeIntegrator::step_forces(Vec x1, Vec F, const StepEval& eval) {
   PetscFunctionBeginUser;
-  PetscCall(model_.assemble_effects_residual(step_eval(), x1, F));
+  PetscCall(model_.assemble_effects_residual(eval, x1, F));
   if (scale_ != 1.0) PetscCall(VecScale(F, scale_));
   PetscCall(VecWAXPY(w_, -1.0, xt_, x1));
   PetscCall(VecScale(w_, c0_));
@@ -428,6 +430,13 @@ PetscErrorCode TimeIntegrator::step_residual(Vec x1, Vec F) {
   PetscCall(step_forces(x1, F));
   PetscCall(model_.set_prescribed_residual_rows(x1, F));
   PetscFunctionReturn(0);
+}
+
+void TimeIntegrator::last_step_residual(Vec F) {
+  if (!stepped_) throw std::logic_error("no time step taken since the start (or a restart): no step residual yet");
+  SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
+  SB_CHECK(step_forces(x_, F, last_eval_));
+  SB_CHECK(model_.set_prescribed_residual_rows(x_, F));
 }
 
 std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
@@ -635,6 +644,7 @@ SolveResult TimeIntegrator::step(double h) {
     account_energy_flows();
     Vec mask = model_.coordinate_mask();
     SB_CHECK(VecCopy(v_, v_prev_));
+    last_eval_ = step_eval();  // (before the time segment moves on)
     const double t_next = next_time(h);
     if (h == h_prev_ && n_seg_ > 0) {
       ++n_seg_;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file One-step time integrators for the constrained beam dynamics (formulation.md section 6):
+/// @file One-step time integrators for the constrained beam dynamics (docs/theory.md, "Time integration"):
 /// energy-momentum, implicit midpoint, Newmark and HHT-alpha (index 3). Each step is one SNES
 /// Newton solve for x_{n+1} = (q, multipliers); the velocity is eliminated:
 ///
@@ -140,6 +140,9 @@ class TimeIntegrator {
   /// residual and Jacobian can be evaluated (finite-difference tests).
   void prepare_step(double h);
   PetscErrorCode step_residual(Vec x1, Vec F);
+  /// The residual of the last converged time step at its end state x_n (what that step's SNES
+  /// solved for: its norm is the step's residual_norm). Throws before the first step.
+  void last_step_residual(Vec F);
   /// Reactions of supports and joints over the last converged step (Model::reactions with the
   /// step's residual, inertia included): what they exert on the structure during the step, so
   /// that with the loads they balance the step's change of momentum. HHT: at t_{n+1}, without
@@ -161,6 +164,7 @@ class TimeIntegrator {
   /// The step residual before the prescribed rows are replaced: the effects' forces (HHT: scaled,
   /// with the history term) and the inertia c0 M (x1 - x~).
   PetscErrorCode step_forces(Vec x1, Vec F);
+  PetscErrorCode step_forces(Vec x1, Vec F, const StepEval& eval);
   /// Leave the non-pivoting LU for SuperLU (after a failure with it).
   void use_pivoting_lu();
   /// Add the converged step's work of every counted effect to flows_ (x_: start, x1_: end).
@@ -187,6 +191,7 @@ class TimeIntegrator {
   int pattern_seen_ = 0;                          // CooAssembly generation of the factorisation
   Vec state_mask_ = nullptr;                      // coordinates and sliding coordinates
   double h_prev_ = 0.0;                           // 0: no previous step
+  StepEval last_eval_{};  // step_eval() of the last converged step
   bool stepped_ = false;                          // a step since initialize/restore (x_start_ holds its start)
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
   double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;

@@ -176,9 +176,9 @@ def test_iterative_solver_path_gives_the_direct_solvers_history(run_cli, tmp_pat
     for name, res in runs.items():
         assert res.returncode == 0, (name, res.stderr)
         if name != "lu":
-            its = [int(n) for n in re.findall(r"Linear solve converged due to \w+ iterations (\d+)", res.stdout)]
+            its = [int(n) for n in re.findall(r"Linear (?:\w+ )?solve converged due to \w+ iterations (\d+)", res.stdout)]
             assert its and max(its) <= 10, (name, its[:20])
-            assert "Linear solve did not converge" not in res.stdout
+            assert not re.search(r"Linear (\w+ )?solve did not converge", res.stdout)
     rows = {name: list(csv.DictReader((tmp_path / name / "history.csv").open())) for name in runs}
     tracked = [k for k in rows["lu"][0] if k.startswith("hanger") and "@" in k]  # tracked points
     assert tracked

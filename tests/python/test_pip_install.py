@@ -49,6 +49,7 @@ def test_pip_install_into_venv(tmp_path):
     package = Path(out.stdout.split()[0]).parent
     assert package.is_relative_to(venv) and Path(out.stdout.split()[1]).parent == package
     assert (package / "effect_specs.json").is_file() and (package / "petsc_options.txt").is_file()
+    assert (package / "_core.pyi").is_file() and (package / "py.typed").is_file()
 
     out = run(command, "--help")
     assert out.returncode == 0 and "usage: slidebeam" in out.stdout, out.stderr

@@ -75,8 +75,9 @@ def test_jacobian_matches_finite_differences_through_petsc4py():
 
 @pytest.mark.skip_in_parallel
 @pytest.mark.parametrize("np_", [1, 2])
-def test_scripting_example_runs(root, np_):
-    cmd = [sys.executable, str(root / "runs" / "scripting_example.py")]
+def test_scripting_example_runs(root, np_, tmp_path):
+    cmd = [sys.executable, str(root / "runs" / "scripting_example.py"), str(tmp_path / "out"),
+           "-sb_static_snes_max_it", "30"]
     if np_ > 1:
         cmd = ["mpirun", "--oversubscribe", "-n", str(np_), *cmd]
     env = {"PYTHONPATH": str(root / "python"), "PATH": "/usr/bin:/bin", "OMPI_ALLOW_RUN_AS_ROOT": "1",
@@ -84,6 +85,8 @@ def test_scripting_example_runs(root, np_):
     out = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
     assert out.returncode == 0, out.stderr
     assert "load step 4" in out.stdout and "strain energy" in out.stdout
+    assert "complete = True" in out.stdout and "never used" not in out.stderr
+    assert {"history.csv", "final_configuration.csv", "summary.json"} <= {p.name for p in (tmp_path / "out").iterdir()}
 
 
 def test_scene_options_do_not_leak_into_the_next_scene(root):

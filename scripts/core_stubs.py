@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Regenerate python/slidebeam/_core.pyi, the type stubs of the compiled module slidebeam._core,
+from the module itself (pybind11's signatures and docstrings).
+
+    PYTHONPATH=python /usr/bin/python3 scripts/core_stubs.py          (writes the stub file)
+    PYTHONPATH=python /usr/bin/python3 scripts/core_stubs.py --check  (exit 1 if it differs)
+
+tests/python/test_api_reference.py checks that the stub file names exactly the public names of
+the module and of its classes.
+"""
+from __future__ import annotations
+
+import re
+import sys
+import textwrap
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "python" / "slidebeam" / "_core.pyi"
+
+# pybind11's names for types it has no Python name for -> Python annotations
+TYPES = [
+    (r"\bslidebeam\._core\.", ""),
+    (r"\bnumpy\.ndarray\[numpy\.float64(?:\[[^\]]*\])?\]", "np.ndarray"),
+    (r"\bfloat\[\d+\]", "float"),
+    (r"\bvec\b", "PETSc.Vec"),
+    (r"\bmat\b", "PETSc.Mat"),
+    (r"\bsnes\b", "PETSc.SNES"),
+    (r"\bList\[", "list["),
+    (r"\bDict\[", "dict["),
+    (r"\bTuple\[", "tuple["),
+]
+OPTIONAL = re.compile(r"\bOptional\[([^\[\]]*(?:\[[^\[\]]*\])?)\]")
+
+
+def annotate(sig: str) -> str:
+    for pattern, repl in TYPES:
+        sig = re.sub(pattern, repl, sig)
+    while OPTIONAL.search(sig):
+        sig = OPTIONAL.sub(r"\1 | None", sig)
+    return sig
+
+
+def split_params(params: str) -> list[str]:
+    """Split a parameter list at its top-level commas."""
+    out, depth, cur = [], 0, ""
+    for ch in params:
+        if ch in "[(":
+            depth += 1
+        elif ch in "])":
+            depth -= 1
+        if ch == "," and depth == 0:
+            out.append(cur.strip())
+            cur = ""
+        else:
+            cur += ch
+    if cur.strip():
+        out.append(cur.strip())
+    return out
+
+
+def annotate_params(params: str) -> str:
+    """The annotations of "name: type = default, ..." (not the names: a parameter may be called vec)."""
+    out = []
+    for param in split_params(params):
+        m = re.match(r"^(\*{0,2}\w+)(?::\s*([^=]+?))?(\s*=\s*.*)?$", param)
+        if not m:
+            out.append(param)
+            continue
+        name, kind, default = m.group(1), m.group(2), m.group(3) or ""
+        out.append(name + (f": {annotate(kind)}" if kind else "") + default)
+    return ", ".join(out)
+
+
+def split_doc(obj) -> tuple[list[str], str]:
+    """(signatures, documentation) of a pybind11 function."""
+    doc = (obj.__doc__ or "").strip()
+    lines = doc.splitlines()
+    if lines and lines[0].startswith("Overloaded function."):
+        sigs = [re.sub(r"^\d+\. ", "", ln) for ln in lines if re.match(r"^\d+\. ", ln)]
+        return sigs, ""
+    if not lines:
+        return [], ""
+    return [lines[0]], "\n".join(lines[1:]).strip()
+
+
+def docstring(text: str, indent: str) -> list[str]:
+    if not text:
+        return []
+    text = text.replace('"""', "'''").replace("\\", "\\\\")
+    body = textwrap.fill(" ".join(text.split()), 100 - len(indent) - 3, break_long_words=False)
+    lines = body.splitlines()
+    if len(lines) == 1:
+        return [f'{indent}"""{lines[0]}"""']
+    return [f'{indent}"""{lines[0]}'] + [f"{indent}{ln}" for ln in lines[1:]] + [f'{indent}"""']
+
+
+def function(name: str, obj, indent: str, method: bool) -> list[str]:
+    sigs, doc = split_doc(obj)
+    out = []
+    for sig in sigs or [f"{name}(*args, **kwargs) -> object"]:
+        m = re.match(r"^(\w+)\((.*)\)\s*->\s*(.*)$", sig)
+        params, ret = (m.group(2), m.group(3)) if m else ("*args, **kwargs", "object")
+        if method:
+            params = re.sub(r"^self: [\w.]+", "self", params)
+            if not params.startswith("self"):
+                params = "self, " + params if params else "self"
+        params = re.sub(r"= \{\}", "= ...", params)  # mutable defaults shown as ...
+        params = re.sub(r"= <[^>]*>", "= ...", params)
+        if len(sigs) > 1:
+            out.append(f"{indent}@overload")
+        out.append(f"{indent}def {name}({annotate_params(params)}) -> {annotate(ret)}:" + ("" if doc else " ..."))
+        if doc:
+            out += docstring(doc, indent + "    ") + [f"{indent}    ..."]
+    return out
+
+
+def prop(name: str, p: property, indent: str) -> list[str]:
+    sig, doc = split_doc(p.fget)
+    ret = annotate(re.sub(r"^.*->\s*", "", sig[0])) if sig else "object"
+    out = [f"{indent}@property", f"{indent}def {name}(self) -> {ret}:" + ("" if doc else " ...")]
+    if doc:
+        out += docstring(doc, indent + "    ") + [f"{indent}    ..."]
+    if p.fset is not None:
+        out += [f"{indent}@{name}.setter", f"{indent}def {name}(self, value: {ret}) -> None: ..."]
+    return out
+
+
+def public(name: str) -> bool:
+    return not name.startswith("_")
+
+
+def stub() -> str:
+    from slidebeam import _core
+
+    lines = ['# SPDX-License-Identifier: MIT',
+             '"""Type stubs of slidebeam._core, the compiled core (generated by scripts/core_stubs.py from the',
+             'module: do not edit). PETSc objects are petsc4py\'s, shared with the core, not copied."""',
+             "from typing import overload", "", "import numpy as np", "from petsc4py import PETSc", ""]
+    for name in sorted(n for n in dir(_core) if public(n)):
+        obj = getattr(_core, name)
+        if isinstance(obj, type) and issubclass(obj, BaseException):
+            base = obj.__mro__[1].__name__
+            lines += ["", f"class {name}({base}): ..."]
+        elif isinstance(obj, type):
+            lines += ["", f"class {name}:"]
+            if obj.__doc__ and not obj.__doc__.startswith("Initialize self"):
+                lines += docstring(obj.__doc__.strip(), "    ")
+            members = obj.__dict__
+            if "__init__" in members and (members["__init__"].__doc__ or "").startswith("__init__("):
+                lines += function("__init__", members["__init__"], "    ", True)
+            for m in members:
+                if not public(m):
+                    continue
+                a = members[m]
+                if isinstance(a, property):
+                    lines += prop(m, a, "    ")
+                elif callable(a):
+                    lines += function(m, a, "    ", True)
+                else:
+                    lines.append(f"    {m}: {type(a).__name__}")
+        elif callable(obj):
+            lines += [""] + function(name, obj, "", False)
+        else:
+            value_type = type(obj).__name__
+            if isinstance(obj, dict) and obj:
+                value_type = f"dict[{type(next(iter(obj))).__name__}, {type(next(iter(obj.values()))).__name__}]"
+            lines += ["", f"{name}: {value_type}  # = {obj!r}"]
+    return "\n".join(lines) + "\n"
+
+
+def main() -> int:
+    import petsc4py
+
+    petsc4py.init([sys.argv[0]])
+    text = stub()
+    if "--check" in sys.argv:
+        if OUT.read_text() != text:
+            print(f"{OUT.relative_to(ROOT)} is out of date: run scripts/core_stubs.py", file=sys.stderr)
+            return 1
+        return 0
+    OUT.write_text(text)
+    print(f"wrote {OUT.relative_to(ROOT)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

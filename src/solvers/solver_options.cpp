@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/solver_options.hpp"
+
+#include "util/petsc_check.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <map>
+#include <sstream>
+
+namespace slidebeam {
+
+namespace {
+
+struct Copy {
+  std::string copy;    // prefixed name, without dash
+  std::string source;  // the plain name
+  std::string value;   // the value copied
+};
+
+std::vector<Copy>& copies() {
+  static std::vector<Copy> c;
+  return c;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+bool is_number(const std::string& s) {
+  char* end = nullptr;
+  std::strtod(s.c_str(), &end);
+  return end && *end == '\0' && !s.empty();
+}
+
+/// The options database as (lower-case name without dash -> value), read without marking
+/// anything used (PetscOptionsGetAll).
+PetscErrorCode database(std::map<std::string, std::string>* out) {
+  PetscFunctionBeginUser;
+  char* all = nullptr;
+  PetscCall(PetscOptionsGetAll(nullptr, &all));
+  std::istringstream in(all ? all : "");
+  PetscCall(PetscFree(all));
+  std::vector<std::string> tokens;
+  for (std::string tok; in >> tok;) tokens.push_back(tok);
+  for (size_t i = 0; i < tokens.size(); ++i) {
+    const std::string& tok = tokens[i];
+    if (tok.size() < 2 || tok[0] != '-' || is_number(tok)) continue;
+    std::string value;
+    if (i + 1 < tokens.size() && (tokens[i + 1][0] != '-' || is_number(tokens[i + 1]))) value = tokens[++i];
+    (*out)[lower(tok.substr(1))] = value;
+  }
+  PetscFunctionReturn(0);
+}
+
+bool plain_family(const std::string& name) {
+  for (const char* f : kPlainFamilies)
+    if (name.rfind(f, 0) == 0) return true;
+  return false;
+}
+
+PetscErrorCode inherit_plain_options(const std::string& prefix) {
+  PetscFunctionBeginUser;
+  std::map<std::string, std::string> db;
+  PetscCall(database(&db));
+  auto& reg = copies();
+  // Our earlier copies under this prefix follow their plain options.
+  for (auto it = reg.begin(); it != reg.end();) {
+    if (it->copy.rfind(prefix, 0) != 0) {
+      ++it;
+      continue;
+    }
+    const auto cur = db.find(it->copy);
+    const auto src = db.find(it->source);
+    if (cur == db.end() || cur->second != it->value) {  // changed or removed by someone else: not ours now
+      it = reg.erase(it);
+      continue;
+    }
+    if (src == db.end()) {
+      PetscCall(PetscOptionsClearValue(nullptr, ("-" + it->copy).c_str()));
+      db.erase(cur);
+      it = reg.erase(it);
+      continue;
+    }
+    if (src->second != it->value) {
+      PetscCall(PetscOptionsSetValue(nullptr, ("-" + it->copy).c_str(), src->second.empty() ? nullptr : src->second.c_str()));
+      it->value = src->second;
+      db[it->copy] = src->second;
+    }
+    ++it;
+  }
+  for (const auto& [name, value] : db) {
+    if (!plain_family(name)) continue;
+    const std::string copy = prefix + name;
+    if (db.count(copy)) continue;  // given under the prefix (or copied before): that one holds
+    PetscCall(PetscOptionsSetValue(nullptr, ("-" + copy).c_str(), value.empty() ? nullptr : value.c_str()));
+    reg.push_back({copy, name, value});
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, nullptr, "slidebeam core options (docs/petsc-options.md)", "slidebeam");
+  PetscCall(PetscOptionsBool("-sb_condense_directors",
+                             "Newton with director triads condensed to 6 unknowns per control point, updated by "
+                             "rotations (false: plain Newton on the full system)",
+                             "", o->condense_directors, &o->condense_directors, nullptr));
+  PetscCall(PetscOptionsBool("-sb_exponential_update",
+                             "statics: turn the triads by the rotation exp(w) of the Newton step (false: the closest "
+                             "orthonormal frame of d + w x d)",
+                             "", o->exponential_update, &o->exponential_update, nullptr));
+  PetscCall(PetscOptionsBool("-sb_corotate_jacobian",
+                             "time steps with -sb_jacobian_reuse: rotate the reused condensed Jacobian with the triads",
+                             "", o->corotate_jacobian, &o->corotate_jacobian, nullptr));
+  PetscCall(PetscOptionsBool("-sb_jacobian_reuse",
+                             "time steps: modified Newton, the Jacobian and its LU kept across iterations and steps",
+                             "", o->jacobian_reuse, &o->jacobian_reuse, nullptr));
+  PetscCall(PetscOptionsReal("-sb_jacobian_reuse_rate",
+                             "modified Newton: a fresh Jacobian once an iteration reduces |F| by less than this factor",
+                             "", o->jacobian_reuse_rate, &o->jacobian_reuse_rate, nullptr));
+  PetscCall(PetscOptionsBool("-sb_full_newton_after_rebuild",
+                             "modified Newton: finish a step with full Newton once its Jacobian had to be rebuilt", "",
+                             o->full_newton_after_rebuild, &o->full_newton_after_rebuild, nullptr));
+  PetscCall(PetscOptionsBool("-sb_floor_stop",
+                             "time steps: stop Newton once |F| is near the roundoff floor measured on earlier steps",
+                             "", o->floor_stop, &o->floor_stop, nullptr));
+  PetscCall(PetscOptionsBool("-sb_project_velocity",
+                             "project the initial velocities onto the constraints (false: as given, sliding rates 0)",
+                             "", o->project_velocity, &o->project_velocity, nullptr));
+  PetscCall(PetscOptionsBool("-sb_schwarz",
+                             "time steps: GMRES + Schwarz on the model's subdomains (default: on more than one rank "
+                             "unless a KSP, PC or factor package is given)",
+                             "", o->schwarz, &o->schwarz, &o->schwarz_set));
+  PetscCall(PetscOptionsInt("-sb_schwarz_overlap",
+                            "Schwarz: 0 block Jacobi, one block per rank; 1 restricted additive Schwarz with overlap",
+                            "", o->schwarz_overlap, &o->schwarz_overlap, nullptr));
+  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode set_solver_prefix(SNES snes, const char* prefix) {
+  PetscFunctionBeginUser;
+  PetscCall(inherit_plain_options(prefix));
+  PetscCall(SNESSetOptionsPrefix(snes, prefix));
+  PetscFunctionReturn(0);
+}
+
+bool solver_option_set(const char* prefix, const char* name) {
+  PetscBool has = PETSC_FALSE;
+  SB_CHECK(PetscOptionsHasName(nullptr, prefix, name, &has));
+  return has == PETSC_TRUE;
+}
+
+std::vector<std::pair<std::string, std::string>> plain_option_copies() {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& c : copies()) out.emplace_back(c.copy, c.source);
+  return out;
+}
+
+CoreOptions core_options(MPI_Comm comm) {
+  CoreOptions o;
+  SB_CHECK(read_core_options(comm, &o));
+  return o;
+}
+
+}  // namespace slidebeam
