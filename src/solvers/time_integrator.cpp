@@ -445,8 +445,10 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
   SB_CHECK(model_.set_step_start(x_start_));
   Vec F = nullptr;
   SB_CHECK(VecDuplicate(x_, &F));
-  SB_CHECK(step_forces(x_, F));
-  auto r = model_.reactions(step_eval(), x_, F, scale_);
+  // the last step's own times: step_eval() has moved on to the next step with the clock
+  const StepEval eval = stepped_ ? last_eval_ : step_eval();
+  SB_CHECK(step_forces(x_, F, eval));
+  auto r = model_.reactions(eval, x_, F, scale_);
   SB_CHECK(VecDestroy(&F));
   return r;
 }
@@ -454,7 +456,7 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
 std::vector<std::array<double, 3>> TimeIntegrator::joint_forces(const std::vector<int>& effects) {
   if (!stepped_) return model_.joint_forces(StepEval{StepRule::Endpoint, t_, 1.0}, x_, effects);
   SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
-  return model_.joint_forces(step_eval(), x_, effects);
+  return model_.joint_forces(last_eval_, x_, effects);
 }
 
 PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {
