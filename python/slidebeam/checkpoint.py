@@ -21,6 +21,8 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .parallel import run_comm
+
 if TYPE_CHECKING:  # imported lazily: petsc4py must not be initialised before the CLI passes its options
     from .dynamics import DynamicRecord, RunState
     from .simulation import Simulation
@@ -46,13 +48,12 @@ def _fields(record: object) -> dict:
 
 def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
     """Write the run's state to path (collective; rank 0 writes the attributes)."""
-    from mpi4py import MPI
     from petsc4py import PETSc
 
-    comm = MPI.COMM_WORLD
+    comm = run_comm()
     integ = sim.integrator
     tmp = path.with_name(f".{path.name}.tmp")
-    viewer = PETSc.Viewer().createHDF5(str(tmp), mode=PETSc.Viewer.Mode.WRITE, comm=PETSc.COMM_WORLD)
+    viewer = PETSc.Viewer().createHDF5(str(tmp), mode=PETSc.Viewer.Mode.WRITE, comm=sim.x.getComm())
     for name, vec in _vectors(sim).items():
         vec.setName(name)
         vec.view(viewer)
@@ -140,14 +141,13 @@ def _record(d: dict) -> "DynamicRecord":
 def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
     """Load a checkpoint into the simulation's integrator and return the run state to resume
     (collective). Raises CheckpointError if the file does not fit the scene."""
-    from mpi4py import MPI
     from petsc4py import PETSc
 
     if not Path(path).is_file():
         raise CheckpointError(f"checkpoint {path} does not exist")
     meta: dict = {}
     error = None
-    if MPI.COMM_WORLD.Get_rank() == 0:
+    if run_comm().Get_rank() == 0:
         try:
             import h5py
 
@@ -159,7 +159,7 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
             error = str(err)
         except OSError as err:
             error = f"cannot read checkpoint {path}: {err}"
-    error, meta = MPI.COMM_WORLD.bcast((error, meta), root=0)
+    error, meta = run_comm().bcast((error, meta), root=0)
     if error:
         raise CheckpointError(error)
     if meta["unknowns"] != sim.x.getSize():
@@ -168,7 +168,7 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
     if meta["integrator"] != sim.scene.analysis.integrator:
         raise CheckpointError(f"checkpoint {path} was written by the {meta['integrator']} integrator, the scene "
                               f"asks for {sim.scene.analysis.integrator}")
-    viewer = PETSc.Viewer().createHDF5(str(path), mode=PETSc.Viewer.Mode.READ, comm=PETSc.COMM_WORLD)
+    viewer = PETSc.Viewer().createHDF5(str(path), mode=PETSc.Viewer.Mode.READ, comm=sim.x.getComm())
     for name, vec in _vectors(sim).items():
         vec.setName(name)
         vec.load(viewer)

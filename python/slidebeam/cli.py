@@ -22,7 +22,8 @@ from .scene import Scene, SceneError, load_scene, scene_from_dict
 from .checkpoint import CheckpointError
 from .costs import output_phase
 from . import options_check
-from .resources import check_memory, memory_line, size_text
+from .parallel import release_waiting_ranks, running_alone, serial_below
+from .resources import check_memory, estimate, memory_line, size_text
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -208,6 +209,7 @@ def _exit_after_output_failure(code: int) -> None:
     sys.stdout.flush()
     sys.stderr.flush()
     try:
+        release_waiting_ranks()
         from petsc4py import PETSc
 
         PETSc._finalize()
@@ -306,7 +308,6 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     from mpi4py import MPI
 
     from .results import prepare_output_dir
-    from .simulation import ConstraintWarning, Simulation
 
     check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     comm = MPI.COMM_WORLD
@@ -320,6 +321,36 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     if error:
         _say(rank, f"slidebeam: error: {error}", sys.stderr)
         return EXIT_INPUT
+
+    if comm.Get_size() > 1 and estimate(scene).unknowns < serial_below():
+        # too small to gain from distribution: rank 0 runs it alone, the others wait
+        _say(rank, f"{estimate(scene).unknowns} unknowns or fewer (below -sb_serial_below {serial_below()}): "
+                   f"rank 0 runs the scene alone")
+        if rank != 0:
+            _wait_for_rank_0(comm)
+            return EXIT_OK
+        with running_alone():
+            return _run_scene(scene, restart, out, args, rank, comm.Get_size())
+    return _run_scene(scene, restart, out, args, rank, comm.Get_size())
+
+
+def _wait_for_rank_0(comm) -> None:
+    """The other ranks of a run on rank 0 alone: sleep (rather than poll MPI, which would keep
+    their cores busy) until rank 0 is done. Stop signals are rank 0's to handle: mpirun passes
+    them to every rank, and a rank that died of one would take rank 0 down before it has written
+    its results."""
+    import signal
+
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_IGN)
+    request = comm.Ibarrier()
+    while not request.Test():
+        time.sleep(0.01)
+
+
+def _run_scene(scene: Scene, restart: Path | None, out: Path, args: argparse.Namespace, rank: int, ranks: int) -> int:
+    """The run itself, on the run's communicator (parallel.run_comm)."""
+    from .simulation import ConstraintWarning, Simulation
 
     t0 = time.perf_counter()
     with warnings.catch_warnings():  # said below, in the command's own words
@@ -346,8 +377,8 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
                   else NoOutput())
         with interrupts.stop_on_signals():
             if scene.analysis.type == "dynamic":
-                return _run_dynamic(sim, scene, out, args, rank, comm.Get_size(), t0, output, state)
-            return _run_static(sim, scene, out, args, rank, comm.Get_size(), t0, output)
+                return _run_dynamic(sim, scene, out, args, rank, ranks, t0, output, state)
+            return _run_static(sim, scene, out, args, rank, ranks, t0, output)
     except OutputFailure as err:
         _say(rank, f"slidebeam: error: {err}; the run stopped at t = {sim.t:.6g} and its results are incomplete",
              sys.stderr)

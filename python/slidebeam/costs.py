@@ -9,6 +9,8 @@ from __future__ import annotations
 import contextlib
 from typing import TYPE_CHECKING
 
+from .parallel import run_comm
+
 if TYPE_CHECKING:
     from .simulation import Simulation
 
@@ -40,8 +42,9 @@ def _perf(name: str) -> tuple[float, int]:
     from petsc4py import PETSc
 
     info = PETSc.Log.Event(name).getPerfInfo()
-    t = MPI.COMM_WORLD.allreduce(float(info["time"]), op=MPI.MAX)
-    n = MPI.COMM_WORLD.allreduce(int(info["count"]), op=MPI.MAX)
+    comm = run_comm()
+    t = comm.allreduce(float(info["time"]), op=MPI.MAX)
+    n = comm.allreduce(int(info["count"]), op=MPI.MAX)
     return t, n
 
 

@@ -18,6 +18,8 @@ import contextlib
 import signal
 from typing import Iterator
 
+from .parallel import run_comm
+
 _handled = (signal.SIGINT, signal.SIGTERM)
 _active = False
 
@@ -49,7 +51,7 @@ def requested(comm: object | None = None) -> int | None:
 
     from . import _core
 
-    comm = MPI.COMM_WORLD if comm is None else comm
+    comm = run_comm() if comm is None else comm
     mine = _core.stop_signal()
     if comm.Get_size() == 1:  # type: ignore[attr-defined]
         return mine or None

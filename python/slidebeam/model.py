@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from . import _core
 from .geometry import reference_coordinates
+from .parallel import run_comm
 from .resources import check_memory
 from .scene import Scene, SceneError
 
@@ -22,7 +23,9 @@ class EffectInfo:
 
 def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, list[EffectInfo]]:
     """Create and finalize the C++ model of a scene (collective over comm). A scene that cannot
-    fit in memory is refused first (SceneError, see resources.check_memory)."""
+    fit in memory is refused first (SceneError, see resources.check_memory). comm: an mpi4py
+    communicator (default: the run's, parallel.run_comm)."""
+    comm = run_comm() if comm is None else comm
     check_memory(scene, comm)
     model = _core.Model(comm)
     effects: list[EffectInfo] = []

@@ -28,6 +28,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
+from .parallel import run_comm
+
 # Read at PetscFinalize or at start-up only, or harmless: never "unused" in a useful sense.
 READ_AT_FINALIZE = frozenset("""
 options_left options_view options_monitor options_monitor_cancel options_file options_file_yaml
@@ -167,15 +169,13 @@ def _show_path(path: Path) -> str:
 
 def unused_options(scene=None, comm=None) -> list[UnusedOption]:
     """The options given to this run that no rank has read (collective over comm, default
-    COMM_WORLD). Given: on the command line, in its options files, in PETSC_OPTIONS or a
+    the run's: parallel.run_comm). Given: on the command line, in its options files, in PETSC_OPTIONS or a
     .petscrc (what the database held when remember_command_line was called) and the scene's
     [petsc] table and options file."""
-    from mpi4py import MPI
-
     from . import _core
     from .simulation import _scene_option_keys
 
-    comm = comm or MPI.COMM_WORLD
+    comm = comm or run_comm()
     left = {name.lower(): (name, value) for name, value in _core.options_left()}
     unread_everywhere = set(left)
     for other in comm.allgather(set(left)):

@@ -33,6 +33,7 @@ from pathlib import Path
 
 from .effect_tables import effect_specs
 from .scene import Scene, SceneError
+from .parallel import run_comm
 
 # Fits (bytes): director 6.0-6.3 kB per unknown serially, 7.0 kB on 2 ranks (sum over ranks);
 # ANCF cable 1.9-3.0 kB serially, 3.7 kB on 2 ranks; 1.0-1.1 kB per sample point.
@@ -166,12 +167,10 @@ def check_memory(scene: Scene, comm=None) -> Estimate:
     """Refuse (SceneError naming file, table and key) a scene whose estimate exceeds the memory
     its node has available, or whose unknowns PETSc's indices cannot count; else return the
     estimate for this rank's node. Collective over comm (an mpi4py communicator; default
-    COMM_WORLD when mpi4py is loaded): every rank refuses, with the same message."""
+    the run's, parallel.run_comm, when mpi4py is loaded): every rank refuses, with the same message."""
     if comm is None:
         try:
-            from mpi4py import MPI
-
-            comm = MPI.COMM_WORLD
+            comm = run_comm()
         except ImportError:
             comm = None
     ranks, local, _ = _node_layout(comm)

@@ -45,6 +45,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .parallel import run_comm
+
 if TYPE_CHECKING:
     from .dynamics import JointState
     from .simulation import Simulation
@@ -427,9 +429,7 @@ class XdmfOutput:
 
     def _raise_on_any_rank(self, error: str | None) -> None:
         """Only rank 0 writes, but every rank must stop: share its verdict."""
-        from mpi4py import MPI
-
-        comm = MPI.COMM_WORLD
+        comm = run_comm()
         if comm.Get_size() > 1:
             error = comm.bcast(error, root=0)
         if error:

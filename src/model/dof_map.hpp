@@ -15,6 +15,7 @@
 
 #include <petscsys.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace slidebeam {
@@ -24,8 +25,11 @@ class DofMap {
   DofMap() = default;
   /// coordinates[cp] and multipliers[cp]: sizes of the two parts of every control point's block;
   /// attached[cp]: extras anchored at cp (empty: none); n_extra: extras after all slots.
+  /// owners: how many ranks own unknowns (the first ones; 0: all `size`). A scene too small to
+  /// gain from distribution is owned by rank 0 alone: its solve is the serial one, the other
+  /// ranks hold nothing.
   DofMap(const std::vector<int>& coordinates, const std::vector<int>& multipliers, PetscInt n_extra, int rank,
-         int size, const std::vector<int>& attached = {});
+         int size, const std::vector<int>& attached = {}, int owners = 0);
 
   PetscInt n_cp() const { return n_cp_; }
   PetscInt n_extra() const { return n_extra_; }
@@ -52,14 +56,15 @@ class DofMap {
   bool owns_cp(PetscInt cp) const { return cp_owner(cp) == rank_; }
   int rank() const { return rank_; }
   int size() const { return size_; }
+  int owners() const { return owners_; }  ///< ranks that own unknowns (the first ones)
 
  private:
-  PetscInt cp_begin(int r) const { return (n_cp_ * r) / size_; }
+  PetscInt cp_begin(int r) const { return (n_cp_ * std::min(r, owners_)) / owners_; }
   std::vector<PetscInt> offset_{0};  // n_cp + 1 prefix sums of slot sizes
   std::vector<int> n_q_;             // coordinates per control point
   std::vector<int> n_lambda_;        // multipliers per control point
   PetscInt n_cp_ = 0, n_extra_ = 0, lo_ = 0, hi_ = 0;
-  int rank_ = 0, size_ = 1;
+  int rank_ = 0, size_ = 1, owners_ = 1;
 };
 
 }  // namespace slidebeam

@@ -2,6 +2,7 @@
 #include "model/model.hpp"
 
 #include "kernels/beam_kernels.hpp"
+#include "solvers/solver_options.hpp"
 
 #include "util/petsc_check.hpp"
 
@@ -95,7 +96,11 @@ void Model::finalize() {
       n_tail += n;
     }
   }
-  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached);
+  PetscInt total = n_tail;
+  for (size_t c = 0; c < coordinates.size(); ++c) total += coordinates[c] + multipliers[c] + attached[c];
+  // a model too small to gain from distribution is owned and solved by rank 0 alone
+  const PetscInt serial_below = core_options(comm_).serial_below;
+  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < serial_below ? 1 : 0);
   for (size_t k = 0; k < effects_.size(); ++k)
     if (effects_[k]->n_extra() > 0)
       effects_[k]->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]

@@ -113,10 +113,16 @@ PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
   KSP ksp = nullptr;
   PC pc = nullptr;
   PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPGMRES));
-  PetscCall(KSPGMRESSetRestart(ksp, 100));
-  // tight: Newton keeps its quadratic rate and the roundoff tests stay meaningful
-  PetscCall(KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500));
+  if (model.dof_map().size() > 1 && model.dof_map().owners() == 1) {
+    // a model owned by rank 0 alone (-sb_serial_below): its one block is the whole system,
+    // solved exactly: no Krylov iterations
+    PetscCall(KSPSetType(ksp, KSPPREONLY));
+  } else {
+    PetscCall(KSPSetType(ksp, KSPGMRES));
+    PetscCall(KSPGMRESSetRestart(ksp, 100));
+    // tight: Newton keeps its quadratic rate and the roundoff tests stay meaningful
+    PetscCall(KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500));
+  }
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(prepare_schwarz(pc, model, J, true));
   const bool asm_ = schwarz_overlap() > 0;

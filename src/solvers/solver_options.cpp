@@ -137,6 +137,9 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
   PetscCall(PetscOptionsInt("-sb_schwarz_overlap",
                             "Schwarz: 0 block Jacobi, one block per rank; 1 restricted additive Schwarz with overlap",
                             "", o->schwarz_overlap, &o->schwarz_overlap, nullptr));
+  PetscCall(PetscOptionsInt("-sb_serial_below",
+                            "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
+                            "", o->serial_below, &o->serial_below, nullptr));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }

@@ -59,6 +59,10 @@ struct CoreOptions {
   PetscBool schwarz = PETSC_FALSE;
   PetscBool schwarz_set = PETSC_FALSE;  // -sb_schwarz given (otherwise: the default of schwarz_requested)
   PetscInt schwarz_overlap = 0;
+  /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
+  /// Measured on 2 ranks (docs/performance.md): below about 10^3 unknowns the distributed
+  /// solve costs 1.4-6.6x the serial one; from 1.8 10^3 on it is faster.
+  PetscInt serial_below = 1500;
 };
 
 /// Read the -sb_ options (collective on comm).

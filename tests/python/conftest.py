@@ -20,6 +20,13 @@ petsc4py.init([])
 from mpi4py import MPI  # noqa: E402
 from petsc4py import PETSc  # noqa: E402, F401
 
+# Under mpirun the tests' scenes, small, would be owned by rank 0 alone (-sb_serial_below): the
+# rank-equality tests are about the distributed solve, so they distribute whatever the size.
+# test_parallel_small.py checks the one-owner layout itself.
+DISTRIBUTE = ("-sb_serial_below", "0")
+if MPI.COMM_WORLD.Get_size() > 1:
+    PETSc.Options().setValue(*DISTRIBUTE)
+
 
 def pytest_configure(config: pytest.Config) -> None:
     if MPI.COMM_WORLD.Get_size() > 1 and not config.option.basetemp:
@@ -55,6 +62,8 @@ def run_cli(tmp_path: Path):
         if np > 1:
             cmd = ["mpirun", "--oversubscribe", "-n", str(np), *cmd]
         env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_COMM", "PMIX", "OMPI_MCA_ess", "OMPI_FILE"))}
+        if np > 1 and not any("sb_serial_below" in a for a in args):
+            env["PETSC_OPTIONS"] = " ".join([env.get("PETSC_OPTIONS", ""), *DISTRIBUTE]).strip()
         return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd or tmp_path, env=env, timeout=timeout)
 
     return run

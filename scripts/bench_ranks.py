@@ -1,0 +1,66 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Shipped scenes on 1 and 2 ranks: the run's wall time (summary.json's wall_time_s, median of
+--repeat runs) serially, on 2 ranks with the default -sb_serial_below (small models owned by
+rank 0 alone) and on 2 ranks distributed (-sb_serial_below 0). Prints a Markdown table with the
+ratios to the serial time. Time it only on an otherwise idle machine.
+
+    scripts/bench_ranks.py                 # the default scenes, 3 runs each
+    scripts/bench_ranks.py --repeat 5 runs/cables/zip_line.toml
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = [("runs/seed/free_fall_1+4.toml", []), ("runs/hard/two_sliders.toml", []),
+          ("runs/cables/zip_line.toml", []), ("runs/effects/ropeway.toml", ["analysis.t_end=0.4"]),
+          ("runs/cables/ropeway.toml", ["analysis.t_end=0.4"]),
+          ("runs/hard/slider_skips_spans.toml", ["analysis.t_end=0.3"])]
+
+
+def run(scene: str, sets: list[str], ranks: int, petsc: list[str], work: Path) -> tuple[float, int]:
+    out = work / "out"
+    cmd = [str(ROOT / "scripts" / "slidebeam"), "run", str(ROOT / scene), "--out", str(out), "-q",
+           "--set", "output.xdmf=false", *[a for s in sets for a in ("--set", s)], *(["--", *petsc] if petsc else [])]
+    if ranks > 1:
+        cmd = ["mpirun", "--oversubscribe", "-n", str(ranks), *cmd]
+    env = {**os.environ, "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
+    subprocess.run(cmd, check=True, capture_output=True, env=env)
+    summary = json.loads((out / "summary.json").read_text())
+    return float(summary["wall_time_s"]), int(summary["unknowns"])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scenes", nargs="*", help="scene files (default: a set of shipped scenes)")
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    scenes = [(s, []) for s in args.scenes] or SCENES
+    print("| scene | unknowns | 1 rank, s | 2 ranks (default), s | ratio | 2 ranks distributed, s | ratio |")
+    print("|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        for scene, sets in scenes:
+            times = {}
+            unknowns = 0
+            for label, ranks, petsc in (("1", 1, []), ("2", 2, []), ("2d", 2, ["-sb_serial_below", "0"])):
+                samples = []
+                for _ in range(args.repeat):
+                    t, unknowns = run(scene, sets, ranks, petsc, work)
+                    samples.append(t)
+                times[label] = statistics.median(samples)
+            one = times["1"]
+            name = Path(scene).name + (f" ({', '.join(sets)})" if sets else "")
+            print(f"| {name} | {unknowns} | {one:.3g} | {times['2']:.3g} | {times['2'] / one:.2f} | "
+                  f"{times['2d']:.3g} | {times['2d'] / one:.2f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

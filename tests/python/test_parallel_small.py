@@ -1,0 +1,89 @@
+# SPDX-License-Identifier: MIT
+"""Small scenes under mpirun (-sb_serial_below): a model with fewer unknowns than the threshold is
+owned by rank 0 alone, its solve is the serial one (block Jacobi's one block, solved exactly,
+no Krylov iterations), and the run equals the serial run. Meaningful under mpirun -n 2."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from mpi4py import MPI
+
+import slidebeam
+from checks import distributed_and_serial_records
+from conftest import DISTRIBUTE
+from test_condensation import petsc_options
+
+ROOT = Path(__file__).resolve().parents[2]
+SEED = ROOT / "runs" / "seed" / "free_fall_1+4.toml"
+
+
+def seed() -> slidebeam.Scene:
+    return slidebeam.load_scene(SEED, ["analysis.t_end=0.1"])
+
+
+def test_a_small_model_is_owned_by_rank_0_alone():
+    with petsc_options(sb_serial_below="1500"):
+        sim = slidebeam.Simulation(seed(), MPI.COMM_WORLD)
+        lo, hi = sim.x.getOwnershipRange()
+        size = sim.x.getSize()
+        assert size < 1500
+        assert (lo, hi) == ((0, size) if MPI.COMM_WORLD.Get_rank() == 0 else (size, size))
+        pairs = distributed_and_serial_records(seed())
+        assert pairs
+
+
+def test_the_threshold_and_its_off_switch():
+    """At or above the threshold (here: 0, the tests' default under mpirun) every rank owns a part."""
+    with petsc_options(sb_serial_below="100"):  # the seed scene has 166 unknowns
+        sim = slidebeam.Simulation(seed(), MPI.COMM_WORLD)
+        lo, hi = sim.x.getOwnershipRange()
+        assert hi > lo or MPI.COMM_WORLD.Get_size() == 1
+    assert DISTRIBUTE == ("-sb_serial_below", "0")
+
+
+@pytest.mark.skip_in_parallel
+def test_small_scenes_under_mpirun_are_owned_by_rank_0(run_cli, tmp_path):
+    """The CLI on 2 ranks with the default threshold: the seed scene's history equals the serial one."""
+    common = ["--set", "analysis.t_end=0.1", "--set", "output.xdmf=false", "-q"]
+    one = run_cli("run", str(SEED), "--out", "one", *common)
+    two = run_cli("run", str(SEED), "--out", "two", *common, "--", "-sb_serial_below", "1500", np=2)
+    assert one.returncode == 0 and two.returncode == 0, two.stderr
+    from test_restart import rows
+
+    a, b = rows(tmp_path / "one" / "history.csv"), rows(tmp_path / "two" / "history.csv")
+    assert len(a) == len(b) > 5 and a[0].keys() == b[0].keys()
+    # the two solve paths stop at different Newton iterates, within the Newton tolerance (the
+    # reactions, from the multipliers, feel it most: 1e-9 N)
+    solver = {"reason", "newton_iterations", "residual_norm"}
+    for ra, rb in zip(a, b):
+        for key in ra.keys() - solver:
+            x, y = float(ra[key]), float(rb[key])
+            assert abs(x - y) <= 1e-8 * max(1.0, abs(x)), (ra["t"], key, x, y)
+
+
+@pytest.mark.skip_in_parallel
+def test_sigterm_to_mpirun_stops_a_run_on_rank_0_alone_cleanly(tmp_path):
+    """mpirun passes SIGTERM to every rank: the waiting rank ignores it, rank 0 stops after its
+    step and writes a consistent folder, and every rank ends."""
+    import json
+    import signal
+    import time
+
+    from test_faults import LONG, wait_for_steps
+
+    import os
+    import subprocess
+
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_COMM", "PMIX", "OMPI_MCA_ess", "OMPI_FILE"))}
+    proc = subprocess.Popen(["mpirun", "--oversubscribe", "-n", "2", str(ROOT / "scripts" / "slidebeam"), "run",
+                             str(ROOT / "runs" / "pendulum16.toml"), "--out", "o", *LONG, "--", "-sb_serial_below",
+                             "1500"], cwd=tmp_path, env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    wait_for_steps(proc)
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert "Traceback" not in err and "interrupted by SIGTERM" in err, err
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["complete"] is False and summary["stopped"].startswith("interrupted by SIGTERM")
+    assert (tmp_path / "o" / "checkpoint.h5").is_file() and (tmp_path / "o" / "history.csv").is_file()
