@@ -337,15 +337,9 @@ def main() -> int:
 
     petsc4py.init([sys.argv[0]])
     sys.path.insert(0, str(ROOT / "python"))
-    text = page()
-    if "--check" in sys.argv:
-        if OUT.read_text() != text:
-            print(f"{OUT.relative_to(ROOT)} is out of date: run scripts/api_reference.py", file=sys.stderr)
-            return 1
-        return 0
-    OUT.write_text(text)
-    print(f"wrote {OUT.relative_to(ROOT)}")
-    return 0
+    from generated_file import write_or_check
+
+    return write_or_check(OUT, page(), "api_reference.py", "--check" in sys.argv)
 
 
 if __name__ == "__main__":

@@ -174,15 +174,9 @@ def main() -> int:
     import petsc4py
 
     petsc4py.init([sys.argv[0]])
-    text = stub()
-    if "--check" in sys.argv:
-        if OUT.read_text() != text:
-            print(f"{OUT.relative_to(ROOT)} is out of date: run scripts/core_stubs.py", file=sys.stderr)
-            return 1
-        return 0
-    OUT.write_text(text)
-    print(f"wrote {OUT.relative_to(ROOT)}")
-    return 0
+    from generated_file import write_or_check
+
+    return write_or_check(OUT, stub(), "core_stubs.py", "--check" in sys.argv)
 
 
 if __name__ == "__main__":

@@ -160,16 +160,9 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true", help="exit 1 if docs/scene-reference.md is out of date")
     args = ap.parse_args()
-    text = render()
-    if args.check:
-        current = OUT.read_text() if OUT.is_file() else ""
-        if current != text:
-            print(f"{OUT.relative_to(ROOT)} is out of date: run scripts/scene_reference.py", file=sys.stderr)
-            return 1
-        return 0
-    OUT.write_text(text)
-    print(f"wrote {OUT.relative_to(ROOT)}")
-    return 0
+    from generated_file import write_or_check
+
+    return write_or_check(OUT, render(), "scene_reference.py", args.check)
 
 
 if __name__ == "__main__":

@@ -307,19 +307,14 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     start_logging()
     from mpi4py import MPI
 
-    from .results import prepare_output_dir
+    from .results import prepare_output_dir_on
 
     check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     comm = MPI.COMM_WORLD
-    error = None
-    if rank == 0:
-        try:
-            prepare_output_dir(out)
-        except OSError as err:
-            error = str(err)
-    error = comm.bcast(error, root=0)
-    if error:
-        _say(rank, f"slidebeam: error: {error}", sys.stderr)
+    try:
+        prepare_output_dir_on(comm, out)
+    except OSError as err:
+        _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
 
     if comm.Get_size() > 1 and estimate(scene).unknowns < serial_below():

@@ -230,8 +230,12 @@ def _rank(sim: Simulation) -> int:
 
 
 def _prepare(sim: Simulation, folder: Path) -> None:
-    """Create the folder on rank 0; raise OSError on every rank if it is not writable."""
-    comm = sim.x.getComm().tompi4py()
+    prepare_output_dir_on(sim.x.getComm().tompi4py(), folder)
+
+
+def prepare_output_dir_on(comm, folder: Path) -> None:
+    """Create the folder on rank 0 of comm (an mpi4py communicator); raise OSError on every rank
+    if it is not writable (collective)."""
     error = None
     if comm.Get_rank() == 0:
         try:

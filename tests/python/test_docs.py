@@ -9,6 +9,7 @@ import re
 import subprocess
 import sys
 import unicodedata
+from collections.abc import Iterator
 from pathlib import Path
 from urllib.parse import unquote
 
@@ -31,8 +32,8 @@ def _tracked_files() -> list[Path]:
                 and not {".git", "build", "__pycache__"} & set(p.relative_to(ROOT).parts)]
 
 
-def test_no_file_points_outside_the_repository():
-    hits = []
+def _text_lines() -> Iterator[tuple[Path, int, str]]:
+    """(file, line number, line) of every tracked text file."""
     for path in _tracked_files():
         if path.suffix in BINARY or not path.is_file():
             continue
@@ -41,9 +42,15 @@ def test_no_file_points_outside_the_repository():
         except UnicodeDecodeError:
             continue
         for n, line in enumerate(text.splitlines(), 1):
-            for name in OUTSIDE:
-                if name in line:
-                    hits.append(f"{path.relative_to(ROOT)}:{n}: {name}")
+            yield path, n, line
+
+
+def test_no_file_points_outside_the_repository():
+    hits = []
+    for path, n, line in _text_lines():
+        for name in OUTSIDE:
+            if name in line:
+                hits.append(f"{path.relative_to(ROOT)}:{n}: {name}")
     assert not hits, "files point to notes outside the repository (use docs/theory.md or docs/verification.md):\n" \
         + "\n".join(hits)
 
@@ -147,20 +154,13 @@ def test_sections_named_in_files_exist():
     """A comment or docstring that names a section (docs/theory.md, "The schemes") names one
     that exists: some heading of that file begins with the name."""
     broken = []
-    for path in _tracked_files():
-        if path.suffix in BINARY or not path.is_file():
-            continue
-        try:
-            text = path.read_text()
-        except UnicodeDecodeError:
-            continue
-        for n, line in enumerate(text.splitlines(), 1):
-            for doc, name in SECTION_REF.findall(line):
-                target = ROOT / "docs" / doc
-                if not target.is_file():
-                    broken.append(f"{path.relative_to(ROOT)}:{n}: docs/{doc} does not exist")
-                elif not any(h.startswith(name) for h in _headings(target)):
-                    broken.append(f"{path.relative_to(ROOT)}:{n}: docs/{doc} has no section \"{name}\"")
+    for path, n, line in _text_lines():
+        for doc, name in SECTION_REF.findall(line):
+            target = ROOT / "docs" / doc
+            if not target.is_file():
+                broken.append(f"{path.relative_to(ROOT)}:{n}: docs/{doc} does not exist")
+            elif not any(h.startswith(name) for h in _headings(target)):
+                broken.append(f"{path.relative_to(ROOT)}:{n}: docs/{doc} has no section \"{name}\"")
     assert not broken, "\n".join(broken)
 
 
