@@ -140,6 +140,35 @@ TEST(Model, DofMapCoversEveryUnknownOnce) {
   }
 }
 
+TEST(Model, DofMapWithFewerOwnersThanRanks) {
+  // owners = 1 (a small model under mpirun): rank 0 holds every unknown, extras included; the
+  // other ranks hold nothing; the same numbering as the even split. Checked for 1 to 4 ranks.
+  const int n_cp = 7;
+  const std::vector<int> nq(n_cp, 12), nl(n_cp, 6);
+  for (int size = 1; size <= 4; ++size) {
+    for (int owners : {1, 2}) {
+      if (owners > size) continue;
+      PetscInt total = 0, lo_expected = 0;
+      for (int r = 0; r < size; ++r) {
+        DofMap d(nq, nl, 5, r, size, {}, owners);
+        DofMap even(nq, nl, 5, r, size);
+        EXPECT_EQ(d.owners(), owners);
+        EXPECT_EQ(d.owned_lo(), lo_expected);  // contiguous, in rank order
+        lo_expected = d.owned_hi();
+        total += d.local_size();
+        if (r >= owners) EXPECT_EQ(d.local_size(), 0);
+        for (PetscInt cp = 0; cp < n_cp; ++cp) {
+          EXPECT_EQ(d.q(cp, 3), even.q(cp, 3));
+          EXPECT_LT(d.cp_owner(cp), owners);
+          if (d.owns_cp(cp)) EXPECT_TRUE(d.q(cp, 0) >= d.owned_lo() && d.q(cp, 17) < d.owned_hi());
+        }
+        if (r == owners - 1) EXPECT_EQ(d.owned_hi(), 18 * n_cp + 5);  // the extras on the last owner
+      }
+      EXPECT_EQ(total, 18 * n_cp + 5);
+    }
+  }
+}
+
 TEST(Model, DofMapMixedBlockSizes) {
   // Director control points (12 + 6) and ANCF nodes (6 + 0) in one numbering: blocks are
   // contiguous, multipliers follow the coordinates, extras follow all blocks.
