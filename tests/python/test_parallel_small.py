@@ -87,3 +87,26 @@ def test_sigterm_to_mpirun_stops_a_run_on_rank_0_alone_cleanly(tmp_path):
     summary = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert summary["complete"] is False and summary["stopped"].startswith("interrupted by SIGTERM")
     assert (tmp_path / "o" / "checkpoint.h5").is_file() and (tmp_path / "o" / "history.csv").is_file()
+
+
+@pytest.mark.skip_in_parallel
+def test_a_checkpoint_of_a_run_on_rank_0_alone_restarts_distributed(run_cli, tmp_path):
+    """Rank 0 alone writes the checkpoint with its own communicator; a distributed restart on 2
+    ranks reads it and goes on as the serial run that never stopped (to 1e-8: the solve paths
+    differ)."""
+    from test_restart import rows
+
+    common = ["-q", "--set", "output.every=10", "--set", "output.xdmf=false"]
+    first = run_cli("run", str(SEED), "--out", "parts", *common, "--set", "analysis.t_end=0.1",
+                    "--", "-sb_serial_below", "1500", np=2)
+    assert first.returncode == 0 and "rank 0 runs the scene alone" in first.stdout, first.stderr
+    second = run_cli("run", str(SEED), "--restart", "parts/checkpoint.h5", *common, "--set", "analysis.t_end=0.2",
+                     np=2)  # (run_cli distributes under mpirun: -sb_serial_below 0)
+    assert second.returncode == 0 and "rank 0 runs the scene alone" not in second.stdout, second.stderr
+    whole = run_cli("run", str(SEED), "--out", "whole", *common, "--set", "analysis.t_end=0.2")
+    assert whole.returncode == 0, whole.stderr
+    a, b = rows(tmp_path / "whole" / "history.csv"), rows(tmp_path / "parts" / "history.csv")
+    assert len(a) == len(b) == 21
+    for ra, rb in zip(a, b):
+        for key in ("total_energy", "kinetic_energy", "CM@1.x", "CM@1.z", "CM_on_AB.s"):
+            assert abs(float(ra[key]) - float(rb[key])) <= 1e-8 * max(1.0, abs(float(ra[key]))), (ra["t"], key)
