@@ -7,6 +7,7 @@ import re
 from dataclasses import dataclass
 
 from . import _core
+from .effect_tables import effect_specs
 from .geometry import reference_coordinates
 from .parallel import run_comm
 from .resources import check_memory
@@ -57,7 +58,10 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
         add("director_constraints", f"director_constraints[{b.name}]", {"beam": b.index})
         if dynamic:
             add("beam_inertia", f"beam_inertia[{b.name}]", {"beam": b.index})
-    for entry in scene.effects:  # the scene's effect tables, from the core's registry
+    # The scene's effect tables, from the core's registry, in file order but constraints
+    # (supports, joints) first: an effect that acts on a joint (friction, a drive) finds it made.
+    specs = effect_specs()
+    for entry in sorted(scene.effects, key=lambda e: specs[e.type].role != "constraint"):
         try:
             add(entry.type, entry.label, entry.num, entry.vec, entry.text)
         except _core.ParamError as exc:  # refused by the effect: name the entry and the key

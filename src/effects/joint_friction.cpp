@@ -39,7 +39,7 @@ class JointFriction final : public Effect {
   std::string label() const override { return label_; }
 
   void distribute(const Model& m) override {
-    // the sliding joint whose slider is this beam (joints are created before the table effects)
+    // the sliding joint whose slider is this beam (the model creates constraints first: model.py)
     for (const auto& e : m.effects()) {
       if (e.get() == this) break;
       if (e->slider_beam() == slider_) joint_ = e.get();

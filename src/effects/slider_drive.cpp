@@ -50,7 +50,7 @@ class SliderDrive final : public Effect {
   bool time_dependent() const override { return true; }
 
   void distribute(const Model& m) override {
-    // the sliding joint whose slider is this beam (created before the drives)
+    // the sliding joint whose slider is this beam (the model creates constraints first: model.py)
     for (const auto& e : m.effects()) {
       if (e.get() == this) break;
       if (e->slider_beam() == slider_) joint_ = e.get();

@@ -138,3 +138,20 @@ def test_friction_is_validated(root, friction, words):
     with pytest.raises((ValueError, slidebeam.SceneError), match=words):
         slidebeam.Simulation(slidebeam.scene_from_dict(data, file=str(root / BLOCK),
                                                        base_dir=str(root / "runs" / "effects")))
+
+
+def test_friction_written_before_its_sliding_joint(root):
+    """The tables' order in the file does not matter: [[friction]] (and [[slider_drive]]) above
+    the [[sliding_joint]] they act on find it, and the run is the same."""
+    scene = block(root, mu=0.3, regularization=1e-3, t_end=0.05)
+    first = {"friction": scene.data["friction"],
+             "slider_drive": [{"beam": "block", "speed": 0.1, "start": 0.01, "stop": 0.04, "ramp": 0.01}],
+             **{k: v for k, v in scene.data.items() if k != "friction"}}
+    last = {**{k: v for k, v in first.items() if k not in ("friction", "slider_drive")},
+            "friction": first["friction"], "slider_drive": first["slider_drive"]}
+    assert list(first)[0] == "friction" and list(last)[-1] == "slider_drive"
+    runs = []
+    for data in (first, last):
+        sc = slidebeam.scene_from_dict(data, file=str(root / BLOCK), base_dir=str(root / "runs" / "effects"))
+        runs.append(s_history(sc)[1])
+    assert np.array_equal(runs[0], runs[1]) and runs[0][-1] != runs[0][0]
