@@ -239,6 +239,8 @@ PYBIND11_MODULE(_core, m) {
         "a solver's prefix (sb_static_snes_rtol) when it was created");
   m.attr("SOLVER_PREFIXES") = py::dict(py::arg("static") = kStaticPrefix, py::arg("equilibrium") = kEquilibriumPrefix,
                                        py::arg("time_steps") = kStepPrefix, py::arg("mass") = kMassPrefix);
+  // -sb_serial_below's default: the CLI decides by it before any model exists
+  m.attr("SERIAL_BELOW") = CoreOptions{}.serial_below;
 
   py::class_<EquilibriumResult>(m, "EquilibriumResult")
       .def_readonly("converged", &EquilibriumResult::converged)

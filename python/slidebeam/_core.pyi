@@ -107,6 +107,8 @@ class ParamError(ValueError): ...
 
 class PetscFailure(RuntimeError): ...
 
+SERIAL_BELOW: int  # = 1500
+
 SOLVER_PREFIXES: dict[str, str]  # = {'static': 'sb_static_', 'equilibrium': 'sb_eq_', 'time_steps': 'sb_ts_', 'mass': 'sb_mass_'}
 
 class SolveResult:

@@ -17,13 +17,13 @@ import warnings
 from pathlib import Path
 
 from . import interrupts
-from .effect_tables import effect_specs
+from .effect_tables import table_specs
 from .scene import Scene, SceneError, load_scene, scene_from_dict
 from .checkpoint import CheckpointError
 from .costs import output_phase
 from . import options_check
 from .parallel import release_waiting_ranks, running_alone, serial_below
-from .resources import check_memory, estimate, memory_line, size_text
+from .resources import check_memory, constraint_entries, estimate, memory_line, size_text
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
@@ -108,7 +108,8 @@ def _describe(scene: Scene) -> str:
             continue
         lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} span{'' if b.spans == 1 else 's'}, "
                      f"{b.quadrature} quadrature, {b.strain} strains")
-    lines.append("  " + (", ".join(f"{n} [[{table}]]" if n != 1 or table not in _single_tables(scene) else f"[{table}]"
+    specs = table_specs()
+    lines.append("  " + (", ".join(f"[{table}]" if specs[table][0].single else f"{n} [[{table}]]"
                                    for table, n in _table_counts(scene).items()) or "no effect tables"))
     return "\n".join(lines)
 
@@ -119,10 +120,6 @@ def _table_counts(scene: Scene) -> dict[str, int]:
     for e in scene.effects:
         counts[e.table] = counts.get(e.table, 0) + 1
     return counts
-
-
-def _single_tables(scene: Scene) -> set[str]:
-    return {table for table in _table_counts(scene) if isinstance(scene.data.get(table), dict)}
 
 
 def _effects_line(effects) -> str:
@@ -175,8 +172,7 @@ def _finish_costs(sim, summary: dict, t0: float, rank: int, quiet: bool) -> None
 
 def _history_row_bytes(scene: Scene) -> int:
     """history.csv per record: ~25 characters a value (repr of a float and a comma)."""
-    constraints = sum(1 for e in scene.effects if effect_specs()[e.type].role == "constraint")
-    values = 25 + 3 * len(scene.output.track) + 6 * constraints  # a joint's s, rate, reaction; a support's reaction
+    values = 25 + 3 * len(scene.output.track) + 6 * constraint_entries(scene)  # a joint's s, rate, reaction; a support's reaction
     return 25 * values
 
 
@@ -317,10 +313,9 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
 
-    if comm.Get_size() > 1 and estimate(scene).unknowns < serial_below():
+    if comm.Get_size() > 1 and (unknowns := estimate(scene).unknowns) < (below := serial_below()):
         # too small to gain from distribution: rank 0 runs it alone, the others wait
-        _say(rank, f"{estimate(scene).unknowns} unknowns or fewer (below -sb_serial_below {serial_below()}): "
-                   f"rank 0 runs the scene alone")
+        _say(rank, f"{unknowns} unknowns or fewer (below -sb_serial_below {below}): rank 0 runs the scene alone")
         if rank != 0:
             _wait_for_rank_0(comm)
             return EXIT_OK

@@ -59,6 +59,7 @@ class EffectEntry:
     table: str = ""
     index: int = 0     # the entry's number in its table, from 0
     variant: str = ""
+    place: str = ""    # how messages name the entry: "[[support]] #2", "[gravity]"
     num: dict[str, float] = field(default_factory=dict)
     vec: dict[str, list[float]] = field(default_factory=dict)
     text: dict[str, str] = field(default_factory=dict)

@@ -66,18 +66,12 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             add(entry.type, entry.label, entry.num, entry.vec, entry.text)
         except _core.ParamError as exc:  # refused by the effect: name the entry and the key
             key, message = exc.args
-            raise SceneError(message, scene.file, _entry_label(scene, entry), key) from exc
+            raise SceneError(message, scene.file, entry.place, key) from exc
     try:
         model.finalize()
     except ValueError as exc:
         raise _placement_error(scene, str(exc)) from exc
     return model, effects
-
-
-def _entry_label(scene: Scene, entry) -> str:
-    """How error messages name an entry: [table] for a single table, [[table]] #n otherwise."""
-    single = isinstance(scene.data.get(entry.table), dict)
-    return f"[{entry.table}]" if single else f"[[{entry.table}]] #{entry.index + 1}"
 
 
 def _placement_error(scene: Scene, message: str) -> Exception:

@@ -8,7 +8,6 @@ import contextlib
 from collections.abc import Iterator
 from typing import Any
 
-SERIAL_BELOW = 1500  # the core's default of -sb_serial_below (src/solvers/solver_options.hpp)
 _run_comm: Any = None
 
 
@@ -66,4 +65,6 @@ def serial_below() -> int:
     """-sb_serial_below: a model with fewer unknowns runs on one rank (0: always distribute)."""
     from petsc4py import PETSc
 
-    return int(PETSc.Options().getInt("sb_serial_below", SERIAL_BELOW))
+    from . import _core
+
+    return int(PETSc.Options().getInt("sb_serial_below", _core.SERIAL_BELOW))

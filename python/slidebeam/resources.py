@@ -87,6 +87,12 @@ def recorded_steps(scene: Scene) -> tuple[int | float, str]:
     return steps / max(1, scene.output.every) + 2, "dt"
 
 
+def constraint_entries(scene: Scene) -> int:
+    """Entries whose effect is a constraint (supports, joints): each adds a few multipliers, and
+    a reaction or joint state to every record."""
+    return sum(1 for e in scene.effects if effect_specs()[e.type].role == "constraint")
+
+
 def estimate(scene: Scene, ranks: int = 1, ranks_on_node: int | None = None) -> Estimate:
     """The memory `scene` needs on one node where `ranks_on_node` of the run's `ranks` ranks
     run (default: all of them). Plain integer arithmetic: no size overflows it."""
@@ -102,7 +108,7 @@ def estimate(scene: Scene, ranks: int = 1, ranks_on_node: int | None = None) -> 
         parts.append(Part(_beam_table(b), "spans", math.ceil(n * BYTES_PER_UNKNOWN[b.formulation] * share),
                           f"{b.spans} spans ({n} unknowns)"))
     # joints and supports: a few multipliers each (their memory is in the beams' margin)
-    constraints = sum(1 for e in scene.effects if effect_specs()[e.type].role == "constraint")
+    constraints = constraint_entries(scene)
     unknowns += constraints * UNKNOWNS_PER_EXTRA
     parts.append(Part("[output]", "samples_per_span", samples * BYTES_PER_SAMPLE * local,
                       f"{samples} output sample points"))

@@ -312,7 +312,7 @@ class Scene:
     @functools.cached_property
     def supports(self) -> tuple[Support, ...]:
         """The [[support]] entries (type: the entry's variant)."""
-        return tuple(Support(e.variant, int(e.num["beam"]), e.num.get("s")) for e in self.entries("support"))
+        return _supports(self.effects)
 
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
@@ -583,10 +583,14 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
     )
 
 
+def _supports(entries: tuple[EffectEntry, ...]) -> tuple[Support, ...]:
+    return tuple(Support(e.variant, int(e.num["beam"]), e.num.get("s")) for e in entries if e.table == "support")
+
+
 def _support_warnings(entries: tuple[EffectEntry, ...], beams: tuple[Beam, ...]) -> tuple[str, ...]:
     """Supports that repeat what another already holds: allowed (the motion is the same), but
     both report the reaction of the point they share, so the reactions count it twice."""
-    supports = [Support(e.variant, int(e.num["beam"]), e.num.get("s")) for e in entries if e.table == "support"]
+    supports = _supports(entries)
     holds = {"fixed": 3, "clamp": 2, "spherical": 1}  # fixed holds everything, a clamp a spherical's point
     out = []
     for j, b in enumerate(supports):
@@ -804,7 +808,7 @@ def _non_negative_integer(t: _Table, key: str) -> int:
 
 def _parse_track_point(t: _Table, beams: tuple[Beam, ...]) -> TrackPoint:
     t.check_keys(_TRACK_KEYS)
-    index = _beam_ref(t, beams)
+    index = _named_beam(t, "beam", beams)
     return TrackPoint(index, _parse_at(t, beams[index].geometry.length))
 
 
@@ -1067,15 +1071,6 @@ def circle_properties(r: float) -> tuple[float, float, float, float]:
 # beam points ([output] track, effect tables)
 
 
-def _beam_ref(t: _Table, beams: tuple[Beam, ...]) -> int:
-    name = t.string("beam")
-    for beam in beams:
-        if beam.name == name:
-            return beam.index
-    names = ", ".join(b.name for b in beams)
-    raise t.error("beam", f"beam '{name}' does not exist (beams: {names}){_did_you_mean(name, [b.name for b in beams])}")
-
-
 def _parse_at(t: _Table, length: float, key: str = "at", value: Any = _MISSING) -> float:
     """'start' | 'end' | arc length in [0, L] -> arc length s."""
     if value is _MISSING:
@@ -1182,8 +1177,9 @@ def _time_table(t: _Table, base_dir: str) -> tuple[tuple[float, ...], tuple[floa
     return tuple(times), tuple(values)
 
 
-def _named_beam(t: _Table, key: str, beams: tuple[Beam, ...]) -> int:
-    name = t.string(key)
+def _named_beam(t: _Table, key: str, beams: tuple[Beam, ...], name: str | None = None) -> int:
+    """The index of the beam that key names (or `name`, one of the names key lists)."""
+    name = t.string(key) if name is None else name
     for beam in beams:
         if beam.name == name:
             return beam.index
@@ -1334,7 +1330,7 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
             raise t.error(p.key, f"internal: unknown parameter kind '{p.kind}'")
     where = " on ".join(label_parts.values())
     return EffectEntry(spec.type, f"{spec.type}[{where}]" if where else spec.type, spec.table, index, spec.variant,
-                       num, vec, text)
+                       t.label, num, vec, text)
 
 
 def _bounded_number(t: _Table, p: ParamSpec, value: Any) -> float:
@@ -1386,12 +1382,9 @@ def _parse_beam_pair(t: _Table, p: ParamSpec, beams: tuple[Beam, ...], spec: Eff
     names = t.raw(p.key)
     if not (isinstance(names, list) and len(names) == p.size and all(isinstance(n, str) for n in names)):
         raise t.error(p.key, f"must be {p.size} beam names, e.g. [\"leg1\", \"leg2\"], got {_show(names)}")
-    known = [b.name for b in beams]
     out = []
     for name in names:
-        if name not in known:
-            raise t.error(p.key, f"beam '{name}' does not exist (beams: {', '.join(known)}){_did_you_mean(name, known)}")
-        out.append(known.index(name))
+        out.append(_named_beam(t, p.key, beams, name))
         _check_formulation(t, p.key, beams[out[-1]], p, spec)
     if len(set(out)) < len(out):
         raise t.error(p.key, f"needs {p.size} different beams, got {_show(names)}")

@@ -48,13 +48,19 @@ ManifoldNewton::ManifoldNewton(const Model& model, SNES snes) : snes_(snes) {
 
 ManifoldNewton::~ManifoldNewton() { VecDestroy(&x_start_); }
 
+PetscErrorCode ManifoldNewton::reset_pc(KSP* ksp, PC* pc) const {
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(snes_, ksp));
+  PetscCall(KSPGetPC(*ksp, pc));
+  PetscCall(PCReset(*pc));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ManifoldNewton::use_condensed() {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
   PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes_, &ksp));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCReset(pc));
+  PetscCall(reset_pc(&ksp, &pc));
   PetscCall(condensation_->attach(snes_));  // PC shell (condensed LU) and the manifold line search
   condensed_ = true;
   PetscFunctionReturn(0);
@@ -64,9 +70,7 @@ PetscErrorCode ManifoldNewton::use_full_lu() {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
   PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes_, &ksp));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCReset(pc));
+  PetscCall(reset_pc(&ksp, &pc));
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(PCSetType(pc, PCLU));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERSUPERLU));

@@ -59,6 +59,8 @@ class ManifoldNewton {
   SolveResult solve(Vec x, bool pivoting = false);
 
  private:
+  /// The SNES's KSP and PC, the PC's set-up dropped (before another solver takes over).
+  PetscErrorCode reset_pc(KSP* ksp, PC* pc) const;
   PetscErrorCode use_condensed();
   PetscErrorCode use_full_lu();
   SolveResult attempt(Vec x, PetscInt max_it);
