@@ -256,6 +256,9 @@ PYBIND11_MODULE(_core, m) {
       .def(py::init<Model&>(), py::arg("model"), py::keep_alive<1, 2>())
       .def("set_held", &EquilibriumSolver::set_held, py::arg("rows"),
            "global unknowns kept at their current values (held sliding coordinates)")
+      .def("set_bounds", &EquilibriumSolver::set_bounds, py::arg("rows"), py::arg("lo"), py::arg("hi"),
+           "global unknowns that must stay within [lo, hi] (free sliders' s within their carriers): a "
+           "continuation step or polish leaving the range is rejected")
       .def("solve", &EquilibriumSolver::solve, py::arg("t"), py::arg("h0"), py::arg("rtol") = 1e-10,
            py::arg("max_steps") = 200,
            "pseudo-transient continuation to static equilibrium from the model's current state (collective)")

@@ -191,6 +191,9 @@ class Simulation:
         solver = _core.EquilibriumSolver(self._model)
         held = [self.sliding_coordinate_index(k) for k, j in enumerate(self.scene.sliding_joints) if j.static == "held"]
         solver.set_held(held)
+        free = [k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"]
+        solver.set_bounds([self.sliding_coordinate_index(k) for k in free], [0.0] * len(free),
+                          [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in free])
         result = solver.solve(0.0, self.scene.analysis.dt)
         self.settled = result
         if not result.converged:

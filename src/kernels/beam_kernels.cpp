@@ -232,8 +232,12 @@ Mat3El gamma_gradient(const StrainTable& T, const GaussPoint& gp, const VecZ& z)
 StrainTable point_table(const StrainTable& T, const GaussPoint& gp) {
   if (!gp.corrected || &T != &kSimoReissner) return T;
   StrainTable Tc = T;
-  // Gamma_i -= 1/2 (d_i . d_1 - delta_i1): the interpolated directors' stretch S = 1/2 (D^T D - I)
-  for (int i = 0; i < 3; ++i) Tc[i].terms[Tc[i].n_terms++] = {kD1 + i, kD1, -0.5};
+  // The axial strain of the centre line, 1/2 (phi'.phi' - 1): no directors in it. With the shear
+  // strains enforced only through knot means, d1 . phi' - 1 would let a tensioned rope lengthen
+  // without strain by turning its triads to and fro between control points (theory.md).
+  Tc[0] = {1, {{{kPhiS, kPhiS, 0.5}, {0, 0, 0.0}}}};
+  // Gamma_i -= 1/2 d_i . d_1 (i = 2, 3): the interpolated directors' shear S_1i of S = 1/2 (D^T D - I)
+  for (int i = 1; i < 3; ++i) Tc[i].terms[Tc[i].n_terms++] = {kD1 + i, kD1, -0.5};
   // K_i += v (the same form in d', d''): the curvature lost to the shrinkage, v |K|^2 K
   for (int i = 3; i < 6; ++i)
     for (int t = 0; t < T[i].n_terms; ++t)
@@ -348,15 +352,17 @@ struct SeedForms {
   }
 };
 
-// The director-interpolation correction of point_table, added to the Simo-Reissner strains and
-// their weighted gradient (written out like the forms above; v per point).
+// What point_table changes in the Simo-Reissner strains of a corrected point (the centre line's
+// axial strain, the director-interpolation correction) and in their weighted gradient, written
+// out like the forms above (v per point).
 struct DirectorCorrection {
   template <class T>
   static void strains(const T* z, const T& v, T* e) {
     const T *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
     const T *f1 = z + 3 * kD1SS, *f2 = z + 3 * kD2SS, *f3 = z + 3 * kD3SS;
-    e[0] -= 0.5 * dot3(d1, d1);
+    const T* p = z + 3 * kPhiS;
+    e[0] = 0.5 * dot3(p, p);
     e[1] -= 0.5 * dot3(d2, d1);
     e[2] -= 0.5 * dot3(d3, d1);
     e[3] += 0.5 * v * (dot3(e3, f2) - dot3(e2, f3));
@@ -370,8 +376,10 @@ struct DirectorCorrection {
     const T *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
     const T *f1 = z + 3 * kD1SS, *f2 = z + 3 * kD2SS, *f3 = z + 3 * kD3SS;
+    const T* p = z + 3 * kPhiS;
     for (int c = 0; c < 3; ++c) {
-      g[3 * kD1 + c] -= s[0] * d1[c] + g1 * d2[c] + g2 * d3[c];
+      g[3 * kPhiS + c] += s[0] * (p[c] - d1[c]);
+      g[3 * kD1 + c] -= s[0] * p[c] + g1 * d2[c] + g2 * d3[c];
       g[3 * kD2 + c] -= g1 * d1[c];
       g[3 * kD3 + c] -= g2 * d1[c];
       g[3 * kD1S + c] += h4 * f3[c] - h5 * f2[c];

@@ -115,10 +115,11 @@ constexpr int kSpanLanes = 4;  ///< at most this many quadrature points per span
 MatZEl field_map(const GaussPoint& gp);
 
 /// The strain table at a quadrature point. The measure's own table, except for corrected points of
-/// the Simo-Reissner measure, where it compensates to leading order the stretch of directors
-/// interpolated between orthonormal control points (theory.md, "director interpolation"):
-///   Gamma_i - 1/2 (d_i . d_1 - delta_i1)  and  K_i + v K_i(d', d''),
-/// K_i(d', d'') being the curvature form with d' in place of d and d'' in place of d'. Both are
+/// the Simo-Reissner measure (assumed strains), where the axial strain is the centre line's,
+/// 1/2 (phi'.phi' - 1), and the shear and curvature compensate to leading order the stretch of
+/// directors interpolated between orthonormal control points (theory.md, "director interpolation"):
+///   Gamma_i - 1/2 d_i . d_1 (i = 2, 3)  and  K_i + v K_i(d', d''),
+/// K_i(d', d'') being the curvature form with d' in place of d and d'' in place of d'. All are
 /// still quadratic forms in the coordinates and objective, so everything built on the tables
 /// (exact energy-momentum, frame indifference, the exact tangent) holds unchanged.
 StrainTable point_table(const StrainTable& T, const GaussPoint& gp);

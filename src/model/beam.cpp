@@ -124,7 +124,20 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
       for (int blk = 0; blk < 4; ++blk) f[blk] += b.N[a] * qe.segment<3>(12 * a + 3 * blk);
       if (!q_dot.empty()) vel += b.N[a] * Eigen::Map<const Eigen::Vector3d>(q_dot.data() + 12 * (b.span + a));
     }
-    const Eigen::Vector3d n_sp = sigma(0) * f[1] + sigma(1) * f[2] + sigma(2) * f[3];
+    // n = dW/dphi' = sum_k sigma_k d eps_k / dphi' (sigma_0 d1 + sigma_1 d2 + sigma_2 d3 for the
+    // Simo-Reissner strains; sigma_0 phi' + ... where the axial strain is the centre line's)
+    const kernels::VecZ z = kernels::field_map(gp) * qe;
+    Eigen::Vector3d n_sp = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+      for (int t = 0; t < T[k].n_terms; ++t) {
+        const auto& term = T[k].terms[static_cast<size_t>(t)];
+        if (term.a == kernels::kPhiS) n_sp += sigma(k) * term.c * z.segment<3>(3 * term.b);
+        if (term.b == kernels::kPhiS) n_sp += sigma(k) * term.c * z.segment<3>(3 * term.a);
+      }
+    // the axial force: the resultant's component along the axial strain's direction (d1, or the
+    // centre line's tangent)
+    const bool centre_line_axial = T[0].n_terms == 1 && T[0].terms[0].a == kernels::kPhiS && T[0].terms[0].b == kernels::kPhiS;
+    const double axial_force = centre_line_axial ? sigma(0) * z.segment<3>(3 * kernels::kPhiS).norm() : sigma(0);
     const Eigen::Vector3d m_sp = sigma(3) * f[1] + sigma(4) * f[2] + sigma(5) * f[3];
     auto put = [i](std::vector<double>& v, const Eigen::Vector3d& x) {
       for (int k = 0; k < 3; ++k) v[static_cast<size_t>(3 * i + k)] = x(k);
@@ -136,7 +149,7 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     put(out.velocity, vel);
     put(out.force, n_sp);
     put(out.moment, m_sp);
-    out.tension[static_cast<size_t>(i)] = sigma(0);
+    out.tension[static_cast<size_t>(i)] = axial_force;
     for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
   }
   return out;
@@ -208,8 +221,8 @@ BeamSamples Beam::sample_ancf(const std::vector<double>& q, const std::vector<do
     put(out.position, c.r);
     if (!q_dot.empty()) put(out.velocity, ancf::interpolate(c.basis.S, slice(q_dot)));
     put(out.d1, t);
-    put(out.force, sec.EA * eps * t);
-    out.tension[static_cast<size_t>(i)] = sec.EA * eps;
+    put(out.force, sec.EA * eps * c.dr);  // dW/dr' of W = EA/2 eps^2
+    out.tension[static_cast<size_t>(i)] = sec.EA * eps * stretch;
     put(out.moment, sec.EI * c.dr.cross(c.ddr - c0.ddr));
     out.strain[static_cast<size_t>(6 * i)] = eps;
     for (int k = 0; k < 3; ++k) out.strain[static_cast<size_t>(6 * i + 3 + k)] = kappa(k);

@@ -50,6 +50,32 @@ void EquilibriumSolver::set_held(const std::vector<PetscInt>& rows) {
   held_.erase(std::unique(held_.begin(), held_.end()), held_.end());
 }
 
+void EquilibriumSolver::set_bounds(const std::vector<PetscInt>& rows, const std::vector<double>& lo,
+                                   const std::vector<double>& hi) {
+  if (lo.size() != rows.size() || hi.size() != rows.size())
+    throw std::invalid_argument("set_bounds: rows, lo and hi must have the same length");
+  bounds_.clear();
+  const DofMap& map = model_.dof_map();
+  for (size_t k = 0; k < rows.size(); ++k)
+    if (rows[k] >= map.owned_lo() && rows[k] < map.owned_hi()) bounds_.push_back({rows[k], lo[k], hi[k]});
+}
+
+bool EquilibriumSolver::within_bounds(Vec x) const {
+  int outside = 0;
+  if (!bounds_.empty()) {
+    const PetscScalar* xa = nullptr;
+    const PetscInt first = model_.dof_map().owned_lo();
+    SB_CHECK(VecGetArrayRead(x, &xa));
+    for (const Bound& b : bounds_) {
+      const double v = xa[b.row - first], tol = 1e-12 * std::max(std::abs(b.lo), std::abs(b.hi));
+      if (!(v >= b.lo - tol && v <= b.hi + tol)) outside = 1;
+    }
+    SB_CHECK(VecRestoreArrayRead(x, &xa));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &outside, 1, MPI_INT, MPI_MAX, model_.comm());
+  return outside == 0;
+}
+
 /// F(x) + c M (x - x_k); prescribed and held rows: x_i - (prescribed value | x_k,i).
 PetscErrorCode EquilibriumSolver::form_function(SNES, Vec x, Vec F, void* ctx) {
   PetscFunctionBeginUser;
@@ -143,7 +169,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   while (r > target && res.pseudo_steps < max_steps) {
     if ((res.interrupted = stop_signal(model_.comm())) != 0) break;
     SB_CHECK(VecCopy(x, x_start));
-    if (!newton(1.0 / (h * h))) {
+    if (!newton(1.0 / (h * h)) || !within_bounds(x)) {
       SB_CHECK(VecCopy(x_start, x));
       h *= 0.5;
       if (++cuts > 12) break;  // in a row: 1/4096 of the pseudo-step that last worked
@@ -181,7 +207,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
     if (!polish_tried && r <= 1e-4 * res.residual0) {
       polish_tried = true;
       SB_CHECK(VecCopy(x, x_start));
-      if (newton(0.0)) {
+      if (newton(0.0) && within_bounds(x)) {
         SB_CHECK(static_residual_norm(x, &r));
         res.polished = true;
         break;

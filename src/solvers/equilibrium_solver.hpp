@@ -47,6 +47,11 @@ class EquilibriumSolver {
   /// Unknowns kept at their current values during the solve (held sliding coordinates); global
   /// indices, any rank may list any row.
   void set_held(const std::vector<PetscInt>& rows);
+  /// Unknowns that must stay within [lo, hi] (free sliders' s within their carriers): a
+  /// continuation step or the polish that leaves the range is rejected (the step cut, the polish
+  /// dropped). Without it, the polish's plain Newton can land on a stationary point of the
+  /// carrier's curve extended beyond its end. Global indices, any rank may list any row.
+  void set_bounds(const std::vector<PetscInt>& rows, const std::vector<double>& lo, const std::vector<double>& hi);
   /// Continuation from the model's current x to equilibrium under the loads at time t, with
   /// initial pseudo-step h0 (the scene's dt is a good start), to ||F|| <= rtol ||F_0|| (or the
   /// Newton tolerance). x is updated in place: the last accepted state if it did not converge.
@@ -66,7 +71,15 @@ class EquilibriumSolver {
   Mat J_ = nullptr, M_ = nullptr;
   CooAssembly coo_;
   Vec x_k_ = nullptr, work_ = nullptr;
+  /// Whether every bounded row of x is within its range (collective).
+  bool within_bounds(Vec x) const;
+
   std::vector<PetscInt> held_;  // owned rows
+  struct Bound {
+    PetscInt row;  // owned
+    double lo, hi;
+  };
+  std::vector<Bound> bounds_;
   double t_ = 0.0;
   double c_ = 0.0;  // 1 / h^2 (0: plain statics)
   int pattern_seen_ = 0;
