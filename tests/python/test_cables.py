@@ -131,6 +131,21 @@ def test_static_start_with_free_sliders_finds_the_low_point(tmp_path, quadrature
     assert max(r.kinetic_energy for r in outcome.records) < 1e-12 * energy
 
 
+def test_static_start_keeps_free_sliders_on_their_carriers(tmp_path):
+    """64 spans, full quadrature: the continuation's closing plain Newton solve had landed on a
+    stationary point of the carrier's curve extended beyond its ends (s = -0.147 and 20.245 on a
+    20 m carrier) and reported it converged. Steps and polishes that leave the carrier are
+    rejected now: the sliders end together near the low point (a ripple of the discretisation
+    away from the middle knot: measured 0.034 m)."""
+    import slidebeam
+
+    scene = cable_scene(tmp_path, 1, 64, 3, "--start", "equilibrium", "--static", "free", "--t-end", "0.002")
+    sim = slidebeam.Simulation(slidebeam.load_scene(scene, [f"beam.{b}.quadrature=full" for b in range(4)]))
+    assert sim.settle().converged
+    s = [j.s for j in sim.joint_states()]
+    assert s == pytest.approx([10.0] * 3, abs=0.5 * 20.0 / 64)
+
+
 def test_equilibrium_start_keys_are_checked(tmp_path):
     import slidebeam
 
