@@ -30,6 +30,11 @@ class EquilibriumSolver:
     def set_held(self, rows: list[int]) -> None:
         """global unknowns kept at their current values (held sliding coordinates)"""
         ...
+    def set_bounds(self, rows: list[int], lo: list[float], hi: list[float]) -> None:
+        """global unknowns that must stay within [lo, hi] (free sliders' s within their carriers): a
+        continuation step or polish leaving the range is rejected
+        """
+        ...
     def solve(self, t: float, h0: float, rtol: float = 1e-10, max_steps: int = 200) -> EquilibriumResult:
         """pseudo-transient continuation to static equilibrium from the model's current state
         (collective)

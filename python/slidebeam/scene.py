@@ -843,13 +843,17 @@ def _parse_beam(t: _Table, index: int) -> Beam:
     if formulation == "ancf":
         return _parse_ancf_beam(t, index, name, geometry)
     section = _parse_section(t.sub("section", f"{t.label}.section"))
+    spans = t.integer("spans")
+    quadrature = t.choice("quadrature", ("auto", "full", "reduced", "assumed_strain"), "auto")
+    if quadrature == "auto":
+        quadrature = auto_quadrature(section, geometry.length / max(spans, 1))
     return Beam(
         name=name,
         index=index,
         geometry=geometry,
         d2=_parse_d2(t, geometry),
-        spans=t.integer("spans"),
-        quadrature=t.choice("quadrature", ("full", "reduced", "assumed_strain"), "full"),
+        spans=spans,
+        quadrature=quadrature,
         strain=t.choice("strain", ("simo-reissner", "seed"), "simo-reissner"),
         formulation=formulation,
         section=section,
@@ -857,6 +861,26 @@ def _parse_beam(t: _Table, index: int) -> Beam:
         angular_velocity=t.vec3("angular_velocity", list(_ZERO)),
         rotation_center=t.vec3("rotation_center") if t.has("rotation_center") else None,
     )
+
+
+# Span slenderness EA h^2 / EI from which quadrature = "auto" takes assumed strains.
+AUTO_SLENDERNESS = 1.0e3
+
+
+def span_slenderness(section: Section, span_length: float) -> float:
+    """max(EA, kGA) h^2 / EI of a director beam's knot span h: how strongly full quadrature locks
+    (its membrane and shear strains, sampled at three points a span, stiffen bending by about
+    this factor)."""
+    return max(section.EA, min(section.kGA2, section.kGA3)) * span_length**2 / min(section.EI2, section.EI3)
+
+
+def auto_quadrature(section: Section, span_length: float) -> str:
+    """quadrature = "auto": assumed strains on slender spans (span_slenderness >= 1e3: ropes,
+    cables, hangers, slender rods, where full quadrature locks: 10 % on a cantilever elastica at
+    1.6e3, 16 % on a hanging rope's tension at 4.6e4), full quadrature on stocky ones (where it
+    locks little and assumed strains are softer on coarse, strongly bent meshes);
+    docs/theory.md, "Where assumed strains lose, and the default"."""
+    return "assumed_strain" if span_slenderness(section, span_length) >= AUTO_SLENDERNESS else "full"
 
 
 def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry) -> Beam:

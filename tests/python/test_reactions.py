@@ -73,7 +73,10 @@ def test_static_zip_line_reactions_balance_the_weights():
     total = sum(np.array(r.force) for r in sim.reactions())
     assert np.allclose(total, -weight, atol=1e-8 * np.linalg.norm(weight))
     (joint,) = sim.joint_states()
-    assert 9.5 < joint.s < 10.5 and joint.gap < 1e-9
+    # the landscape is flat near the middle (with a rope of fixed length the trolley rises by about 2 mm
+    # over 0.7 m): the rope's discretisation ripple decides where in it the trolley rests (40
+    # assumed-strain spans, the default here: 9.32; full quadrature 9.90)
+    assert 9.0 < joint.s < 11.0 and joint.gap < 1e-9
     # the trolley's weight reaches the rope through the joint (the carrier's force on the slider)
     assert joint.reaction[2] == pytest.approx(-(hanger.section.rhoA * 0.5 + 80.0) * G[2], rel=1e-6)
 

@@ -188,7 +188,9 @@ def test_full_scene_beams(full):
     assert g.center == (0.0, 0.0, 0.0) and g.radius == 100.0 and g.normal == (0.0, 0.0, 1.0)
     assert g.start == (100.0, 0.0, 0.0) and g.angle_deg == 45.0
     assert g.length == pytest.approx(100.0 * math.pi / 4, rel=1e-14)
-    assert ring.d2 is None and ring.strain == "seed" and ring.quadrature == "full"
+    # no quadrature given: "auto", and the ring's spans are slender (EA h^2 / EI >= 1000)
+    assert ring.d2 is None and ring.strain == "seed" and ring.quadrature == "assumed_strain"
+    assert scene.span_slenderness(ring.section, g.length / ring.spans) >= scene.AUTO_SLENDERNESS
     end = g.point_at(g.length)
     assert end == pytest.approx((100 / math.sqrt(2), 100 / math.sqrt(2), 0.0), abs=1e-10)
 
@@ -287,6 +289,26 @@ def test_scene_from_dict_dynamic_default_time_function():
     assert sc.effects[0].text["tf_type"] == "constant"
     assert sc.effects[0].num["s"] == 3.0
     assert (sc.beams[0].section.kGA2, sc.beams[0].section.kGA3) == (2.0, 3.0)
+
+
+@pytest.mark.parametrize("spans, quadrature, expected", [
+    (4, None, "assumed_strain"),    # 6 mm steel rope, 5 m spans: EA h^2/EI = 4 h^2/r^2 = 2.8e6
+    (400, None, "full"),            # 0.05 m spans: 278 (short, stocky spans)
+    (211, None, "full"),            # 0.0948 m: 998
+    (210, None, "assumed_strain"),  # 0.0952 m: 1008
+    (4, "full", "full"),            # a stated quadrature wins
+    (400, "assumed_strain", "assumed_strain"),
+])
+def test_auto_quadrature_follows_the_span_slenderness(spans, quadrature, expected):
+    """quadrature = "auto" (the default): assumed strains where max(EA, kGA) h^2 / EI >= 1000."""
+    beam = {"name": "rope", "start": [0, 0, 0], "end": [20, 0, 0], "spans": spans,
+            "section": {"shape": "circle", "r": 0.006, "E": 1e11, "nu": 0.3, "rho": 7850}}
+    if quadrature:
+        beam["quadrature"] = quadrature
+    sc = scene.scene_from_dict({"analysis": {"type": "static"}, "beam": [beam]})
+    assert sc.beams[0].quadrature == expected
+    assert scene.span_slenderness(sc.beams[0].section, 20.0 / spans) == pytest.approx(
+        sc.beams[0].section.EA * (20.0 / spans) ** 2 / sc.beams[0].section.EI2)
 
 
 @pytest.mark.parametrize("analysis, output, every", [
