@@ -188,7 +188,7 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {
     const auto q0 = [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); };
     const auto q1 = [&](int f) { return gather_span(ctx.x, ctx.map, b, f); };
-    const Eigen::MatrixXd Gf =
+    const KnotGradient Gf =
         knot_moment_gradient(b, i, [&](int f) { return VecEl((1.0 - ctx.theta) * q0(f) + ctx.theta * q1(f)); });
     const Eigen::Vector3d w = c_.head<3>() / (ctx.h * b.knot_mass(i));
     return add_knot_tangent(ctx.map, b, i, Gf, w, knot_moment_gradient(b, i, q1), J);

@@ -182,10 +182,10 @@ class BeamElastic final : public SpanEffect {
     const double s = (em ? 0.5 * (1.0 + ctx.dissipation) : ctx.theta) / b.knot_mass(i);
     const Eigen::Vector3d w = s * b.stiffness().head<3>();
     if (em) {
-      const Eigen::MatrixXd Gmid = knot_moment_gradient(b, i, [&](int f) { return VecEl(0.5 * (q0(f) + q1(f))); });
+      const KnotGradient Gmid = knot_moment_gradient(b, i, [&](int f) { return VecEl(0.5 * (q0(f) + q1(f))); });
       PetscCall(add_knot_tangent(ctx.map, b, i, Gmid, w, knot_moment_gradient(b, i, q1), J));
     } else {
-      const Eigen::MatrixXd G = knot_moment_gradient(b, i, [&](int f) { return gather_span(ctx.xf, ctx.map, b, f); });
+      const KnotGradient G = knot_moment_gradient(b, i, [&](int f) { return gather_span(ctx.xf, ctx.map, b, f); });
       PetscCall(add_knot_tangent(ctx.map, b, i, G, w, G, J));
     }
     PetscFunctionReturn(0);

@@ -100,12 +100,14 @@ void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>
 
 /// The gradient of knot i's assumed-strain moment (its spans' Gamma moments toward it), 3 x the
 /// coordinates of knot_dofs, with span f's coordinates span_q(f).
+/// A knot's moment gradient: 3 x the coordinates of its 3 (end knot) or 4 control points.
+using KnotGradient = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 4 * kernels::kNq>;
 template <class SpanCoordinates>
-Eigen::MatrixXd knot_moment_gradient(const Beam& b, int i, SpanCoordinates&& span_q) {
+KnotGradient knot_moment_gradient(const Beam& b, int i, SpanCoordinates&& span_q) {
   int left, right;
   knot_spans(b, i, left, right);
   const int cp0 = left >= 0 ? left : right;
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3, kernels::kNq * ((right >= 0 ? right : left) + 3 - cp0));
+  KnotGradient G = KnotGradient::Zero(3, kernels::kNq * ((right >= 0 ? right : left) + 3 - cp0));
   for (const int f : {left, right}) {
     if (f < 0) continue;
     const bool toward_right = f == left;  // the left span's moment toward its right knot
@@ -115,9 +117,10 @@ Eigen::MatrixXd knot_moment_gradient(const Beam& b, int i, SpanCoordinates&& spa
   return G;
 }
 /// J(knot i's coordinates) += Ga^T diag(w) Gb: a knot's material tangent.
-inline PetscErrorCode add_knot_tangent(const DofMap& map, const Beam& b, int i, const Eigen::MatrixXd& Ga,
-                                       const Eigen::Vector3d& w, const Eigen::MatrixXd& Gb, const MatSink& J) {
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+inline PetscErrorCode add_knot_tangent(const DofMap& map, const Beam& b, int i, const KnotGradient& Ga,
+                                       const Eigen::Vector3d& w, const KnotGradient& Gb, const MatSink& J) {
+  constexpr int kMax = 4 * kernels::kNq;
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kMax, kMax>;
   const RowMajor K = Ga.transpose() * w.asDiagonal() * Gb;
   const std::vector<PetscInt> d = knot_dofs(map, b, i);
   const auto n = static_cast<PetscInt>(d.size());

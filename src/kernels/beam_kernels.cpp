@@ -223,9 +223,15 @@ void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, con
 namespace {
 // The Gamma rows of d eps / dq at a point (3 x 36), from its z.
 Mat3El gamma_gradient(const StrainTable& T, const GaussPoint& gp, const VecZ& z) {
-  Eigen::Matrix<double, 3, kNz> B;
-  for (int k = 0; k < 3; ++k) form_gradient<kNz>(T[k], z, B.row(k));
-  return B * field_map(gp);
+  Mat3El G;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Matrix<double, 1, kNz> b;
+    form_gradient<kNz>(T[k], z, b);
+    VecEl row = VecEl::Zero();
+    add_Pt(gp, 1.0, b.transpose(), row);  // P^T b, block by block
+    G.row(k) = row.transpose();
+  }
+  return G;
 }
 }  // namespace
 
