@@ -65,8 +65,36 @@ PetscInt schwarz_overlap() {
 }
 }  // namespace
 
-PetscErrorCode prepare_schwarz(PC pc, const Model& model, Mat J, bool pattern_changed) {
+namespace {
+void use_gmres(KSP ksp) {
+  KSPSetType(ksp, KSPGMRES);
+  KSPGMRESSetRestart(ksp, 100);
+  // tight: Newton keeps its quadratic rate and the roundoff tests stay meaningful
+  KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500);
+}
+}  // namespace
+
+PetscErrorCode ranks_coupled(Mat J, bool* coupled) {
   PetscFunctionBeginUser;
+  *coupled = false;
+  PetscMPIInt size = 1;
+  PetscCall(MPI_Comm_size(PetscObjectComm(reinterpret_cast<PetscObject>(J)), &size));
+  if (size == 1) PetscFunctionReturn(0);
+  Mat Ad = nullptr, Ao = nullptr;
+  const PetscInt* colmap = nullptr;
+  PetscCall(MatMPIAIJGetSeqAIJ(J, &Ad, &Ao, &colmap));
+  MatInfo info;
+  PetscCall(MatGetInfo(Ao, MAT_LOCAL, &info));
+  int local = info.nz_used > 0 ? 1 : 0, any = 0;
+  PetscCall(MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(J))));
+  *coupled = any != 0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed) {
+  PetscFunctionBeginUser;
+  PC pc = nullptr;
+  PetscCall(KSPGetPC(ksp, &pc));
   PCType type = nullptr;
   PetscCall(PCGetType(pc, &type));
   if (!type || pattern_changed) {  // new, or PCReset dropped its set-up
@@ -75,6 +103,22 @@ PetscErrorCode prepare_schwarz(PC pc, const Model& model, Mat J, bool pattern_ch
     if (std::string(type) == PCASM) PetscCall(set_schwarz_subdomains(pc, model, J));
   }
   if (std::string(type) != PCBJACOBI) PetscFunctionReturn(0);
+  // No entry couples two ranks' unknowns (separate structures, one per rank): block Jacobi with
+  // exact blocks is the exact solve, and one application does (no Krylov iterations). The
+  // coupling can only change with the pattern; the KSP type stays the user's if given.
+  if (model.dof_map().owners() != 1) {
+    const char* prefix = nullptr;
+    PetscCall(KSPGetOptionsPrefix(ksp, &prefix));
+    if (!solver_option_set(prefix, "-ksp_type")) {
+      bool coupled = true;
+      PetscCall(ranks_coupled(J, &coupled));
+      KSPType kt = nullptr;
+      PetscCall(KSPGetType(ksp, &kt));
+      const bool preonly = kt && std::string(kt) == KSPPREONLY;
+      if (!coupled && !preonly) PetscCall(KSPSetType(ksp, KSPPREONLY));
+      if (coupled && preonly) use_gmres(ksp);
+    }
+  }
   // Block Jacobi factors each rank's diagonal block (no copy) in the model's order restricted
   // to the rank: attach it to the block, which a new pattern may have replaced.
   Mat A = nullptr;
@@ -118,13 +162,10 @@ PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
     // solved exactly: no Krylov iterations
     PetscCall(KSPSetType(ksp, KSPPREONLY));
   } else {
-    PetscCall(KSPSetType(ksp, KSPGMRES));
-    PetscCall(KSPGMRESSetRestart(ksp, 100));
-    // tight: Newton keeps its quadratic rate and the roundoff tests stay meaningful
-    PetscCall(KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500));
+    use_gmres(ksp);
   }
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(prepare_schwarz(pc, model, J, true));
+  PetscCall(prepare_schwarz(ksp, model, J, true));
   const bool asm_ = schwarz_overlap() > 0;
   // The blocks' solvers exist only at the first solve: their defaults go into the database,
   // under the solver's prefix (-sb_ts_sub_pc_type lu, ...), unless given.

@@ -33,9 +33,12 @@ bool schwarz_requested(MPI_Comm comm, const char* prefix);
 PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J);
 /// ASM: (re)build the subdomains from J's pattern.
 PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J);
-/// Before a solve with a freshly assembled J: after a PCReset (pattern_changed) set the PC up
+/// Before a solve with a freshly assembled J: after a PCReset (pattern_changed) set ksp's PC up
 /// again; for block Jacobi attach the rank's elimination order to J's diagonal block (which a
-/// new pattern may have replaced).
-PetscErrorCode prepare_schwarz(PC pc, const Model& model, Mat J, bool pattern_changed);
+/// new pattern may have replaced), and solve with one application (KSPPREONLY) while J couples
+/// no two ranks (GMRES once it does), unless the options name the KSP.
+PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed);
+/// Whether any entry of J couples unknowns owned by different ranks (collective).
+PetscErrorCode ranks_coupled(Mat J, bool* coupled);
 
 }  // namespace slidebeam

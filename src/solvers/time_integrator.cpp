@@ -486,7 +486,7 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
     PC pc = nullptr;
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
-    PetscCall(prepare_schwarz(pc, self->model_, J, seen != self->pattern_seen_));
+    PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_));
     if (self->block_condensation_) PetscCall(self->condense_schwarz_blocks(J));
   }
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));

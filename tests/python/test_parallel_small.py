@@ -110,3 +110,26 @@ def test_a_checkpoint_of_a_run_on_rank_0_alone_restarts_distributed(run_cli, tmp
     for ra, rb in zip(a, b):
         for key in ("total_energy", "kinetic_energy", "CM@1.x", "CM@1.z", "CM_on_AB.s"):
             assert abs(float(ra[key]) - float(rb[key])) <= 1e-8 * max(1.0, abs(float(ra[key]))), (ra["t"], key)
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.Get_size() != 2, reason="two ranks: mpirun -n 2")
+@pytest.mark.parametrize("scene_file, sets, coupled", [
+    # two carriers with their hangers: the even split of control points cuts between them
+    (ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.004"], False),
+    # one carrier and its slider, cut across the carrier
+    (ROOT / "runs" / "hard" / "slider_skips_spans.toml", ["analysis.t_end=0.004"], True),
+])
+def test_uncoupled_ranks_solve_with_one_application(scene_file, sets, coupled):
+    """When no Jacobian entry couples the ranks' unknowns, block Jacobi with exact blocks is the
+    exact solve: one application per Newton step (KSPPREONLY), the run as the serial one to 1e-10.
+    Where the ranks are coupled, GMRES iterates on it."""
+    from petsc4py import PETSc
+
+    scene = slidebeam.load_scene(scene_file, sets)
+    sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+    assert sim.run_dynamic().complete
+    ksp = sim.snes.getKSP()
+    assert ksp.getType() == (PETSc.KSP.Type.GMRES if coupled else PETSc.KSP.Type.PREONLY)
+    if not coupled:
+        assert ksp.getIterationNumber() == 1
+    distributed_and_serial_records(scene)
