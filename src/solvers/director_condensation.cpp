@@ -155,7 +155,7 @@ PetscErrorCode DirectorCondensation::pc_apply(PC pc, Vec b, Vec y) {
   void* ctx = nullptr;
   PetscCall(PCShellGetContext(pc, &ctx));
   auto* self = static_cast<DirectorCondensation*>(ctx);
-  if (self->mode_ == Mode::Exact) PetscCall(self->apply_exact(self->block_, b, y));
+  if (self->mode_ == Mode::Exact && !self->manifold_apply_) PetscCall(self->apply_exact(self->block_, b, y));
   else PetscCall(self->apply(b, y));
   PetscFunctionReturn(0);
 }

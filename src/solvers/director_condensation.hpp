@@ -82,6 +82,11 @@ class DirectorCondensation {
   /// Keep the multipliers of the Newton step instead of setting them by least squares (Update
   /// mode only: the step must carry them, as a solve of the full system does).
   void set_newton_multipliers(bool on) { newton_multipliers_ = on; }
+  /// Exact mode: apply the reduced solve alone (no particular solution for the constraint rows,
+  /// no multipliers), as in Manifold mode. Right when the block solve is the whole linear solve
+  /// (ranks not coupled) and a line search keeps the iterates on the manifold and sets the
+  /// multipliers (an Update-mode object on the same SNES): the two products with the block go.
+  void set_manifold_apply(bool on) { manifold_apply_ = on; }
   /// Number of reduced unknowns.
   PetscInt reduced_size() const { return n_red_; }
 
@@ -139,6 +144,7 @@ class DirectorCondensation {
   // line search state
   bool exponential_ = false;
   bool newton_multipliers_ = false;
+  bool manifold_apply_ = false;
   Vec x_old_ = nullptr;
   double theta_ = 1.0, scale_ = 1.0;
 };

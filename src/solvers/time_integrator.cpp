@@ -94,7 +94,14 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
                                                                    DirectorCondensation::Mode::Exact);
       int any = block_condensation_->empty() ? 0 : 1;
       MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, model.comm());
-      if (!any) block_condensation_.reset();
+      if (!any) {
+        block_condensation_.reset();
+      } else {
+        block_update_ = std::make_unique<DirectorCondensation>(model, model.elimination_order(),
+                                                               DirectorCondensation::Mode::Update);
+        block_update_->set_newton_multipliers(true);  // GMRES's exact step carries them
+        SB_CHECK(block_update_->attach_update(snes_));
+      }
     }
   } else if (size == 1 && !user_solver) {
     KSP ksp = nullptr;
@@ -410,6 +417,7 @@ void TimeIntegrator::prepare_step(double h) {
     }
   }
   if (condensation_) condensation_->set_force_state(x_, step_eval().theta, scale_);
+  if (block_update_) block_update_->set_force_state(x_, step_eval().theta, scale_);
 }
 
 PetscErrorCode TimeIntegrator::step_forces(Vec x1, Vec F) { return step_forces(x1, F, step_eval()); }
@@ -487,7 +495,16 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
     PetscCall(SNESGetKSP(snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_));
-    if (self->block_condensation_) PetscCall(self->condense_schwarz_blocks(J));
+    if (self->block_condensation_) {
+      PetscCall(self->condense_schwarz_blocks(J));
+      // One application is the whole solve (ranks not coupled): the reduced solves alone, the
+      // line search's manifold update and least-squares multipliers do the rest, as serially.
+      KSPType type = nullptr;
+      PetscCall(KSPGetType(ksp, &type));
+      const bool alone = type && std::string(type) == KSPPREONLY;
+      self->block_condensation_->set_manifold_apply(alone);
+      self->block_update_->set_newton_multipliers(!alone);
+    }
   }
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
   self->jac_solve_ = self->solve_count_;
@@ -624,6 +641,7 @@ SolveResult TimeIntegrator::step(double h) {
     if (model_.has_sliding_state()) SB_CHECK(VecAXPY(x1_, h, sdot_));  // s: linear extrapolation
     model_.apply_prescribed(x1_);
     if (condensation_) SB_CHECK(condensation_->project(x1_));  // Newton stays on the manifold
+    if (block_update_) SB_CHECK(block_update_->project(x1_));
     SB_CHECK(SNESSolve(snes_, nullptr, x1_));
     const int its_before = r.iterations;
     r = solve_result(snes_);
@@ -717,6 +735,12 @@ void TimeIntegrator::use_pivoting_lu() {
   fast_lu_ = false;
   schwarz_ = false;
   block_condensation_.reset();
+  if (block_update_) {
+    SNESLineSearch ls = nullptr;
+    SB_CHECK(SNESGetLineSearch(snes_, &ls));
+    SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+    block_update_.reset();
+  }
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 

@@ -224,6 +224,9 @@ class TimeIntegrator {
   PetscBool floor_stop_ = PETSC_FALSE;  // -sb_floor_stop
   std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
   std::unique_ptr<DirectorCondensation> block_condensation_;  // Schwarz: exact condensed block solves
+  // Schwarz: the manifold update of each rank's triads (line search); with ranks not coupled the
+  // block solves are then the reduced solves alone
+  std::unique_ptr<DirectorCondensation> block_update_;
   PetscErrorCode condense_schwarz_blocks(Mat J);
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
   bool schwarz_ = false;  // -sb_schwarz: GMRES + Schwarz on the model's subdomains
