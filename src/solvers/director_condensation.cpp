@@ -279,7 +279,7 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
     Eigen::Matrix<double, 6, kQ, Eigen::RowMajor> C;
     for (int r = 0; r < kQ; ++r) row_segment(q0 + r, q0 + kQ, 6, Gt.row(r).data());
     for (int l = 0; l < 6; ++l) row_segment(q0 + kQ + l, q0, kQ, C.row(l).data());
-    if (mode_ == Mode::Exact) {
+    if (mode_ == Mode::Exact && !manifold_apply_) {  // for the particular solution and the multipliers
       const Eigen::Matrix<double, 6, 9> Cd = C.rightCols<9>(), Gd = Gt.bottomRows<9>().transpose();
       Cpinv_[t] = Cd.transpose() * (Cd * Cd.transpose()).ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
       Gpinv_[t] = (Gd * Gd.transpose()).ldlt().solve(Gd);

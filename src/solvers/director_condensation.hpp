@@ -86,6 +86,7 @@ class DirectorCondensation {
   /// no multipliers), as in Manifold mode. Right when the block solve is the whole linear solve
   /// (ranks not coupled) and a line search keeps the iterates on the manifold and sets the
   /// multipliers (an Update-mode object on the same SNES): the two products with the block go.
+  /// Set before the block is set up (its exact solve's data is built only when needed).
   void set_manifold_apply(bool on) { manifold_apply_ = on; }
   /// Number of reduced unknowns.
   PetscInt reduced_size() const { return n_red_; }

@@ -496,14 +496,15 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_));
     if (self->block_condensation_) {
-      PetscCall(self->condense_schwarz_blocks(J));
       // One application is the whole solve (ranks not coupled): the reduced solves alone, the
       // line search's manifold update and least-squares multipliers do the rest, as serially.
+      // (Set before the blocks are set up: the exact solve's extra data is built only if used.)
       KSPType type = nullptr;
       PetscCall(KSPGetType(ksp, &type));
       const bool alone = type && std::string(type) == KSPPREONLY;
       self->block_condensation_->set_manifold_apply(alone);
       self->block_update_->set_newton_multipliers(!alone);
+      PetscCall(self->condense_schwarz_blocks(J));
     }
   }
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
