@@ -24,14 +24,20 @@ serial_only = pytest.mark.skipif(MPI.COMM_WORLD.Get_size() > 1, reason="the cond
 
 @contextlib.contextmanager
 def petsc_options(**opts: str):
+    """Set PETSc options for the block and restore what was there before (under mpirun the
+    tests' -sb_serial_below 0, for one)."""
     o = PETSc.Options()
+    before = {k: o.getString(k) if o.hasName(k) else None for k in opts}
     for k, v in opts.items():
         o.setValue(k, v)
     try:
         yield
     finally:
-        for k in opts:
-            o.delValue(k)
+        for k, v in before.items():
+            if v is None:
+                o.delValue(k)
+            else:
+                o.setValue(k, v)
 
 
 def sliding_scene(integrator: str, t_end: float = 0.21, cable_slider: bool = False) -> slidebeam.Scene:
