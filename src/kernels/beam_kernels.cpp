@@ -137,9 +137,12 @@ void add_Pt_K_P(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
 // s Ba^T diag(C) Bb over the entries of z the point uses
 MatZ weighted_product(const GaussPoint& gp, const Mat6Z& Ba, const Stiffness& C, const Mat6Z& Bb, double s) {
   MatZ Kz = MatZ::Zero();
-  if (gp.corrected)
-    Kz.noalias() = s * (Ba.transpose() * C.asDiagonal() * Bb);
-  else
+  if (gp.corrected) {
+    // row by row, skipping the zero rows (an assumed-strain point's Gamma rows: their stiffness
+    // acts through the knots)
+    for (int k = 0; k < 6; ++k)
+      if (C(k) != 0.0) Kz.noalias() += (s * C(k)) * Ba.row(k).transpose() * Bb.row(k);
+  } else
     Kz.topLeftCorner<kNzPlain, kNzPlain>().noalias() =
         s * (Ba.leftCols<kNzPlain>().transpose() * C.asDiagonal() * Bb.leftCols<kNzPlain>());
   return Kz;
@@ -255,7 +258,10 @@ GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, con
                                 const VecEl& q) {
   GammaMoments m;
   for (int g = 0; g < n; ++g) {
-    const Eigen::Vector3d d = (strains(point_table(T, gps[g]), apply_P(gps[g], q)) - eps0[g]).head<3>();
+    const StrainTable Tg = point_table(T, gps[g]);
+    const VecZ z = apply_P(gps[g], q);
+    Eigen::Vector3d d;
+    for (int k = 0; k < 3; ++k) d(k) = form_value<kNz>(Tg[k], z) - eps0[g](k);  // the Gamma rows only
     m.left += gps[g].w * (1.0 - gps[g].t) * d;
     m.right += gps[g].w * gps[g].t * d;
   }
