@@ -66,11 +66,13 @@ PetscInt schwarz_overlap() {
 }  // namespace
 
 namespace {
-void use_gmres(KSP ksp) {
-  KSPSetType(ksp, KSPGMRES);
-  KSPGMRESSetRestart(ksp, 100);
+PetscErrorCode use_gmres(KSP ksp) {
+  PetscFunctionBeginUser;
+  PetscCall(KSPSetType(ksp, KSPGMRES));
+  PetscCall(KSPGMRESSetRestart(ksp, 100));
   // tight: Newton keeps its quadratic rate and the roundoff tests stay meaningful
-  KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500);
+  PetscCall(KSPSetTolerances(ksp, 1e-10, 1e-14, PETSC_DEFAULT, 500));
+  PetscFunctionReturn(0);
 }
 }  // namespace
 
@@ -116,7 +118,7 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
       PetscCall(KSPGetType(ksp, &kt));
       const bool preonly = kt && std::string(kt) == KSPPREONLY;
       if (!coupled && !preonly) PetscCall(KSPSetType(ksp, KSPPREONLY));
-      if (coupled && preonly) use_gmres(ksp);
+      if (coupled && preonly) PetscCall(use_gmres(ksp));
     }
   }
   // Block Jacobi factors each rank's diagonal block (no copy) in the model's order restricted
@@ -162,7 +164,7 @@ PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
     // solved exactly: no Krylov iterations
     PetscCall(KSPSetType(ksp, KSPPREONLY));
   } else {
-    use_gmres(ksp);
+    PetscCall(use_gmres(ksp));
   }
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(prepare_schwarz(ksp, model, J, true));
