@@ -98,10 +98,10 @@ inline std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) 
 /// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
-/// The gradient of knot i's assumed-strain moment (its spans' Gamma moments toward it), 3 x the
-/// coordinates of knot_dofs, with span f's coordinates span_q(f).
 /// A knot's moment gradient: 3 x the coordinates of its 3 (end knot) or 4 control points.
 using KnotGradient = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 4 * kernels::kNq>;
+/// The gradient of knot i's assumed-strain moment (its spans' Gamma moments toward it), 3 x the
+/// coordinates of knot_dofs, with span f's coordinates span_q(f).
 template <class SpanCoordinates>
 KnotGradient knot_moment_gradient(const Beam& b, int i, SpanCoordinates&& span_q) {
   int left, right;

@@ -157,7 +157,6 @@ bool user_sets_schwarz_option(const char* prefix, const char* key) {
 PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
-  PC pc = nullptr;
   PetscCall(SNESGetKSP(snes, &ksp));
   if (model.dof_map().size() > 1 && model.dof_map().owners() == 1) {
     // a model owned by rank 0 alone (-sb_serial_below): its one block is the whole system,
@@ -166,7 +165,6 @@ PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J) {
   } else {
     PetscCall(use_gmres(ksp));
   }
-  PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(prepare_schwarz(ksp, model, J, true));
   const bool asm_ = schwarz_overlap() > 0;
   // The blocks' solvers exist only at the first solve: their defaults go into the database,

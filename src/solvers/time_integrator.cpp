@@ -90,15 +90,14 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     const bool user_sub = user_sets_schwarz_option(kStepPrefix, "-sub_pc_type");
     schwarz_ = true;
     if (condense && options.schwarz_overlap == 0 && !user_sub) {  // block Jacobi: each rank's block solved condensed, exactly
-      block_condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order(),
-                                                                   DirectorCondensation::Mode::Exact);
+      const std::vector<PetscInt> order = model.elimination_order();
+      block_condensation_ = std::make_unique<DirectorCondensation>(model, order, DirectorCondensation::Mode::Exact);
       int any = block_condensation_->empty() ? 0 : 1;
       MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, model.comm());
       if (!any) {
         block_condensation_.reset();
       } else {
-        block_update_ = std::make_unique<DirectorCondensation>(model, model.elimination_order(),
-                                                               DirectorCondensation::Mode::Update);
+        block_update_ = std::make_unique<DirectorCondensation>(model, order, DirectorCondensation::Mode::Update);
         block_update_->set_newton_multipliers(true);  // GMRES's exact step carries them
         SB_CHECK(block_update_->attach_update(snes_));
       }
@@ -491,9 +490,7 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
   PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
   if (self->schwarz_) {
     KSP ksp = nullptr;
-    PC pc = nullptr;
     PetscCall(SNESGetKSP(snes, &ksp));
-    PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_));
     if (self->block_condensation_) {
       // One application is the whole solve (ranks not coupled): the reduced solves alone, the
@@ -725,23 +722,18 @@ void TimeIntegrator::use_pivoting_lu() {
   SB_CHECK(PCReset(pc));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(PCSetType(pc, PCLU));
-  if (condensation_) {  // the full saddle-point system and plain Newton updates from now on
+  if (condensation_ || block_update_) {  // the full saddle-point system and plain Newton updates from now on
     SNESLineSearch ls = nullptr;
     SB_CHECK(SNESGetLineSearch(snes_, &ls));
     SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
     condensation_.reset();
+    block_update_.reset();
   }
   SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
   if (size == 1) SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGND));
   fast_lu_ = false;
   schwarz_ = false;
   block_condensation_.reset();
-  if (block_update_) {
-    SNESLineSearch ls = nullptr;
-    SB_CHECK(SNESGetLineSearch(snes_, &ls));
-    SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
-    block_update_.reset();
-  }
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 
