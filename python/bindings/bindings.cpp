@@ -12,6 +12,7 @@
 #include "solvers/time_integrator.hpp"
 #include "util/petsc_check.hpp"
 #include "util/stop_signal.hpp"
+#include "io/record_writer.hpp"
 
 #include <mpi4py/mpi4py.h>
 #include <pybind11/numpy.h>
@@ -165,6 +166,31 @@ PYBIND11_MODULE(_core, m) {
            py::arg("beam"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
            "fields sampled along a beam (dict of arrays: s, position, velocity, d1, d2, d3, strain, force, "
            "moment, tension); collective")
+      .def("sample_beams",
+           [](const Model& s, const std::vector<int>& beams, Vec x, std::optional<Vec> v, int samples_per_span) {
+             // collective: the control points are gathered on every rank
+             BeamSamples all;
+             for (int beam : beams) {
+               const auto q = s.beam_coordinates(beam, x);
+               const auto qd = v ? s.beam_coordinates(beam, *v) : std::vector<double>{};
+               const BeamSamples b = s.beam(beam).sample(q, qd, samples_per_span);
+               for (auto [to, from] : {std::pair{&all.s, &b.s}, {&all.position, &b.position}, {&all.velocity, &b.velocity},
+                                       {&all.d1, &b.d1}, {&all.d2, &b.d2}, {&all.d3, &b.d3}, {&all.force, &b.force},
+                                       {&all.moment, &b.moment}, {&all.strain, &b.strain}, {&all.tension, &b.tension}})
+                 to->insert(to->end(), from->begin(), from->end());
+             }
+             const auto n = static_cast<py::ssize_t>(all.s.size());
+             py::dict d;
+             d["s"] = as_array(all.s, n, 1).attr("reshape")(n);
+             for (auto [name, vec] : {std::pair{"position", &all.position}, {"velocity", &all.velocity}, {"d1", &all.d1},
+                                      {"d2", &all.d2}, {"d3", &all.d3}, {"force", &all.force}, {"moment", &all.moment}})
+               d[name] = as_array(*vec, n, 3);
+             d["strain"] = as_array(all.strain, n, 6);
+             d["tension"] = as_array(all.tension, n, 1).attr("reshape")(n);
+             return d;
+           },
+           py::arg("beams"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
+           "sample_beam's fields of several beams, one after the other in each array; collective")
       .def("static_reactions",
            [](const Model& s, double t, Vec x) { return reaction_list(s.static_reactions(t, x)); }, py::arg("t"), py::arg("x"),
            "[(effect index, force, moment or None)] of supports and joints in equilibrium at x (collective)")
@@ -349,4 +375,44 @@ PYBIND11_MODULE(_core, m) {
            "F = the residual of the last converged step at the current state x (its norm is that step's "
            "residual_norm); RuntimeError before the first step")
       .def("step_jacobian", [](TimeIntegrator& s, Vec x, Mat J) { SB_CHECK(s.step_jacobian(x, J)); });
+
+  py::class_<io::RecordWriter>(m, "RecordWriter",
+                               "records of an XDMF time series written into an existing HDF5 file by a "
+                               "background thread, one dataset /<field>/<record> per array")
+      .def(py::init<const std::string&, std::size_t>(), py::arg("path"), py::arg("compact_bytes") = 32 << 10)
+      .def(
+          "add",
+          [](io::RecordWriter& w, long record, const py::dict& fields) {
+            std::vector<io::RecordField> copies;
+            copies.reserve(fields.size());
+            for (auto [key, value] : fields) {
+              io::RecordField f;
+              f.name = py::cast<std::string>(key);
+              py::array a = py::cast<py::array>(value);
+              f.is_int = a.dtype().is(py::dtype::of<std::int32_t>());
+              if (!f.is_int)
+                a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+              else
+                a = py::array_t<std::int32_t, py::array::c_style>::ensure(a);
+              for (py::ssize_t k = 0; k < a.ndim(); ++k) f.shape.push_back(a.shape(k));
+              const auto* data = static_cast<const unsigned char*>(a.data());
+              f.bytes.assign(data, data + a.nbytes());
+              copies.push_back(std::move(f));
+            }
+            w.add(record, std::move(copies));
+          },
+          py::arg("record"), py::arg("fields"),
+          "hand over a record: {field: array} (float64, or int32), copied; returns at once")
+      .def("set_text_file", &io::RecordWriter::set_text_file, py::arg("path"), py::arg("end_mark"), py::arg("tail"),
+           "the file append_text writes into, the offset where its closing tags (tail) begin")
+      .def("append_text", [](io::RecordWriter& w, py::bytes text) { w.append_text(std::string(text)); }, py::arg("text"),
+           "after the records so far: flush, then write text + tail at the text file's end mark; returns at once")
+      .def_property_readonly("error", &io::RecordWriter::error, "the first failure's message so far, '' if none")
+      .def("wait", &io::RecordWriter::wait, py::call_guard<py::gil_scoped_release>(),
+           "block until every record is written and the file flushed; the first failure's message or ''")
+      .def("close", &io::RecordWriter::close, py::call_guard<py::gil_scoped_release>(),
+           "wait, then close the file; the first failure's message or ''")
+      .def_property_readonly("pending", &io::RecordWriter::pending, "records handed over, not yet written")
+      .def_property_readonly("failed_record", &io::RecordWriter::failed_record,
+                             "the record whose writing failed first, -1 if none");
 }

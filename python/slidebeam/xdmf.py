@@ -25,19 +25,18 @@ DataItems. Not one extendable dataset per field read through hyperslabs: meshio'
 ``TimeSeriesReader`` reads no hyperslabs, ParaView 5.11's Xdmf3 readers skip them and its legacy
 reader reads them in single precision; one dataset per record is what all of them read.
 
-Records are kept in memory (rank 0) and written at each flush: every ``FLUSH_EVERY`` records or
-``PENDING_BYTES`` of data, at checkpoints and at the end. The data goes first; then the new steps
-are appended to a copy of the ``.xdmf`` (the text so far is copied, not rebuilt) that is renamed
-over it, so the ``.xdmf`` on disk always describes complete steps whose data is on disk.
-Sampling is collective; rank 0 writes.
+Sampling is collective; rank 0 writes. Its ``slidebeam._core.RecordWriter`` (one per series) takes
+a copy of each record and writes it on a thread of its own: creating the HDF5 objects of a record
+costs more than a small scene's time step. Every ``FLUSH_EVERY`` records (or ``PENDING_BYTES`` of
+data), the writer flushes the ``.h5`` and then appends the new steps to the ``.xdmf``, over its
+closing tags in one write, so the ``.xdmf`` on disk always describes complete steps whose data is
+on disk. At checkpoints and at the end the run waits for the writers.
 """
 from __future__ import annotations
 
-import contextlib
 import copy
 import os
 import re
-import shutil
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -53,10 +52,9 @@ if TYPE_CHECKING:
 
 BEAMS = "beams"
 SLIDERS = "sliders"
-_ABANDONED: list = []  # series whose files failed (see XdmfOutput._abandon)
 _XINCLUDE = "{http://www.w3.org/2003/XInclude}include"  # as meshio wrote it (series before issue 22)
 FLUSH_EVERY = 100  # records between writes of the data and the .xdmf text (and at checkpoints, the end)
-PENDING_BYTES = 16 << 20  # ... or sooner, so that records held in memory stay below this
+PENDING_BYTES = 16 << 20  # ... or sooner, so that records waiting to be written stay below twice this
 COMPACT_BYTES = 32 << 10  # datasets up to this size live in their object header: one write each
 _HEAD = (b'<?xml version="1.0"?>\n<Xdmf Version="3.0"><Domain>'
          b'<Grid Name="TimeSeries" GridType="Collection" CollectionType="Temporal">')
@@ -77,21 +75,23 @@ def _first_line(err: Exception) -> str:
     return f"{text} ({cause.group(1)})" if cause else text
 
 
-@contextlib.contextmanager
-def _h5py_stderr_silenced():
-    """Once a write has failed (full disk), h5py's object destructors print a traceback for every
-    temporary they free, straight to the C stderr. The failure itself arrives as an exception
-    and becomes one clear message, so stderr is closed over h5py calls."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    devnull = os.open(os.devnull, os.O_WRONLY)
+def _read_document(xdmf: Path) -> ET.Element:
+    """The .xdmf's XML. A run killed in the middle of appending steps may leave the last ones
+    cut short: the document then ends after the last complete step."""
+    text = xdmf.read_bytes()
     try:
-        os.dup2(devnull, 2)
-        yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-        os.close(devnull)
+        return ET.fromstring(text)
+    except ET.ParseError:
+        end = len(text)
+        for _ in range(3):  # the cut may fall in a step or in the closing tags after it
+            end = text.rfind(b"</Grid>", 0, end)
+            if end < 0:
+                break
+            try:
+                return ET.fromstring(text[:end + len(b"</Grid>")] + _TAIL)
+            except ET.ParseError:
+                continue
+        raise
 
 
 def _data_item(h5_name: str, path: str, shape: tuple[int, ...], dtype: np.dtype) -> str:
@@ -116,38 +116,31 @@ class Series:
                  constants: dict[str, np.ndarray], resume_after: float | None = None) -> None:
         import h5py
 
+        from . import _core
+
         self.xdmf = Path(xdmf)
         self.h5_path = self.xdmf.with_suffix(".h5")
         self.next_record = 0
-        self._pending: list[tuple[float, dict[str, np.ndarray]]] = []
-        self._text: list[str] = []  # steps whose data is written, not yet in the .xdmf
-        self._size = 0  # bytes of the .xdmf on disk before its tail (0: none written yet)
+        self._written: list[str] = []  # steps handed to the writer, not yet in the .xdmf
+        self._times: dict[int, float] = {}  # record -> time, to name the one whose writing failed
+        self._created = False  # the .xdmf exists (written by this series)
         self._template: str | None = None
-        self._groups: dict[str, object] = {}
-        self._last = None  # the dataset being written: kept alive after a failure (see XdmfOutput._abandon)
         resume = resume_after is not None and self.xdmf.is_file() and self.h5_path.is_file()
         kept = self._kept_steps(resume_after) if resume else []
-        self.h5 = h5py.File(self.h5_path, "a" if resume else "w")
-        self._dcpl = {}
-        for compact in (True, False):  # no time stamps: the same run writes the same bytes
-            plist = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
-            plist.set_obj_track_times(False)
-            if compact:
-                plist.set_layout(h5py.h5d.COMPACT)
-            self._dcpl[compact] = plist
-        if resume:
-            self._drop_records_after(kept)
-        self._mesh = self._write_mesh(points, cells, topology, constants)
+        with h5py.File(self.h5_path, "a" if resume else "w") as h5:
+            if resume:
+                self._drop_records_after(h5, kept)
+            self._mesh = self._write_mesh(h5, points, cells, topology, constants)
+        self._writer = _core.RecordWriter(str(self.h5_path), COMPACT_BYTES)
         if kept:  # the .xdmf as it was up to the restart time, in this structure
-            self._text = kept
-            self.write_text()
+            self._create_text(kept)
 
     # -- resume ------------------------------------------------------------------------------
     def _kept_steps(self, resume_after: float) -> list[str]:
         """The steps on disk up to resume_after, as XDMF text. A series written before issue 22
         keeps its mesh in a separate grid that every step XIncludes: the steps get copies of
         its Topology and Geometry, so the continued file has one structure throughout."""
-        domain = ET.parse(self.xdmf).getroot().find("Domain")
+        domain = _read_document(self.xdmf).find("Domain")
         collection = domain.find("Grid[@CollectionType='Temporal']")
         mesh = next((g for g in domain.findall("Grid") if g.get("GridType") == "Uniform"), None)
         kept = []
@@ -166,24 +159,24 @@ class Series:
             kept.append(ET.tostring(grid, encoding="unicode"))
         return kept
 
-    def _drop_records_after(self, kept: list[str]) -> None:
+    def _drop_records_after(self, h5, kept: list[str]) -> None:
         """New records follow the kept steps; datasets of records after them (written past the
         checkpoint by the run that stopped) are removed."""
         used = [int(m) for text in kept for m in _RECORD_PATH.findall(text)]
         self.next_record = max(used, default=-1) + 1
-        for name, group in self.h5.items():
+        for name, group in h5.items():
             if name == "mesh" or not hasattr(group, "keys"):
                 continue
             for key in [k for k in group.keys() if k.isdigit() and int(k) >= self.next_record]:
                 del group[key]
 
     # -- structure ---------------------------------------------------------------------------
-    def _write_mesh(self, points: np.ndarray, cells: np.ndarray, topology: str,
+    def _write_mesh(self, h5, points: np.ndarray, cells: np.ndarray, topology: str,
                     constants: dict[str, np.ndarray]) -> str:
         """Write the reference mesh and the constant fields (unless a resumed file has them);
         return the XDMF text every step carries for them."""
-        if "mesh" not in self.h5:
-            group = self.h5.create_group("mesh")
+        if "mesh" not in h5:
+            group = h5.create_group("mesh")
             group["points"] = points
             group["cells"] = cells
             for name, values in constants.items():
@@ -207,56 +200,58 @@ class Series:
 
     # -- writing -----------------------------------------------------------------------------
     def add(self, t: float, data: dict[str, np.ndarray]) -> None:
-        """Hold a record until the next write_pending."""
-        self._pending.append((float(t), data))
+        """Hand a record to the writer (one dataset per field and record)."""
+        if self._template is None:
+            self._template = self._step_template(data)
+        self._writer.add(self.next_record, data)
+        self._written.append(self._template.format(t=repr(float(t)), r=self.next_record))
+        self._times[self.next_record] = float(t)
+        self.next_record += 1
 
-    def write_pending(self) -> None:
-        """Write the held records into the .h5 (one dataset per field and record)."""
-        from h5py import h5d, h5s, h5t
+    def flush(self, wait: bool, backlog: int = 0) -> None:
+        """Make the .xdmf describe the records handed over so far, once their data is on disk:
+        the writer flushes the .h5 and then appends their steps to the .xdmf. ``wait``: return
+        when that is done; else at once, unless more than ``backlog`` records wait to be written
+        (memory). Raises OutputFailure if writing (this or an earlier flush) failed."""
+        wait = wait or self._writer.pending > backlog
+        if not self._created:  # the first steps: the .xdmf is created whole
+            self._wait()
+            self._create_text(self._written)
+        elif self._written:
+            self._writer.append_text("".join(self._written).encode())
+        self._written = []
+        if wait:
+            self._wait()
+        elif self._writer.error:
+            self._raise(self._writer.error)
 
-        for t, data in self._pending:
-            if self._template is None:
-                self._template = self._step_template(data)
-            r = self.next_record
-            name = str(r).encode()
-            for field, values in data.items():
-                values = np.ascontiguousarray(values)
-                group = self._groups.get(field)
-                if group is None:
-                    group = self._groups[field] = self.h5.require_group(field)
-                kind = h5t.STD_I32LE if values.dtype == np.int32 else h5t.IEEE_F64LE
-                self._last = h5d.create(group.id, name, kind, h5s.create_simple(values.shape),
-                                        dcpl=self._dcpl[values.nbytes <= COMPACT_BYTES])
-                self._last.write(h5s.ALL, h5s.ALL, values)
-            self._text.append(self._template.format(t=repr(t), r=r))
-            self.next_record += 1
-        self._pending = []
-        self.h5.flush()
-
-    def write_text(self) -> None:
-        """Append the steps written since the last call to the .xdmf: into a copy of it, renamed
-        over it (a reader never sees a half-written file)."""
-        if not self._text and self._size:
-            return
-        new = "".join(self._text).encode()
+    def _create_text(self, steps: list[str]) -> None:
+        text = _HEAD + "".join(steps).encode()
         tmp = self.xdmf.with_name(f".{self.xdmf.name}.tmp")
-        if self._size:
-            shutil.copyfile(self.xdmf, tmp)
-            with open(tmp, "r+b") as f:
-                f.seek(self._size)
-                f.write(new + _TAIL)
-                f.truncate()
-        else:
-            tmp.write_bytes(_HEAD + new + _TAIL)
-            self._size = len(_HEAD)
+        tmp.write_bytes(text + _TAIL)
         os.replace(tmp, self.xdmf)
-        self._size += len(new)
-        self._text = []
+        self._writer.set_text_file(str(self.xdmf), len(text), _TAIL)
+        self._created = True
+
+    def _wait(self) -> None:
+        error = self._writer.wait()
+        if error:
+            self._raise(error)
+        self._times.clear()
+
+    def _raise(self, error: str) -> None:
+        t = self._times.get(self._writer.failed_record)
+        raise OutputFailure(error if t is None else f"at t = {t:.6g}: {error}")
+
+    def abandon(self) -> None:
+        """Close the .h5 after a failure, writing nothing more."""
+        self._writer.close()
 
     def close(self) -> None:
-        self.write_pending()
-        self.write_text()
-        self.h5.close()
+        self.flush(wait=True)
+        error = self._writer.close()
+        if error:
+            raise OutputFailure(error)
 
 
 class NoOutput:
@@ -265,7 +260,7 @@ class NoOutput:
     def write(self, t: float, joints: list[JointState] | None = None) -> None:
         pass
 
-    def flush(self) -> None:
+    def flush(self, wait: bool = True) -> None:
         pass
 
     def close(self) -> None:
@@ -301,6 +296,7 @@ class XdmfOutput:
         self.sim = sim
         self.rank = rank
         self.k = sim.scene.output.samples_per_span
+        self._beam_indices = [b.index for b in sim.scene.beams]
         self.closed = False
         self.writes = 0
         self._held = 0  # records since the last flush
@@ -329,11 +325,7 @@ class XdmfOutput:
     # -- sampling (collective) -------------------------------------------------------------
     def _sample(self, x, v) -> dict[str, np.ndarray]:
         """Every beam's samples, one array per field over all beams (beam order)."""
-        model = self.sim._model
-        parts = [model.sample_beam(b.index, x, v, self.k) for b in self.sim.scene.beams]
-        if len(parts) == 1:
-            return dict(parts[0])
-        return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
+        return self.sim._model.sample_beams(self._beam_indices, x, v, self.k)
 
     def _reference(self) -> tuple[np.ndarray, np.ndarray]:
         """Sample points of the beams in the reference configuration (the mesh; displacements are
@@ -425,7 +417,7 @@ class XdmfOutput:
         self.writes += 1
         self._held += 1
         if self._held >= self._flush_every:
-            self.flush()
+            self.flush(wait=False)
 
     def _raise_on_any_rank(self, error: str | None) -> None:
         """Only rank 0 writes, but every rank must stop: share its verdict."""
@@ -437,25 +429,27 @@ class XdmfOutput:
             raise OutputFailure(error)
 
     def _abandon(self) -> None:
-        """After a failed write: touch the files no more (the .xdmf on disk keeps describing the
-        steps of the last flush). HDF5 crashes when a file whose write failed is closed or its
-        objects are freed, so they are kept alive until the process ends (the CLI then leaves
-        without the interpreter's teardown)."""
+        """After a failed write: write no more (the .xdmf on disk keeps describing the steps of
+        the last flush) and close the files, whose failure is already reported."""
         self.closed = True
-        _ABANDONED.extend(self._series)
+        for s in self._series:
+            s.abandon()
         self._series = []
 
-    def flush(self) -> None:
-        """Write the records held so far and make the .xdmf describe them (collective)."""
+    def flush(self, wait: bool = True) -> None:
+        """Make the .xdmf files describe the records so far (collective). ``wait``: return once
+        they do (a checkpoint, the end of the run; the .h5 files are not written meanwhile); else
+        the writers do it while the run goes on."""
         error = None
         self._held = 0
         try:
-            with _h5py_stderr_silenced():
-                for s in self._series:
-                    s.write_pending()
-                for s in self._series:
-                    s.write_text()
-        except Exception as err:  # h5py reports a full disk as OSError, RuntimeError or ValueError
+            for s in self._series:
+                s.flush(wait, backlog=2 * self._flush_every)
+        except OutputFailure as err:  # the record that failed names its time
+            self._abandon()
+            error = f"writing the XDMF output failed {err}" if str(err).startswith("at t =") else \
+                f"writing the XDMF output at t = {self._last_t:.6g} failed: {err}"
+        except OSError as err:  # the .xdmf text
             self._abandon()
             error = f"writing the XDMF output at t = {self._last_t:.6g} failed: {_first_line(err)}"
         self._raise_on_any_rank(error)
@@ -469,9 +463,8 @@ class XdmfOutput:
         errors = []
         for s in self._series:
             try:
-                with _h5py_stderr_silenced():
-                    s.close()
-            except Exception as err:  # noqa: BLE001 - see flush
+                s.close()
+            except (OutputFailure, OSError) as err:
                 errors.append(_first_line(err))
         self._series = []
         self._raise_on_any_rank("closing the XDMF output failed: " + "; ".join(errors) if errors else None)

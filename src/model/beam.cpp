@@ -95,7 +95,8 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     throw std::invalid_argument("beam '" + name() + "': sample needs " + std::to_string(coordinates_per_cp()) +
                                 " coordinates per control point");
   if (is_ancf()) return sample_ancf(q, q_dot, samples_per_span);
-  const int n = n_spans() * samples_per_span + 1;
+  const auto& points = sample_points(samples_per_span);
+  const int n = static_cast<int>(points.size());
   BeamSamples out;
   out.s.resize(static_cast<size_t>(n));
   for (auto* v : {&out.position, &out.velocity, &out.d1, &out.d2, &out.d3, &out.force, &out.moment})
@@ -104,19 +105,18 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
   out.tension.assign(static_cast<size_t>(n), 0.0);
   const std::vector<Eigen::Vector3d> knots = gamma_at_knots() ? knot_gamma(q) : std::vector<Eigen::Vector3d>{};
   for (int i = 0; i < n; ++i) {
-    const double s = length() * i / (n - 1);
-    const PointBasis b = basis_at(s);
-    const kernels::GaussPoint gp = basis_point(n_spans(), length(), b.span, s / length(), 0.0, corrected());
-    const kernels::StrainTable T = kernels::point_table(strain_table(), gp);
+    const SamplePoint& p = points[static_cast<size_t>(i)];
+    const PointBasis& b = p.basis;
+    const kernels::StrainTable& T = p.table;
     const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * b.span);
-    const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * b.span);
-    kernels::Vec6 eps = kernels::strains(T, kernels::field_map(gp) * qe) - kernels::strains(T, kernels::field_map(gp) * q0);
+    const kernels::VecZ z = kernels::field_map(p.gp) * qe;
+    kernels::Vec6 eps = kernels::strains(T, z) - p.eps_ref;
     if (gamma_at_knots()) {  // the element's own membrane and shear strains: the knots' values interpolated
-      const double t = gp.t;
+      const double t = p.gp.t;
       eps.head<3>() = (1.0 - t) * knots[static_cast<size_t>(b.span)] + t * knots[static_cast<size_t>(b.span + 1)];
     }
     const kernels::Vec6 sigma = stiffness_.cwiseProduct(eps);
-    out.s[static_cast<size_t>(i)] = s;
+    out.s[static_cast<size_t>(i)] = p.s;
     Eigen::Vector3d f[4] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                             Eigen::Vector3d::Zero()};  // phi, d1, d2, d3
     Eigen::Vector3d vel = Eigen::Vector3d::Zero();
@@ -126,7 +126,6 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     }
     // n = dW/dphi' = sum_k sigma_k d eps_k / dphi' (sigma_0 d1 + sigma_1 d2 + sigma_2 d3 for the
     // Simo-Reissner strains; sigma_0 phi' + ... where the axial strain is the centre line's)
-    const kernels::VecZ z = kernels::field_map(gp) * qe;
     Eigen::Vector3d n_sp = Eigen::Vector3d::Zero();
     for (int k = 0; k < 3; ++k)
       for (int t = 0; t < T[k].n_terms; ++t) {
@@ -136,8 +135,7 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
       }
     // the axial force: the resultant's component along the axial strain's direction (d1, or the
     // centre line's tangent)
-    const bool centre_line_axial = T[0].n_terms == 1 && T[0].terms[0].a == kernels::kPhiS && T[0].terms[0].b == kernels::kPhiS;
-    const double axial_force = centre_line_axial ? sigma(0) * z.segment<3>(3 * kernels::kPhiS).norm() : sigma(0);
+    const double axial_force = p.centre_line_axial ? sigma(0) * z.segment<3>(3 * kernels::kPhiS).norm() : sigma(0);
     const Eigen::Vector3d m_sp = sigma(3) * f[1] + sigma(4) * f[2] + sigma(5) * f[3];
     auto put = [i](std::vector<double>& v, const Eigen::Vector3d& x) {
       for (int k = 0; k < 3; ++k) v[static_cast<size_t>(3 * i + k)] = x(k);
@@ -153,6 +151,26 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
   }
   return out;
+}
+
+const std::vector<Beam::SamplePoint>& Beam::sample_points(int samples_per_span) const {
+  if (sampled_per_span_ == samples_per_span) return sample_points_;
+  const int n = n_spans() * samples_per_span + 1;
+  std::vector<SamplePoint> points(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    SamplePoint& p = points[static_cast<size_t>(i)];
+    p.s = length() * i / (n - 1);
+    p.basis = basis_at(p.s);
+    p.gp = basis_point(n_spans(), length(), p.basis.span, p.s / length(), 0.0, corrected());
+    p.table = kernels::point_table(strain_table(), p.gp);
+    const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * p.basis.span);
+    p.eps_ref = kernels::strains(p.table, kernels::field_map(p.gp) * q0);
+    const auto& axial = p.table[0];
+    p.centre_line_axial = axial.n_terms == 1 && axial.terms[0].a == kernels::kPhiS && axial.terms[0].b == kernels::kPhiS;
+  }
+  sample_points_ = std::move(points);
+  sampled_per_span_ = samples_per_span;
+  return sample_points_;
 }
 
 std::vector<Eigen::Vector3d> Beam::knot_gamma(const std::vector<double>& q) const {

@@ -163,6 +163,20 @@ class Beam {
   std::vector<kernels::ancf::AncfElement> ancf_elements_;
 
   BeamSamples sample_ancf(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const;
+
+  /// What sampling a director beam needs at each sample point apart from the coordinates: kept
+  /// for the last samples_per_span asked (output samples the same points at every record).
+  struct SamplePoint {
+    double s;
+    PointBasis basis;
+    kernels::GaussPoint gp;
+    kernels::StrainTable table;
+    kernels::Vec6 eps_ref;
+    bool centre_line_axial;
+  };
+  const std::vector<SamplePoint>& sample_points(int samples_per_span) const;
+  mutable int sampled_per_span_ = 0;
+  mutable std::vector<SamplePoint> sample_points_;
 };
 
 }  // namespace slidebeam

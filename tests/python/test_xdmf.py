@@ -301,3 +301,53 @@ def test_output_that_cannot_fit_is_refused_at_the_start(run_cli, root, tmp_path)
     assert out.returncode == 2
     assert "needs about" in out.stderr and "MB are free" in out.stderr and "output.every" in out.stderr
     assert not (tmp_path / "big" / "beams.h5").exists()
+
+
+def test_the_record_writer_writes_records_then_the_text_that_names_them(tmp_path):
+    """The background writer: every record as /<field>/<record> (float64 and int32, bit for bit),
+    the text appended over the closing tags only after the records before it, and a record that
+    would break the file's size limit refused with the reason, the file still whole."""
+    import h5py
+
+    from slidebeam import _core
+
+    h5 = tmp_path / "s.h5"
+    with h5py.File(h5, "w") as f:
+        f.create_group("mesh")
+    text = tmp_path / "s.txt"
+    text.write_bytes(b"<a>" + b"</a>")
+    writer = _core.RecordWriter(str(h5))
+    writer.set_text_file(str(text), 3, b"</a>")
+    rng = np.random.default_rng(1)
+    records = [{"x": rng.random((5, 3)), "k": np.arange(r, r + 4, dtype=np.int32)} for r in range(40)]
+    for r, fields in enumerate(records):
+        writer.add(r, fields)
+        if r == 19:
+            writer.append_text(b"<b/>")
+    writer.append_text(b"<c/>")
+    assert writer.wait() == "" and writer.pending == 0 and writer.failed_record == -1
+    assert text.read_bytes() == b"<a><b/><c/></a>"
+    assert writer.close() == ""
+    with h5py.File(h5, "r") as f:
+        for r, fields in enumerate(records):
+            assert np.array_equal(f[f"x/{r}"][()], fields["x"]) and f[f"x/{r}"].dtype == np.float64
+            assert np.array_equal(f[f"k/{r}"][()], fields["k"]) and f[f"k/{r}"].dtype == np.int32
+
+    script = f"""
+import resource, signal, numpy as np, h5py
+from slidebeam import _core
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+with h5py.File({str(tmp_path / 'big.h5')!r}, "w") as f:
+    f.create_group("mesh")
+resource.setrlimit(resource.RLIMIT_FSIZE, (8 << 20, 8 << 20))
+w = _core.RecordWriter({str(tmp_path / 'big.h5')!r})
+for r in range(40):
+    w.add(r, {{"x": np.full((20000, 3), float(r))}})
+print(w.wait(), "|", w.failed_record, "|", w.close())
+"""
+    res = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    error, failed, closed = (part.strip() for part in res.stdout.split("|"))
+    assert "File too large" in error and 0 < int(failed) < 40 and closed == error
+    with h5py.File(tmp_path / "big.h5", "r") as f:  # the records before the refused one are whole
+        assert all(f[f"x/{r}"][0, 0] == r for r in range(int(failed)))
