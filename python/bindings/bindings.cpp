@@ -12,6 +12,8 @@
 #include "solvers/time_integrator.hpp"
 #include "util/petsc_check.hpp"
 #include "util/stop_signal.hpp"
+#include "io/beam_series.hpp"
+#include "io/csv_format.hpp"
 #include "io/record_writer.hpp"
 
 #include <mpi4py/mpi4py.h>
@@ -81,6 +83,17 @@ PYBIND11_MODULE(_core, m) {
         return py::make_tuple(b.span, b.N, b.dN, b.ddN);
       },
       py::arg("n_spans"), py::arg("xi"), "(span, N[3], dN/dxi[3], d2N/dxi2[3]) at xi in [0,1]");
+  m.def("python_repr", &io::python_repr, py::arg("x"), "repr(x) of a float, written by the core (tests)");
+  m.def(
+      "csv_rows",
+      [](py::array_t<double, py::array::c_style | py::array::forcecast> values, const std::string& kinds,
+         const std::vector<std::string>& text) {
+        if (values.ndim() != 2 || static_cast<size_t>(values.shape(1)) != kinds.size())
+          throw std::invalid_argument("csv_rows: values must be rows x len(kinds)");
+        return io::csv_rows(values.data(), static_cast<size_t>(values.shape(0)), kinds, text);
+      },
+      py::arg("values"), py::arg("kinds"), py::arg("text") = std::vector<std::string>{},
+      "CSV lines of a table: kinds[j] 'f' (repr of the float), 'i' (integer) or 's' (the row's text)");
   m.def("greville", &bspline::greville, py::arg("n_spans"), py::arg("a"));
   m.def(
       "hermite_basis",
@@ -404,7 +417,9 @@ PYBIND11_MODULE(_core, m) {
           py::arg("record"), py::arg("fields"),
           "hand over a record: {field: array} (float64, or int32), copied; returns at once")
       .def("set_text_file", &io::RecordWriter::set_text_file, py::arg("path"), py::arg("end_mark"), py::arg("tail"),
-           "the file append_text writes into, the offset where its closing tags (tail) begin")
+           py::arg("head") = std::string(),
+           "the file append_text writes into, the offset where its closing tags (tail) begin; end_mark 0: "
+           "created as head + text + tail at the first append_text")
       .def("append_text", [](io::RecordWriter& w, py::bytes text) { w.append_text(std::string(text)); }, py::arg("text"),
            "after the records so far: flush, then write text + tail at the text file's end mark; returns at once")
       .def_property_readonly("error", &io::RecordWriter::error, "the first failure's message so far, '' if none")
@@ -415,4 +430,39 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("pending", &io::RecordWriter::pending, "records handed over, not yet written")
       .def_property_readonly("failed_record", &io::RecordWriter::failed_record,
                              "the record whose writing failed first, -1 if none");
+
+  py::class_<io::BeamSeriesSampler>(m, "BeamSeriesSampler",
+                                    "a record of the beams' XDMF series, sampled into the record writer")
+      .def(py::init([](std::vector<int> beams, int k, py::array_t<double, py::array::c_style | py::array::forcecast> ref,
+                       std::vector<double> half2, std::vector<double> half3) {
+             std::vector<double> r(ref.data(), ref.data() + ref.size());
+             return io::BeamSeriesSampler(std::move(beams), k, std::move(r), std::move(half2), std::move(half3));
+           }),
+           py::arg("beams"), py::arg("samples_per_span"), py::arg("reference"), py::arg("half2"), py::arg("half3"))
+      .def(
+          "record",
+          [](const io::BeamSeriesSampler& s, const Model& model, Vec x, std::optional<Vec> v, io::RecordWriter* writer,
+             long record) {
+            std::vector<double> position;
+            auto fields = s.sample(model, x, v ? *v : nullptr, position);
+            if (writer) writer->add(record, std::move(fields));
+            return as_array(position, static_cast<py::ssize_t>(s.points()), 3);
+          },
+          py::arg("model"), py::arg("x"), py::arg("v"), py::arg("writer"), py::arg("record"),
+          "sample the state (collective) and hand the record to writer (None: sample only); returns the "
+          "sample points (n x 3)")
+      .def(
+          "fields",
+          [](const io::BeamSeriesSampler& s, const Model& model, Vec x, std::optional<Vec> v) {
+            std::vector<double> position;
+            py::dict d;
+            for (auto& f : s.sample(model, x, v ? *v : nullptr, position)) {
+              std::vector<py::ssize_t> shape(f.shape.begin(), f.shape.end());
+              py::array_t<double> a(shape);
+              std::memcpy(a.mutable_data(), f.bytes.data(), f.bytes.size());
+              d[py::str(f.name)] = a;
+            }
+            return py::make_tuple(d, as_array(position, static_cast<py::ssize_t>(s.points()), 3));
+          },
+          py::arg("model"), py::arg("x"), py::arg("v"), "({field: array} as record writes them, the sample points); collective");
 }

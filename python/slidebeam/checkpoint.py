@@ -5,7 +5,8 @@ A checkpoint (``checkpoint.h5`` in the output folder) holds the integrator's vec
 with PETSc's HDF5 viewer (x: coordinates, sliding coordinates and multipliers; v; a; v_prev and
 sliding_rate, the predictor's memory) and, in the group ``slidebeam``, the time, the last step
 size, the linear-solver state, the step controller (current dt, counters) and the records so
-far. Restarting from it continues the run as if it had not stopped: the same predictor, the
+far (``history``: the table of :mod:`slidebeam.history`, exact, with ``history_reasons`` and the
+``history_layout``). Restarting from it continues the run as if it had not stopped: the same predictor, the
 same step sizes, so the same Newton iterates and the same history (to roundoff). Writing a checkpoint makes the run
 that goes on build a fresh Jacobian at its next step, as the restarted one does, so that this
 holds with Jacobian reuse too.
@@ -15,7 +16,6 @@ complete. Vectors are loaded by global index, so a run may restart on another nu
 """
 from __future__ import annotations
 
-import dataclasses
 import json
 import os
 from pathlib import Path
@@ -27,7 +27,7 @@ if TYPE_CHECKING:  # imported lazily: petsc4py must not be initialised before th
     from .dynamics import DynamicRecord, RunState
     from .simulation import Simulation
 
-FORMAT = 1
+FORMAT = 2  # 2: the records as a table (slidebeam.history); 1: as JSON (still read)
 VECTORS = ("x", "v", "a", "v_prev", "sliding_rate")
 
 
@@ -38,12 +38,6 @@ class CheckpointError(Exception):
 def _vectors(sim: "Simulation") -> dict:
     integ = sim.integrator
     return {name: getattr(integ, name) for name in VECTORS}
-
-
-def _fields(record: object) -> dict:
-    """A record (or its joint, reaction) as dataclasses.asdict gives it, without asdict's deep
-    copy, which took most of the time of a checkpoint with a record every step."""
-    return {f.name: getattr(record, f.name) for f in dataclasses.fields(record)}
 
 
 def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
@@ -61,6 +55,9 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
     comm.Barrier()
     if comm.Get_rank() == 0:
         import h5py
+        import numpy as np
+
+        from . import history
 
         with h5py.File(tmp, "a") as f:
             g = f.create_group("slidebeam")
@@ -76,7 +73,10 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
             }
             for key, value in meta.items():
                 g.attrs[key] = value
-            g.attrs["records"] = json.dumps(state.records, default=_fields)
+            values, reasons, layout = history.table(state.records, len(integ.energy_flows))
+            g.create_dataset("history", data=values)
+            g.create_dataset("history_reasons", data=np.array(reasons, dtype=h5py.string_dtype()))
+            g.attrs["history_layout"] = json.dumps(layout.as_dict())
             # the scene as run (file + overrides), so that a restart runs the same scene
             g.attrs["scene_file"] = sim.scene.file
             g.attrs["overrides"] = json.dumps(list(sim.scene.overrides))
@@ -155,6 +155,9 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
                 if "slidebeam" not in f or any(v not in f for v in VECTORS):
                     raise CheckpointError(f"{path} is not a slidebeam checkpoint")
                 meta = {k: (v.item() if hasattr(v, "item") else v) for k, v in f["slidebeam"].attrs.items()}
+                if "history" in f["slidebeam"]:
+                    meta["history"] = f["slidebeam/history"][()]
+                    meta["history_reasons"] = [r.decode() for r in f["slidebeam/history_reasons"][()]]
         except CheckpointError as err:
             error = str(err)
         except OSError as err:
@@ -180,6 +183,12 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
         sim.initial_energy = float(meta["initial_energy"])
     from .dynamics import RunState
 
-    records = [_record(r) for r in json.loads(meta["records"])]
+    if "history" in meta:
+        from . import history
+
+        records = history.records(meta["history"], meta["history_reasons"],
+                                  history.Layout.from_dict(json.loads(meta["history_layout"])))
+    else:  # format 1
+        records = [_record(r) for r in json.loads(meta["records"])]
     return RunState(records, float(meta["dt"]), int(meta["step"]), int(meta["rejected"]),
                     int(meta["rejected_since_record"]), int(meta["newton"]))

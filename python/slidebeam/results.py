@@ -59,15 +59,14 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
                 *[repr(v) for x in r.reactions for v in (*x.force, *(x.moment or ()))]]
 
     if sim.integrator is not None:
+        from . import _core, history
+
         flow_cols = sim.energy_flow_labels()
-        roles = [role for _, role, _ in sim.integrator.energy_flows]
         w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols, *reaction_cols, *flow_cols])
-        for d in records:
-            assert isinstance(d, DynamicRecord)
-            flows = d.flows or [0.0] * len(flow_cols)
-            w.writerow([*d.row(), *tail(d), *[repr(-v if role == "dissipative" else v)
-                                                for v, role in zip(flows, roles)]])
-        return buf.getvalue()
+        values, reasons, layout = history.table(records, len(flow_cols))  # type: ignore[arg-type]
+        dissipative = [k for k, (_, role, _) in enumerate(sim.integrator.energy_flows) if role == "dissipative"]
+        values[:, layout.flow_columns][:, dissipative] *= -1.0  # the dissipated energy, positive
+        return buf.getvalue() + _core.csv_rows(values, layout.kinds, reasons)
     w.writerow(["step", "t", "converged", "reason", "newton_iterations", "residual_norm",
                 "strain_energy", "potential_energy", *track_cols, *joint_cols, *reaction_cols])
     for r in records:

@@ -123,7 +123,6 @@ class Series:
         self.next_record = 0
         self._written: list[str] = []  # steps handed to the writer, not yet in the .xdmf
         self._times: dict[int, float] = {}  # record -> time, to name the one whose writing failed
-        self._created = False  # the .xdmf exists (written by this series)
         self._template: str | None = None
         resume = resume_after is not None and self.xdmf.is_file() and self.h5_path.is_file()
         kept = self._kept_steps(resume_after) if resume else []
@@ -132,8 +131,11 @@ class Series:
                 self._drop_records_after(h5, kept)
             self._mesh = self._write_mesh(h5, points, cells, topology, constants)
         self._writer = _core.RecordWriter(str(self.h5_path), COMPACT_BYTES)
+        self._has_text = bool(kept)  # the .xdmf exists, or the writer has steps to create it with
         if kept:  # the .xdmf as it was up to the restart time, in this structure
             self._create_text(kept)
+        else:  # created by the writer with the first steps
+            self._writer.set_text_file(str(self.xdmf), 0, _TAIL, _HEAD)
 
     # -- resume ------------------------------------------------------------------------------
     def _kept_steps(self, resume_after: float) -> list[str]:
@@ -204,6 +206,16 @@ class Series:
         if self._template is None:
             self._template = self._step_template(data)
         self._writer.add(self.next_record, data)
+        self.added(t)
+
+    @property
+    def writer(self):
+        """The record writer (``_core.RecordWriter``): a record handed to it directly as
+        ``next_record`` is then announced with :meth:`added`."""
+        return self._writer
+
+    def added(self, t: float) -> None:
+        """Record ``next_record``, at time t, is with the writer (its fields as the first record's)."""
         self._written.append(self._template.format(t=repr(float(t)), r=self.next_record))
         self._times[self.next_record] = float(t)
         self.next_record += 1
@@ -214,11 +226,9 @@ class Series:
         when that is done; else at once, unless more than ``backlog`` records wait to be written
         (memory). Raises OutputFailure if writing (this or an earlier flush) failed."""
         wait = wait or self._writer.pending > backlog
-        if not self._created:  # the first steps: the .xdmf is created whole
-            self._wait()
-            self._create_text(self._written)
-        elif self._written:
+        if self._written:
             self._writer.append_text("".join(self._written).encode())
+            self._has_text = True
         self._written = []
         if wait:
             self._wait()
@@ -231,7 +241,6 @@ class Series:
         tmp.write_bytes(text + _TAIL)
         os.replace(tmp, self.xdmf)
         self._writer.set_text_file(str(self.xdmf), len(text), _TAIL)
-        self._created = True
 
     def _wait(self) -> None:
         error = self._writer.wait()
@@ -249,6 +258,8 @@ class Series:
 
     def close(self) -> None:
         self.flush(wait=True)
+        if not self._has_text:  # no record at all: a series without steps
+            self._create_text([])
         error = self._writer.close()
         if error:
             raise OutputFailure(error)
@@ -308,6 +319,9 @@ class XdmfOutput:
         self._slider_rows = self._slider_sample_rows()
         self._slider_ref = self._slider_positions(ref, sim_x=self._ref_x) if sim.scene.sliding_joints else None
         self._ref_x.destroy()
+        from . import _core
+
+        self._sampler = _core.BeamSeriesSampler(self._beam_indices, self.k, ref, self._half2.ravel(), self._half3.ravel())
         self._series: list[Series] = []
         if rank != 0:
             return
@@ -376,13 +390,7 @@ class XdmfOutput:
     def fields(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
         """Point data of the current state that changes from record to record (collective), and
         the sample points' positions."""
-        data = self._sample(self.sim.x, self.sim.v)
-        position = data.pop("position")
-        del data["s"]  # the reference arc length: constant, written once
-        data["displacement"] = position - self._ref_points
-        data["section_d2"] = data["d2"] * self._half2
-        data["section_d3"] = data["d3"] * self._half3
-        return data, position
+        return self._sampler.fields(self.sim._model, self.sim.x, self.sim.v)
 
     def slider_fields(self, position: np.ndarray, joints: list[JointState] | None = None) -> dict[str, np.ndarray]:
         """The sliders' point data; ``joints``: the sliding joints' states if the caller has them
@@ -404,15 +412,22 @@ class XdmfOutput:
             self._write(t, joints)
 
     def _write(self, t: float, joints: list[JointState] | None) -> None:
-        beams, position = self.fields()
-        sliders = self.slider_fields(position, joints) if self.sim.scene.sliding_joints else None
+        beams = self._series[0] if self._series else None
         if self.writes == 0:  # every rank holds the same arrays: the same flush points everywhere
-            size = sum(v.nbytes for v in beams.values()) + sum(v.nbytes for v in (sliders or {}).values())
+            data, position = self.fields()
+            sliders = self.slider_fields(position, joints) if self.sim.scene.sliding_joints else {}
+            size = sum(v.nbytes for v in data.values()) + sum(v.nbytes for v in sliders.values())
             self._flush_every = max(1, min(FLUSH_EVERY, PENDING_BYTES // max(1, size)))
-        if self._series:
-            self._series[0].add(t, beams)
-            if sliders is not None:
-                self._series[1].add(t, sliders)
+            if beams is not None:
+                beams.add(t, data)
+        else:  # sampled into the writer's record
+            position = self._sampler.record(self.sim._model, self.sim.x, self.sim.v,
+                                            None if beams is None else beams.writer, -1 if beams is None else beams.next_record)
+            if beams is not None:
+                beams.added(t)
+            sliders = self.slider_fields(position, joints) if self.sim.scene.sliding_joints else {}
+        if sliders and self._series:
+            self._series[1].add(t, sliders)
         self._last_t = t
         self.writes += 1
         self._held += 1

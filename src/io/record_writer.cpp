@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <utility>
@@ -120,11 +121,13 @@ void RecordWriter::add(long record, std::vector<RecordField> fields) {
   if (wake) work_.notify_one();
 }
 
-void RecordWriter::set_text_file(const std::string& path, std::uint64_t end_mark, const std::string& tail) {
+void RecordWriter::set_text_file(const std::string& path, std::uint64_t end_mark, const std::string& tail,
+                                 const std::string& head) {
   std::lock_guard<std::mutex> lock(mutex_);
   text_path_ = path;
   text_end_ = end_mark;
   tail_ = tail;
+  head_ = head;
 }
 
 void RecordWriter::append_text(std::string text) {
@@ -147,6 +150,19 @@ void RecordWriter::write_text(const std::string& text) {
     std::lock_guard<std::mutex> library(library_lock());
     QuietErrors quiet;
     if (H5Fflush(file_, H5F_SCOPE_LOCAL) < 0) throw std::runtime_error(error_stack("flushing the file failed"));
+  }
+  if (text_end_ == 0) {  // the file's first text: written beside it and renamed, whole
+    const std::string tmp = text_path_ + ".tmp";
+    const std::string data = head_ + text + tail_;
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    if (fd < 0) throw std::runtime_error("cannot create " + tmp + " (" + std::strerror(errno) + ")");
+    const ssize_t written = ::write(fd, data.data(), data.size());
+    const int err = errno;
+    ::close(fd);
+    if (written != static_cast<ssize_t>(data.size()) || std::rename(tmp.c_str(), text_path_.c_str()) != 0)
+      throw std::runtime_error("cannot write " + text_path_ + " (" + std::strerror(written < 0 ? err : errno) + ")");
+    text_end_ = head_.size() + text.size();
+    return;
   }
   // one write over the closing tags: the document on disk ends complete before and after
   const std::string data = text + tail_;

@@ -47,8 +47,10 @@ class RecordWriter {
   /// `text` (the XDMF steps of those records, appended over the closing tags). Returns at once.
   void append_text(std::string text);
   /// The file append_text writes into, and the offset of its end mark (where its closing tags
-  /// `tail` begin).
-  void set_text_file(const std::string& path, std::uint64_t end_mark, const std::string& tail);
+  /// `tail` begin). end_mark 0: the file is created (beside it, then renamed) at the first
+  /// append_text, as head + text + tail.
+  void set_text_file(const std::string& path, std::uint64_t end_mark, const std::string& tail,
+                     const std::string& head = "");
   /// Block until every record and text handed over is written and the file flushed. Returns
   /// the first failure's message ("" if none).
   std::string wait();
@@ -92,7 +94,7 @@ class RecordWriter {
   bool busy_ = false, flush_ = false, stop_ = false;
   std::string error_;
   long failed_record_ = -1;
-  std::string text_path_, tail_;
+  std::string text_path_, tail_, head_;
   std::uint64_t text_end_ = 0;
   std::thread thread_;
 };
