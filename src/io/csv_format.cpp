@@ -8,40 +8,64 @@
 
 namespace slidebeam::io {
 
-std::string python_repr(double x) {
-  if (std::isnan(x)) return "nan";
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+namespace {
+/// Appends repr(x) to out (see python_repr).
+void append_repr(std::string& out, double x) {
+  if (std::isnan(x)) {
+    out += "nan";
+    return;
+  }
+  if (std::isinf(x)) {
+    out += x > 0 ? "inf" : "-inf";
+    return;
+  }
   char buf[64];
   const auto res = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific);
   // buf: [-]d[.ddd]e(+|-)XX
   const char* p = buf;
-  std::string out;
   if (*p == '-') {
     out += '-';
     ++p;
   }
-  std::string digits;
+  char digits[32];
+  int n = 0;
   for (; *p != 'e'; ++p)
-    if (*p != '.') digits += *p;
-  *res.ptr = 0;
-  const int exponent = std::atoi(p + 1);
+    if (*p != '.') digits[n++] = *p;
+  int exponent = 0;
+  std::from_chars(p + (p[1] == '+' ? 2 : 1), res.ptr, exponent);
   const int decpt = exponent + 1;  // digits d1 d2 ... with the point after decpt of them
-  const int n = static_cast<int>(digits.size());
   if (decpt > -4 && decpt <= 16) {
-    if (decpt <= 0)
-      out += "0." + std::string(static_cast<size_t>(-decpt), '0') + digits;
-    else if (decpt >= n)
-      out += digits + std::string(static_cast<size_t>(decpt - n), '0') + ".0";
-    else
-      out += digits.substr(0, static_cast<size_t>(decpt)) + "." + digits.substr(static_cast<size_t>(decpt));
-    return out;
+    if (decpt <= 0) {
+      out += "0.";
+      out.append(static_cast<size_t>(-decpt), '0');
+      out.append(digits, static_cast<size_t>(n));
+    } else if (decpt >= n) {
+      out.append(digits, static_cast<size_t>(n));
+      out.append(static_cast<size_t>(decpt - n), '0');
+      out += ".0";
+    } else {
+      out.append(digits, static_cast<size_t>(decpt));
+      out += '.';
+      out.append(digits + decpt, static_cast<size_t>(n - decpt));
+    }
+    return;
   }
   out += digits[0];
-  if (n > 1) out += "." + digits.substr(1);
+  if (n > 1) {
+    out += '.';
+    out.append(digits + 1, static_cast<size_t>(n - 1));
+  }
   const int e = std::abs(exponent);
   out += exponent < 0 ? "e-" : "e+";
   if (e < 10) out += '0';
-  out += std::to_string(e);
+  const auto r = std::to_chars(buf, buf + sizeof buf, e);
+  out.append(buf, r.ptr);
+}
+}  // namespace
+
+std::string python_repr(double x) {
+  std::string out;
+  append_repr(out, x);
   return out;
 }
 
@@ -74,7 +98,7 @@ std::string csv_rows(const double* values, std::size_t rows, const std::string& 
       const double v = values[i * cols + j];
       switch (kinds[j]) {
         case 'f':
-          out += python_repr(v);
+          append_repr(out, v);
           break;
         case 'i': {
           const auto res = std::to_chars(buf, buf + sizeof buf, static_cast<long long>(v));

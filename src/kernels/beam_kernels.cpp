@@ -162,6 +162,9 @@ VecZ weighted_gradient(const StrainTable& T, const Vec6& sigma, const VecZ& z) {
 }
 }  // namespace
 
+VecZ field_values(const GaussPoint& gp, const VecEl& q) { return apply_P(gp, q); }
+
+
 Vec6 strains(const StrainTable& T, const VecZ& z) {
   Vec6 e;
   for (int k = 0; k < 6; ++k) e(k) = form_value<kNz>(T[k], z);

@@ -113,6 +113,8 @@ constexpr int kSpanLanes = 4;  ///< at most this many quadrature points per span
 
 /// Map z = P q from the 36 coordinates of a span's control points to the field vector.
 MatZEl field_map(const GaussPoint& gp);
+/// z = field_map(gp) * q, block by block (without forming the map).
+VecZ field_values(const GaussPoint& gp, const VecEl& q);
 
 /// The strain table at a quadrature point. The measure's own table, except for corrected points of
 /// the Simo-Reissner measure (assumed strains), where the axial strain is the centre line's,

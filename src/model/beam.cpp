@@ -109,7 +109,7 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     const PointBasis& b = p.basis;
     const kernels::StrainTable& T = p.table;
     const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * b.span);
-    const kernels::VecZ z = kernels::field_map(p.gp) * qe;
+    const kernels::VecZ z = kernels::field_values(p.gp, qe);
     kernels::Vec6 eps = kernels::strains(T, z) - p.eps_ref;
     if (gamma_at_knots()) {  // the element's own membrane and shear strains: the knots' values interpolated
       const double t = p.gp.t;

@@ -295,6 +295,12 @@ def test_a_full_disk_stops_the_run_cleanly(root, tmp_path):
     assert "XDMF output" in res.stderr and "File too large" in res.stderr and "run stopped at t =" in res.stderr
     assert "Traceback" not in res.stderr and "PETSC ERROR" not in res.stderr
     assert not (tmp_path / "full" / "summary.json").exists()  # nothing claims a complete run
+    import h5py
+
+    with h5py.File(tmp_path / "full" / "beams.h5", "r") as f:  # whole: every record before the refused one reads
+        records = sorted(int(k) for k in f["displacement"].keys())
+        assert records == list(range(len(records))) and len(records) > 10
+        assert all(f[f"{name}/{records[-1]}"].shape[0] == (8 * 64 + 1) + (64 + 1) for name in ("displacement", "tension"))
 
 
 def test_output_that_cannot_fit_is_refused_at_the_start(run_cli, root, tmp_path):
