@@ -7,6 +7,18 @@ import numpy as np
 from petsc4py import PETSc
 
 
+class BeamSeriesSampler:
+    """a record of the beams' XDMF series, sampled into the record writer"""
+    def __init__(self, beams: list[int], samples_per_span: int, reference: np.ndarray, half2: list[float], half3: list[float]) -> None: ...
+    def record(self, model: Model, x: PETSc.Vec, v: PETSc.Vec | None, writer: RecordWriter, record: int) -> np.ndarray:
+        """sample the state (collective) and hand the record to writer (None: sample only); returns
+        the sample points (n x 3)
+        """
+        ...
+    def fields(self, model: Model, x: PETSc.Vec, v: PETSc.Vec | None) -> tuple:
+        """({field: array} as record writes them, the sample points); collective"""
+        ...
+
 class EquilibriumResult:
     @property
     def converged(self) -> bool: ...
@@ -73,6 +85,9 @@ class Model:
         force, moment, tension); collective
         """
         ...
+    def sample_beams(self, beams: list[int], x: PETSc.Vec, v: PETSc.Vec | None = None, samples_per_span: int = 4) -> dict:
+        """sample_beam's fields of several beams, one after the other in each array; collective"""
+        ...
     def static_reactions(self, t: float, x: PETSc.Vec) -> list:
         """[(effect index, force, moment or None)] of supports and joints in equilibrium at x
         (collective)
@@ -111,6 +126,39 @@ class Model:
 class ParamError(ValueError): ...
 
 class PetscFailure(RuntimeError): ...
+
+class RecordWriter:
+    """records of an XDMF time series written into an existing HDF5 file by a background thread, one
+    dataset /<field>/<record> per array
+    """
+    def __init__(self, path: str, compact_bytes: int = 32768) -> None: ...
+    def add(self, record: int, fields: dict) -> None:
+        """hand over a record: {field: array} (float64, or int32), copied; returns at once"""
+        ...
+    def set_text_file(self, path: str, end_mark: int, tail: str, head: str = '') -> None:
+        """the file append_text writes into, the offset where its closing tags (tail) begin;
+        end_mark 0: created as head + text + tail at the first append_text
+        """
+        ...
+    def append_text(self, text: bytes) -> None:
+        """after the records so far: flush, then write text + tail at the text file's end mark;
+        returns at once
+        """
+        ...
+    @property
+    def error(self) -> str: ...
+    def wait(self) -> str:
+        """block until every record is written and the file flushed; the first failure's message or
+        ''
+        """
+        ...
+    def close(self) -> str:
+        """wait, then close the file; the first failure's message or ''"""
+        ...
+    @property
+    def pending(self) -> int: ...
+    @property
+    def failed_record(self) -> int: ...
 
 SERIAL_BELOW: int  # = 1500
 
@@ -215,6 +263,10 @@ def bspline_basis(n_spans: int, xi: float) -> tuple:
     """(span, N[3], dN/dxi[3], d2N/dxi2[3]) at xi in [0,1]"""
     ...
 
+def csv_rows(values: np.ndarray, kinds: str, text: list[str] = []) -> str:
+    """CSV lines of a table: kinds[j] 'f' (repr of the float), 'i' (integer) or 's' (the row's text)"""
+    ...
+
 def effect_specs_json() -> str:
     """every registered effect type: its scene table, parameters (kind, unit, default, bounds), role
     in the energy balance and reports, as JSON
@@ -241,6 +293,10 @@ def plain_option_copies() -> list[tuple[str, str]]:
     """[(copy, plain option)], names without the dash: the plain solver options (-snes_rtol) copied
     under a solver's prefix (sb_static_snes_rtol) when it was created
     """
+    ...
+
+def python_repr(x: float) -> str:
+    """repr(x) of a float, written by the core (tests)"""
     ...
 
 def stop_signal() -> int:
