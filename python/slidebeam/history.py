@@ -73,11 +73,22 @@ def _row(r: DynamicRecord, flows: int) -> list[float]:
     return row
 
 
+# The rows of the last table, by record: the end of a run tables its records twice (checkpoint,
+# history.csv). The records are kept with their rows, so an id is never that of another record.
+_last_rows: dict[int, tuple[DynamicRecord, int, list[float]]] = {}
+
+
 def table(records: list[DynamicRecord], flows: int) -> tuple[np.ndarray, list[str], Layout]:
     """(values: records x columns, the reasons, the layout) of a run's records; ``flows``: how
     many effects' works are counted."""
+    global _last_rows
     layout = Layout.of(records[0], flows)
-    values = np.array([_row(r, flows) for r in records], dtype=np.float64).reshape(len(records), layout.columns)
+    rows = {}
+    for r in records:
+        kept = _last_rows.get(id(r))
+        rows[id(r)] = kept if kept is not None and kept[0] is r and kept[1] == flows else (r, flows, _row(r, flows))
+    _last_rows = rows
+    values = np.array([rows[id(r)][2] for r in records], dtype=np.float64).reshape(len(records), layout.columns)
     return values, [r.reason for r in records], layout
 
 

@@ -373,6 +373,8 @@ class XdmfOutput:
         return rows
 
     def _slider_positions(self, points: np.ndarray, sim_x=None) -> np.ndarray:
+        if None not in self._slider_rows:  # every slider point is a beam end: a sample point
+            return points[self._slider_rows]
         joints = self.sim.scene.sliding_joints
         pos = np.empty((len(joints), 3))
         for i, (j, row) in enumerate(zip(joints, self._slider_rows)):
@@ -396,12 +398,9 @@ class XdmfOutput:
         """The sliders' point data; ``joints``: the sliding joints' states if the caller has them
         (a record), else they are computed (collective)."""
         joints = self.sim.joint_states() if joints is None else joints
-        return {
-            "displacement": self._slider_positions(position) - self._slider_ref,
-            "s": np.array([j.s for j in joints]),
-            "ds_dt": np.array([j.ds_dt for j in joints]),
-            "reaction": np.array([j.reaction for j in joints]).reshape(-1, 3),
-        }
+        state = np.array([(j.s, j.ds_dt, *j.reaction) for j in joints]).reshape(-1, 5)
+        return {"displacement": self._slider_positions(position) - self._slider_ref,
+                "s": state[:, 0], "ds_dt": state[:, 1], "reaction": state[:, 2:]}
 
     # -- writing ---------------------------------------------------------------------------
     def write(self, t: float, joints: list[JointState] | None = None) -> None:

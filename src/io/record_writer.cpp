@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -86,6 +87,17 @@ RecordWriter::RecordWriter(const std::string& path, std::size_t compact_bytes) :
   // the run goes on; the .xdmf only names records whose data is flushed.
   const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
   H5Pset_file_locking(fapl, false, true);
+  // A small metadata cache: the records' object headers leave it as the writer goes (on its
+  // thread), not all at once when the file is closed at the end of the run.
+  H5AC_cache_config_t cache;
+  cache.version = H5AC__CURR_CACHE_CONFIG_VERSION;
+  if (H5Pget_mdc_config(fapl, &cache) >= 0) {
+    cache.set_initial_size = true;
+    cache.initial_size = kMetadataCacheBytes;
+    cache.max_size = kMetadataCacheBytes;
+    cache.min_size = std::min<std::size_t>(cache.min_size, kMetadataCacheBytes);
+    H5Pset_mdc_config(fapl, &cache);
+  }
   file_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl);
   H5Pclose(fapl);
   if (file_ < 0) throw std::runtime_error(error_stack("cannot open " + path));

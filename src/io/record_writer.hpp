@@ -80,6 +80,7 @@ class RecordWriter {
   static constexpr std::uint64_t kMetadataReserve = 4u << 20;
   /// Records queued before the thread is woken: a wake-up costs the caller more than a copy.
   static constexpr std::size_t kWakeAfter = 16;
+  static constexpr std::size_t kMetadataCacheBytes = 256 << 10;
   std::int64_t group(const std::string& name);
 
   std::int64_t file_ = -1;  // hid_t
