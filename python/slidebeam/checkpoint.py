@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
 """Checkpoint and restart of a dynamic run.
 
-A checkpoint (``checkpoint.h5`` in the output folder) holds the integrator's vectors, written
-as PETSc's HDF5 viewer writes them (x: coordinates, sliding coordinates and multipliers; v; a; v_prev and
+A checkpoint (``checkpoint.h5`` in the output folder) holds the integrator's vectors, gathered
+to rank 0 and written by h5py as PETSc's HDF5 viewer writes them, read back with the viewer (x: coordinates, sliding coordinates and multipliers; v; a; v_prev and
 sliding_rate, the predictor's memory) and, in the group ``slidebeam``, the time, the last step
 size, the linear-solver state, the step controller (current dt, counters) and the records so
 far (``history``: the table of :mod:`slidebeam.history`, exact, with ``history_reasons`` and the
@@ -47,24 +47,23 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
     comm = run_comm()
     integ = sim.integrator
     tmp = path.with_name(f".{path.name}.tmp")
-    serial = sim.x.getComm().getSize() == 1
-    if not serial:  # the vectors in parallel; in serial h5py writes the same datasets (N float64s), faster
-        viewer = PETSc.Viewer().createHDF5(str(tmp), mode=PETSc.Viewer.Mode.WRITE, comm=sim.x.getComm())
-        for name, vec in _vectors(sim).items():
-            vec.setName(name)
-            vec.view(viewer)
-        viewer.destroy()
-    comm.Barrier()
+    gathered = {}
+    for name, vec in _vectors(sim).items():  # to rank 0, which writes them as PETSc's HDF5 viewer would
+        scatter, whole = PETSc.Scatter.toZero(vec)
+        scatter.scatter(vec, whole, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        if comm.Get_rank() == 0:
+            gathered[name] = whole.getArray(readonly=True).copy()
+        scatter.destroy()
+        whole.destroy()
     if comm.Get_rank() == 0:
         import h5py
         import numpy as np
 
         from . import history
 
-        with h5py.File(tmp, "w" if serial else "a") as f:
-            if serial:
-                for name, vec in _vectors(sim).items():
-                    f.create_dataset(name, data=vec.getArray(readonly=True))
+        with h5py.File(tmp, "w") as f:
+            for name, values in gathered.items():
+                f.create_dataset(name, data=values)
             g = f.create_group("slidebeam")
             meta = {
                 "format": FORMAT, "scene": sim.scene.name, "unknowns": sim.x.getSize(),

@@ -6,7 +6,6 @@ included), the output, and the rest. Effects the scene does not name have no eve
 row. Times are the largest over the ranks."""
 from __future__ import annotations
 
-import contextlib
 from typing import TYPE_CHECKING
 
 from .parallel import run_comm
@@ -24,17 +23,21 @@ def start_logging() -> None:
     PETSc.Log.begin()
 
 
-@contextlib.contextmanager
-def output_phase():
-    """Log event around a write of results (XDMF, CSV, checkpoints)."""
-    from petsc4py import PETSc
+class output_phase:  # noqa: N801 - used as `with output_phase():`, like a function
+    """Log event around a write of results (XDMF, CSV, checkpoints). A class, not a generator:
+    a record every step enters it a thousand times a second."""
 
-    event = PETSc.Log.Event(OUTPUT_EVENT)
-    event.begin()
-    try:
-        yield
-    finally:
-        event.end()
+    _event = None
+
+    def __enter__(self) -> None:
+        if output_phase._event is None:
+            from petsc4py import PETSc
+
+            output_phase._event = PETSc.Log.Event(OUTPUT_EVENT)
+        output_phase._event.begin()
+
+    def __exit__(self, *exc: object) -> None:
+        output_phase._event.end()
 
 
 def _perf(name: str) -> tuple[float, int]:

@@ -123,7 +123,7 @@ class Series:
         self.next_record = 0
         self._written: list[str] = []  # steps handed to the writer, not yet in the .xdmf
         self._times: dict[int, float] = {}  # record -> time, to name the one whose writing failed
-        self._template: str | None = None
+        self._template: tuple[list[str], list[str]] | None = None  # the step's text around {t}, split at {r}
         resume = resume_after is not None and self.xdmf.is_file() and self.h5_path.is_file()
         kept = self._kept_steps(resume_after) if resume else []
         with h5py.File(self.h5_path, "a" if resume else "w") as h5:
@@ -204,7 +204,8 @@ class Series:
     def add(self, t: float, data: dict[str, np.ndarray]) -> None:
         """Hand a record to the writer (one dataset per field and record)."""
         if self._template is None:
-            self._template = self._step_template(data)
+            before, after = self._step_template(data).split("{t}")
+            self._template = before.split("{r}"), after.split("{r}")
         self._writer.add(self.next_record, data)
         self.added(t)
 
@@ -216,7 +217,9 @@ class Series:
 
     def added(self, t: float) -> None:
         """Record ``next_record``, at time t, is with the writer (its fields as the first record's)."""
-        self._written.append(self._template.format(t=repr(float(t)), r=self.next_record))
+        before, after = self._template
+        r = str(self.next_record)
+        self._written.append(r.join(before) + repr(float(t)) + r.join(after))
         self._times[self.next_record] = float(t)
         self.next_record += 1
 
