@@ -25,7 +25,8 @@ BeamSeriesSampler::BeamSeriesSampler(std::vector<int> beams, int samples_per_spa
       samples_per_span_(samples_per_span),
       reference_(std::move(reference)),
       half2_(std::move(half2)),
-      half3_(std::move(half3)) {
+      half3_(std::move(half3)),
+      scratch_(beams_.size()) {
   if (reference_.size() != 3 * half2_.size() || half3_.size() != half2_.size())
     throw std::invalid_argument("BeamSeriesSampler: n x 3 reference points and n half extents needed");
 }
@@ -41,10 +42,11 @@ std::vector<RecordField> BeamSeriesSampler::sample(const Model& model, Vec x, Ve
   for (const char* name : {"displacement", "section_d2", "section_d3"}) f.push_back(field(name, n, 3));
   position.resize(3 * n);
   std::size_t first = 0;  // the beam's first sample point
-  for (int beam : beams_) {
+  for (const int& beam : beams_) {
     const auto q = model.beam_coordinates(beam, x);
     const auto qd = v ? model.beam_coordinates(beam, v) : std::vector<double>{};
-    const BeamSamples b = model.beam(beam).sample(q, qd, samples_per_span_);
+    BeamSamples& b = scratch_[static_cast<std::size_t>(&beam - beams_.data())];
+    model.beam(beam).sample_into(q, qd, samples_per_span_, b);
     const std::size_t m = b.s.size();
     if (first + m > n) throw std::invalid_argument("BeamSeriesSampler: more sample points than reference points");
     auto copy = [&](int k, const std::vector<double>& from, std::size_t width) {

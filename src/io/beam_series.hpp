@@ -33,6 +33,7 @@ class BeamSeriesSampler {
   std::vector<int> beams_;
   int samples_per_span_;
   std::vector<double> reference_, half2_, half3_;
+  mutable std::vector<BeamSamples> scratch_;  // per beam, reused from record to record
 };
 
 }  // namespace slidebeam::io

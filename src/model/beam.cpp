@@ -90,14 +90,23 @@ PointBasis Beam::basis_on_span(int span, double s) const {
 }
 
 BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const {
+  BeamSamples out;
+  sample_into(q, q_dot, samples_per_span, out);
+  return out;
+}
+
+void Beam::sample_into(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span,
+                       BeamSamples& out) const {
   if (samples_per_span < 1) throw std::invalid_argument("samples_per_span must be >= 1");
   if (q.size() != spec_.q_ref.size() || (!q_dot.empty() && q_dot.size() != q.size()))
     throw std::invalid_argument("beam '" + name() + "': sample needs " + std::to_string(coordinates_per_cp()) +
                                 " coordinates per control point");
-  if (is_ancf()) return sample_ancf(q, q_dot, samples_per_span);
+  if (is_ancf()) {
+    out = sample_ancf(q, q_dot, samples_per_span);
+    return;
+  }
   const auto& points = sample_points(samples_per_span);
   const int n = static_cast<int>(points.size());
-  BeamSamples out;
   out.s.resize(static_cast<size_t>(n));
   for (auto* v : {&out.position, &out.velocity, &out.d1, &out.d2, &out.d3, &out.force, &out.moment})
     v->assign(static_cast<size_t>(3 * n), 0.0);
@@ -150,7 +159,6 @@ BeamSamples Beam::sample(const std::vector<double>& q, const std::vector<double>
     out.tension[static_cast<size_t>(i)] = axial_force;
     for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
   }
-  return out;
 }
 
 const std::vector<Beam::SamplePoint>& Beam::sample_points(int samples_per_span) const {

@@ -150,6 +150,9 @@ class Beam {
   /// Resultants: sigma = C (eps - eps_ref), n = sigma_0 d1 + sigma_1 d2 + sigma_2 d3,
   /// m = sigma_3 d1 + sigma_4 d2 + sigma_5 d3 (d1 along the axis).
   BeamSamples sample(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span) const;
+  /// The same into `out`, reusing its arrays (output samples at every record).
+  void sample_into(const std::vector<double>& q, const std::vector<double>& q_dot, int samples_per_span,
+                   BeamSamples& out) const;
 
  private:
   BeamSpec spec_;
