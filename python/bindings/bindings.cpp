@@ -59,6 +59,29 @@ py::array_t<double> as_array(const std::vector<double>& v, py::ssize_t rows, py:
   std::copy(v.begin(), v.end(), a.mutable_data());
   return a;
 }
+/// sample_beam's dict for several beams, one after the other in each array (collective: the
+/// control points are gathered on every rank).
+py::dict sampled_fields(const Model& s, const std::vector<int>& beams, Vec x, std::optional<Vec> v, int samples_per_span) {
+  BeamSamples all;
+  for (int beam : beams) {
+    const auto q = s.beam_coordinates(beam, x);
+    const auto qd = v ? s.beam_coordinates(beam, *v) : std::vector<double>{};
+    const BeamSamples b = s.beam(beam).sample(q, qd, samples_per_span);
+    for (auto [to, from] : {std::pair{&all.s, &b.s}, {&all.position, &b.position}, {&all.velocity, &b.velocity},
+                            {&all.d1, &b.d1}, {&all.d2, &b.d2}, {&all.d3, &b.d3}, {&all.force, &b.force},
+                            {&all.moment, &b.moment}, {&all.strain, &b.strain}, {&all.tension, &b.tension}})
+      to->insert(to->end(), from->begin(), from->end());
+  }
+  const auto n = static_cast<py::ssize_t>(all.s.size());
+  py::dict d;
+  d["s"] = as_array(all.s, n, 1).attr("reshape")(n);
+  for (auto [name, vec] : {std::pair{"position", &all.position}, {"velocity", &all.velocity}, {"d1", &all.d1},
+                           {"d2", &all.d2}, {"d3", &all.d3}, {"force", &all.force}, {"moment", &all.moment}})
+    d[name] = as_array(*vec, n, 3);
+  d["strain"] = as_array(all.strain, n, 6);
+  d["tension"] = as_array(all.tension, n, 1).attr("reshape")(n);
+  return d;
+}
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -162,47 +185,13 @@ PYBIND11_MODULE(_core, m) {
            "load-step predictor: linear in every unknown but the director triads, which turn on")
       .def("sample_beam",
            [](const Model& s, int beam, Vec x, std::optional<Vec> v, int samples_per_span) {
-             // collective: the control points are gathered on every rank
-             const auto q = s.beam_coordinates(beam, x);
-             const auto qd = v ? s.beam_coordinates(beam, *v) : std::vector<double>{};
-             const BeamSamples b = s.beam(beam).sample(q, qd, samples_per_span);
-             const auto n = static_cast<py::ssize_t>(b.s.size());
-             py::dict d;
-             d["s"] = as_array(b.s, n, 1).attr("reshape")(n);
-             for (auto [name, vec] : {std::pair{"position", &b.position}, {"velocity", &b.velocity}, {"d1", &b.d1},
-                                      {"d2", &b.d2}, {"d3", &b.d3}, {"force", &b.force}, {"moment", &b.moment}})
-               d[name] = as_array(*vec, n, 3);
-             d["strain"] = as_array(b.strain, n, 6);
-             d["tension"] = as_array(b.tension, n, 1).attr("reshape")(n);
-             return d;
+             return sampled_fields(s, {beam}, x, v, samples_per_span);
            },
            py::arg("beam"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
            "fields sampled along a beam (dict of arrays: s, position, velocity, d1, d2, d3, strain, force, "
            "moment, tension); collective")
-      .def("sample_beams",
-           [](const Model& s, const std::vector<int>& beams, Vec x, std::optional<Vec> v, int samples_per_span) {
-             // collective: the control points are gathered on every rank
-             BeamSamples all;
-             for (int beam : beams) {
-               const auto q = s.beam_coordinates(beam, x);
-               const auto qd = v ? s.beam_coordinates(beam, *v) : std::vector<double>{};
-               const BeamSamples b = s.beam(beam).sample(q, qd, samples_per_span);
-               for (auto [to, from] : {std::pair{&all.s, &b.s}, {&all.position, &b.position}, {&all.velocity, &b.velocity},
-                                       {&all.d1, &b.d1}, {&all.d2, &b.d2}, {&all.d3, &b.d3}, {&all.force, &b.force},
-                                       {&all.moment, &b.moment}, {&all.strain, &b.strain}, {&all.tension, &b.tension}})
-                 to->insert(to->end(), from->begin(), from->end());
-             }
-             const auto n = static_cast<py::ssize_t>(all.s.size());
-             py::dict d;
-             d["s"] = as_array(all.s, n, 1).attr("reshape")(n);
-             for (auto [name, vec] : {std::pair{"position", &all.position}, {"velocity", &all.velocity}, {"d1", &all.d1},
-                                      {"d2", &all.d2}, {"d3", &all.d3}, {"force", &all.force}, {"moment", &all.moment}})
-               d[name] = as_array(*vec, n, 3);
-             d["strain"] = as_array(all.strain, n, 6);
-             d["tension"] = as_array(all.tension, n, 1).attr("reshape")(n);
-             return d;
-           },
-           py::arg("beams"), py::arg("x"), py::arg("v") = py::none(), py::arg("samples_per_span") = 4,
+      .def("sample_beams", &sampled_fields, py::arg("beams"), py::arg("x"), py::arg("v") = py::none(),
+           py::arg("samples_per_span") = 4,
            "sample_beam's fields of several beams, one after the other in each array; collective")
       .def("static_reactions",
            [](const Model& s, double t, Vec x) { return reaction_list(s.static_reactions(t, x)); }, py::arg("t"), py::arg("x"),

@@ -504,7 +504,9 @@ PetscErrorCode DirectorCondensation::apply_exact(Mat A, Vec b, Vec y) {
     PetscCall(VecDuplicate(b, &p_));
     PetscCall(VecDuplicate(b, &t_));
   }
-  // particular solution of the constraint rows on the triads' directors, t = b - A p
+  // particular solution of the constraint rows on the triads' directors, t = b - A p (p = 0
+  // where b has no constraint rows: the coupling correction's unit vectors on coordinates)
+  bool constrained = false;
   {
     const PetscScalar* bb = nullptr;
     PetscScalar* pp = nullptr;
@@ -513,16 +515,23 @@ PetscErrorCode DirectorCondensation::apply_exact(Mat A, Vec b, Vec y) {
     std::fill(pp, pp + n_, 0.0);
     for (size_t t = 0; t < triads_.size(); ++t) {
       const PetscInt q0 = triads_[t];
-      Eigen::Map<Eigen::Matrix<double, 9, 1>>(pp + q0 + 3) = Cpinv_[t] * Eigen::Map<const kernels::Vec6>(bb + q0 + kQ);
+      const Eigen::Map<const kernels::Vec6> bl(bb + q0 + kQ);
+      if (bl.isZero(0.0)) continue;
+      constrained = true;
+      Eigen::Map<Eigen::Matrix<double, 9, 1>>(pp + q0 + 3) = Cpinv_[t] * bl;
     }
     PetscCall(VecRestoreArrayWrite(p_, &pp));
     PetscCall(VecRestoreArrayRead(b, &bb));
   }
-  PetscCall(MatMult(A, p_, t_));
-  PetscCall(VecAYPX(t_, -1.0, b));
+  if (constrained) {
+    PetscCall(MatMult(A, p_, t_));
+    PetscCall(VecAYPX(t_, -1.0, b));
+  } else {
+    PetscCall(VecCopy(b, t_));
+  }
   // reduced solve: y = N' a on the triads' coordinates, a elsewhere, 0 on their multipliers
   PetscCall(apply(t_, y));
-  PetscCall(VecAXPY(y, 1.0, p_));
+  if (constrained) PetscCall(VecAXPY(y, 1.0, p_));
   // multipliers: G^T dlambda = b_q - (A y)_q on each triad's force rows
   PetscCall(MatMult(A, y, t_));
   {

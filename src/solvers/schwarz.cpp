@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/schwarz.hpp"
 
+#include "solvers/coupling_correction.hpp"
 #include "solvers/newton.hpp"
 #include "solvers/solver_options.hpp"
 
@@ -93,7 +94,48 @@ PetscErrorCode ranks_coupled(Mat J, bool* coupled) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed) {
+namespace {
+constexpr const char* kCorrectionKey = "sb_coupling_correction";
+
+PetscErrorCode destroy_correction(void* p) {
+  delete static_cast<CouplingCorrection*>(p);
+  return 0;
+}
+
+/// The correction composed with ksp, created on first use.
+PetscErrorCode correction_of(KSP ksp, CouplingCorrection** c) {
+  PetscFunctionBeginUser;
+  PetscObject o = nullptr;
+  PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(ksp), kCorrectionKey, &o));
+  if (!o) {
+    auto* made = new CouplingCorrection(PetscObjectComm(reinterpret_cast<PetscObject>(ksp)));
+    PetscContainer container = nullptr;
+    PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &container));
+    PetscCall(PetscContainerSetPointer(container, made));
+    PetscCall(PetscContainerSetUserDestroy(container, &destroy_correction));
+    PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(ksp), kCorrectionKey,
+                                 reinterpret_cast<PetscObject>(container)));
+    PetscCall(PetscContainerDestroy(&container));  // ksp holds it
+    o = nullptr;
+    PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(ksp), kCorrectionKey, &o));
+  }
+  void* p = nullptr;
+  PetscCall(PetscContainerGetPointer(reinterpret_cast<PetscContainer>(o), &p));
+  *c = static_cast<CouplingCorrection*>(p);
+  PetscFunctionReturn(0);
+}
+}  // namespace
+
+CouplingCorrection* coupling_correction(KSP ksp) {
+  PetscObject o = nullptr;
+  PetscObjectQuery(reinterpret_cast<PetscObject>(ksp), kCorrectionKey, &o);
+  if (!o) return nullptr;
+  void* p = nullptr;
+  PetscContainerGetPointer(reinterpret_cast<PetscContainer>(o), &p);
+  return static_cast<CouplingCorrection*>(p);
+}
+
+PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed, SchwarzSolve* solve) {
   PetscFunctionBeginUser;
   PC pc = nullptr;
   PetscCall(KSPGetPC(ksp, &pc));
@@ -104,23 +146,46 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
     PetscCall(PCGetType(pc, &type));
     if (std::string(type) == PCASM) PetscCall(set_schwarz_subdomains(pc, model, J));
   }
-  if (std::string(type) != PCBJACOBI) PetscFunctionReturn(0);
-  // No entry couples two ranks' unknowns (separate structures, one per rank): block Jacobi with
-  // exact blocks is the exact solve, and one application does (no Krylov iterations). The
-  // coupling can only change with the pattern; the KSP type stays the user's if given.
-  if (model.dof_map().owners() != 1) {
-    const char* prefix = nullptr;
-    PetscCall(KSPGetOptionsPrefix(ksp, &prefix));
-    if (!solver_option_set(prefix, "-ksp_type")) {
-      bool coupled = true;
-      PetscCall(ranks_coupled(J, &coupled));
-      KSPType kt = nullptr;
-      PetscCall(KSPGetType(ksp, &kt));
-      const bool preonly = kt && std::string(kt) == KSPPREONLY;
-      if (!coupled && !preonly) PetscCall(KSPSetType(ksp, KSPPREONLY));
-      if (coupled && preonly) PetscCall(use_gmres(ksp));
-    }
+  SchwarzSolve how = SchwarzSolve::Krylov;
+  KSPType kt = nullptr;
+  PetscCall(KSPGetType(ksp, &kt));
+  bool preonly = kt && std::string(kt) == KSPPREONLY;
+  if (std::string(type) != PCBJACOBI) {
+    if (solve) *solve = how;
+    PetscFunctionReturn(0);
   }
+  const char* prefix = nullptr;
+  PetscCall(KSPGetOptionsPrefix(ksp, &prefix));
+  if (model.dof_map().owners() != 1 && !solver_option_set(prefix, "-ksp_type")) {
+    // No entry couples two ranks' unknowns (separate structures, one per rank): block Jacobi
+    // with exact blocks is the exact solve. Coupled ranks: the same application made exact by
+    // the coupling correction, or GMRES, watched by the correction (-sb_schwarz_exact). The
+    // coupling can only change with the pattern.
+    bool coupled = true;
+    PetscCall(ranks_coupled(J, &coupled));
+    const CoreOptions options = core_options(model.comm());
+    CouplingCorrection* correction = nullptr;
+    if (coupled) PetscCall(correction_of(ksp, &correction));
+    if (!coupled) {
+      how = SchwarzSolve::Blocks;
+    } else if (options.schwarz_exact == CoreOptions::Exact::Always ||
+               (options.schwarz_exact == CoreOptions::Exact::Auto && correction->exact_wanted())) {
+      how = SchwarzSolve::Corrected;
+    }
+    if (how != SchwarzSolve::Krylov && !preonly) PetscCall(KSPSetType(ksp, KSPPREONLY));
+    if (how == SchwarzSolve::Krylov && preonly) PetscCall(use_gmres(ksp));
+    if (how == SchwarzSolve::Corrected) {
+      PetscCall(correction->attach(ksp));
+      correction->invalidate();  // J was assembled anew
+    } else if (how == SchwarzSolve::Krylov && options.schwarz_exact == CoreOptions::Exact::Auto) {
+      PetscCall(correction->watch(ksp, options.schwarz_exact_after, options.schwarz_exact_max_interface));
+    } else if (CouplingCorrection* c = coupling_correction(ksp)) {
+      PetscCall(c->detach(ksp));
+    }
+  } else if (preonly) {
+    how = SchwarzSolve::Blocks;  // one rank owns the model (-sb_serial_below), or the user's preonly
+  }
+  if (solve) *solve = how;
   // Block Jacobi factors each rank's diagonal block (no copy) in the model's order restricted
   // to the rank: attach it to the block, which a new pattern may have replaced.
   Mat A = nullptr;

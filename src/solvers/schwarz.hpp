@@ -33,11 +33,23 @@ bool schwarz_requested(MPI_Comm comm, const char* prefix);
 PetscErrorCode configure_schwarz(SNES snes, const Model& model, Mat J);
 /// ASM: (re)build the subdomains from J's pattern.
 PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J);
+/// How the block Jacobi path solves a step's linear system.
+enum class SchwarzSolve {
+  Blocks,     ///< ranks not coupled (or one rank owns all): one application of the exact blocks
+  Corrected,  ///< ranks coupled: one application plus the exact coupling correction
+  Krylov,     ///< GMRES iterates (ASM, -sb_schwarz_exact false, or a KSP the options name)
+};
 /// Before a solve with a freshly assembled J: after a PCReset (pattern_changed) set ksp's PC up
 /// again; for block Jacobi attach the rank's elimination order to J's diagonal block (which a
-/// new pattern may have replaced), and solve with one application (KSPPREONLY) while J couples
-/// no two ranks (GMRES once it does), unless the options name the KSP.
-PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed);
+/// new pattern may have replaced), and solve with one application (KSPPREONLY): while J couples
+/// no two ranks the blocks' solve is exact; once it does, the coupling correction makes it exact
+/// (CouplingCorrection, owned by ksp), or GMRES iterates (-sb_schwarz_exact: auto lets GMRES
+/// iterate until a solve is slow or fails). A KSP the options name stays. `solve`
+/// (optional) receives which of these it is.
+PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed,
+                               SchwarzSolve* solve = nullptr);
+/// The coupling correction prepare_schwarz composed with ksp (ranks coupled), or nullptr.
+class CouplingCorrection* coupling_correction(KSP ksp);
 /// Whether any entry of J couples unknowns owned by different ranks (collective).
 PetscErrorCode ranks_coupled(Mat J, bool* coupled);
 

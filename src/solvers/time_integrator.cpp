@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "solvers/coupling_correction.hpp"
 #include "solvers/schwarz.hpp"
 #include "solvers/solver_options.hpp"
 
@@ -491,14 +492,15 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
   if (self->schwarz_) {
     KSP ksp = nullptr;
     PetscCall(SNESGetKSP(snes, &ksp));
-    PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_));
+    SchwarzSolve solve = SchwarzSolve::Krylov;
+    PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_, &solve));
     if (self->block_condensation_) {
-      // One application is the whole solve (ranks not coupled): the reduced solves alone, the
-      // line search's manifold update and least-squares multipliers do the rest, as serially.
-      // (Set before the blocks are set up: the exact solve's extra data is built only if used.)
-      KSPType type = nullptr;
-      PetscCall(KSPGetType(ksp, &type));
-      const bool alone = type && std::string(type) == KSPPREONLY;
+      // One application of the blocks is the whole solve (ranks not coupled): the reduced solves
+      // alone, the line search's manifold update and least-squares multipliers do the rest, as
+      // serially. The coupling correction and GMRES need the blocks' exact solves, and the
+      // full step carries Newton's multipliers. (Set before the blocks are set up: the exact
+      // solve's extra data is built only if used.)
+      const bool alone = solve == SchwarzSolve::Blocks;
       self->block_condensation_->set_manifold_apply(alone);
       self->block_update_->set_newton_multipliers(!alone);
       PetscCall(self->condense_schwarz_blocks(J));
@@ -622,7 +624,9 @@ SolveResult TimeIntegrator::step(double h) {
     // After a failure, from the same predictor: first a pivoting LU (if the fast one was in
     // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
     if (attempt > 0) {
-      if (fast_lu_ || schwarz_) {
+      if (schwarz_ && use_coupling_correction()) {
+        if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
+      } else if (fast_lu_ || schwarz_) {
         use_pivoting_lu();
       } else if (!tried_full_newton) {
         SB_CHECK(SNESSetLagJacobian(snes_, 1));
@@ -710,6 +714,17 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();
 }
 
+bool TimeIntegrator::use_coupling_correction() {
+  KSP ksp = nullptr;
+  SB_CHECK(SNESGetKSP(snes_, &ksp));
+  const CouplingCorrection* c = coupling_correction(ksp);
+  // GMRES on coupled ranks was slow or failed in this step (the correction watched it): the
+  // exact solve before MUMPS. A step that failed for other reasons goes on to MUMPS at once.
+  if (!c || c->exact() || !c->exact_wanted()) return false;
+  SB_CHECK(PetscInfo(snes_, "Step failed with GMRES on block Jacobi: the exact coupling correction from now on\n"));
+  return true;
+}
+
 void TimeIntegrator::use_pivoting_lu() {
   KSP ksp = nullptr;
   PC pc = nullptr;
@@ -720,6 +735,7 @@ void TimeIntegrator::use_pivoting_lu() {
   SB_CHECK(PetscInfo(snes_, "Step failed with the non-pivoting LU or the Schwarz preconditioner: a pivoting direct "
                             "LU (SuperLU, MUMPS in parallel) from now on\n"));
   SB_CHECK(PCReset(pc));
+  if (CouplingCorrection* c = coupling_correction(ksp)) SB_CHECK(c->detach(ksp));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(PCSetType(pc, PCLU));
   if (condensation_ || block_update_) {  // the full saddle-point system and plain Newton updates from now on

@@ -1,0 +1,273 @@
+// SPDX-License-Identifier: MIT
+#include "solvers/coupling_correction.hpp"
+
+#include <algorithm>
+
+namespace slidebeam {
+
+namespace {
+PetscLogEvent setup_event() {
+  static PetscLogEvent e = 0;
+  if (!e) PetscLogEventRegister("SBCouplingSetUp", KSP_CLASSID, &e);
+  return e;
+}
+PetscLogEvent apply_event() {
+  static PetscLogEvent e = 0;
+  if (!e) PetscLogEventRegister("SBCouplingApply", KSP_CLASSID, &e);
+  return e;
+}
+
+/// Every rank's items, rank after rank, on every rank.
+template <class T>
+PetscErrorCode allgather(MPI_Comm comm, const std::vector<T>& mine, MPI_Datatype type, std::vector<T>* all) {
+  PetscFunctionBeginUser;
+  PetscMPIInt size = 1;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  std::vector<int> counts(static_cast<size_t>(size)), displs(static_cast<size_t>(size));
+  const int n = static_cast<int>(mine.size());
+  PetscCallMPI(MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm));
+  int total = 0;
+  for (int r = 0; r < size; ++r) {
+    displs[static_cast<size_t>(r)] = total;
+    total += counts[static_cast<size_t>(r)];
+  }
+  all->resize(static_cast<size_t>(total));
+  PetscCallMPI(MPI_Allgatherv(mine.data(), n, type, all->data(), counts.data(), displs.data(), type, comm));
+  PetscFunctionReturn(0);
+}
+}  // namespace
+
+CouplingCorrection::~CouplingCorrection() { VecDestroy(&work_); }
+
+PetscErrorCode CouplingCorrection::attach(KSP ksp) {
+  PetscFunctionBeginUser;
+  exact_ = true;
+  PetscCall(KSPSetPostSolve(ksp, &CouplingCorrection::post_solve, this));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::watch(KSP ksp, PetscInt after, PetscInt max_interface) {
+  PetscFunctionBeginUser;
+  exact_ = false;
+  watch_after_ = after;
+  max_interface_ = max_interface;
+  PetscCall(KSPSetPostSolve(ksp, &CouplingCorrection::post_solve, this));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::detach(KSP ksp) {
+  PetscFunctionBeginUser;
+  exact_ = false;
+  PetscCall(KSPSetPostSolve(ksp, nullptr, nullptr));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::post_solve(KSP ksp, Vec b, Vec x, void* ctx) {
+  PetscFunctionBeginUser;
+  auto* self = static_cast<CouplingCorrection*>(ctx);
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  // A block solve's failure may be known on its own rank alone: the decisions below are collective.
+  int failed = reason < 0 ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, self->comm_));
+  if (!self->exact_) {  // watching the Krylov solves
+    PetscInt its = 0;
+    PetscCall(KSPGetIterationNumber(ksp, &its));
+    if ((failed || its > self->watch_after_) && !self->exact_wanted_ && !self->too_large_) {
+      // the set-up's block solves, one per interface unknown of a rank, must stay affordable
+      Mat A = nullptr;
+      PetscCall(KSPGetOperators(ksp, &A, nullptr));
+      PetscInt largest = 0;
+      PetscCall(self->largest_interface(A, &largest));
+      self->too_large_ = largest > self->max_interface_;
+      self->exact_wanted_ = !self->too_large_;
+      PetscCall(PetscInfo(ksp, "block Jacobi: %d GMRES iterations (reason %d), %d interface unknowns on a rank: %s\n",
+                          static_cast<int>(its), static_cast<int>(reason), static_cast<int>(largest),
+                          self->exact_wanted_ ? "the exact coupling correction from the next Jacobian on"
+                                              : "too many for the exact coupling correction"));
+    }
+    PetscFunctionReturn(0);
+  }
+  if (failed) PetscFunctionReturn(0);  // a block solve failed: Newton sees it as it is
+  Mat A = nullptr;
+  PetscCall(KSPGetOperators(ksp, &A, nullptr));
+  PetscObjectId id = 0;
+  PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(A), &id));
+  if (self->stale_ || id != self->matrix_id_) {
+    PetscCall(self->setup(ksp, A));
+    self->matrix_id_ = id;
+    self->stale_ = false;
+  }
+  PetscCall(self->correct(A, b, x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::find_coupling(Mat A, Coupling* c) const {
+  PetscFunctionBeginUser;
+  PetscInt lo = 0, hi = 0;
+  PetscCall(MatGetOwnershipRange(A, &lo, &hi));
+  // The coupling entries E: the off-rank part of this rank's rows, as (row, column, value).
+  Mat Ad = nullptr, Ao = nullptr;
+  const PetscInt* colmap = nullptr;
+  PetscCall(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
+  PetscInt ghosts = 0;
+  PetscCall(MatGetSize(Ao, nullptr, &ghosts));
+  *c = Coupling{};
+  for (PetscInt i = 0; i < hi - lo; ++i) {
+    PetscInt nc = 0;
+    const PetscInt* cols = nullptr;
+    const PetscScalar* v = nullptr;
+    PetscCall(MatGetRow(Ao, i, &nc, &cols, &v));
+    for (PetscInt k = 0; k < nc; ++k) {
+      c->rows.push_back(lo + i);
+      c->cols.push_back(colmap[cols[k]]);
+      c->values.push_back(PetscRealPart(v[k]));
+    }
+    if (nc > 0) c->interface.push_back(i);
+    PetscCall(MatRestoreRow(Ao, i, &nc, &cols, &v));
+  }
+  // ... and the columns other ranks couple to that this rank owns
+  std::vector<PetscInt> mine_ghosts(colmap, colmap + ghosts), all_ghosts;
+  PetscCall(allgather(comm_, mine_ghosts, MPIU_INT, &all_ghosts));
+  for (PetscInt g : all_ghosts)
+    if (g >= lo && g < hi) c->interface.push_back(g - lo);
+  std::sort(c->interface.begin(), c->interface.end());
+  c->interface.erase(std::unique(c->interface.begin(), c->interface.end()), c->interface.end());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::largest_interface(Mat A, PetscInt* largest) const {
+  PetscFunctionBeginUser;
+  Coupling c;
+  PetscCall(find_coupling(A, &c));
+  *largest = static_cast<PetscInt>(c.interface.size());
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, largest, 1, MPIU_INT, MPI_MAX, comm_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(setup_event(), 0, 0, 0, 0));
+  PetscMPIInt size = 1, rank = 0;
+  PetscCallMPI(MPI_Comm_size(comm_, &size));
+  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
+  PetscInt hi = 0;
+  PetscCall(MatGetOwnershipRange(A, &lo_, &hi));
+  const PetscInt n = hi - lo_;
+  Coupling coupling;
+  PetscCall(find_coupling(A, &coupling));
+  local_ = coupling.interface;
+  const std::vector<PetscInt>& rows = coupling.rows;
+  const std::vector<PetscInt>& cols = coupling.cols;
+  const std::vector<double>& values = coupling.values;
+
+  // I, rank after rank (and so sorted, ranks owning consecutive ranges)
+  std::vector<PetscInt> mine_global(local_.size()), I;
+  for (size_t k = 0; k < local_.size(); ++k) mine_global[k] = lo_ + local_[k];
+  PetscCall(allgather(comm_, mine_global, MPIU_INT, &I));
+  m_ = static_cast<PetscInt>(I.size());
+  counts_.assign(static_cast<size_t>(size), 0);
+  displs_.assign(static_cast<size_t>(size), 0);
+  const int mk = static_cast<int>(local_.size());
+  PetscCallMPI(MPI_Allgather(&mk, 1, MPI_INT, counts_.data(), 1, MPI_INT, comm_));
+  for (int r = 1; r < size; ++r) displs_[static_cast<size_t>(r)] = displs_[static_cast<size_t>(r - 1)] + counts_[static_cast<size_t>(r - 1)];
+
+  // Y = D^-1 P_I: one solve with the rank's block per interface unknown it owns
+  PC pc = nullptr;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscInt nblocks = 0, first = 0;
+  KSP* sub = nullptr;
+  PetscCall(PCBJacobiGetSubKSP(pc, &nblocks, &first, &sub));
+  PetscCheck(nblocks == 1, comm_, PETSC_ERR_SUP, "the coupling correction needs one block Jacobi block per rank, not %d",
+             static_cast<int>(nblocks));
+  Mat block = nullptr;
+  PetscCall(KSPGetOperators(sub[0], &block, nullptr));
+  Vec e = nullptr, y = nullptr;
+  PetscCall(MatCreateVecs(block, &e, &y));
+  Y_.resize(n, mk);
+  for (int j = 0; j < mk; ++j) {
+    PetscCall(VecZeroEntries(e));
+    PetscCall(VecSetValue(e, local_[static_cast<size_t>(j)], 1.0, INSERT_VALUES));
+    PetscCall(VecAssemblyBegin(e));
+    PetscCall(VecAssemblyEnd(e));
+    PetscCall(KSPSolve(sub[0], e, y));
+    KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+    PetscCall(KSPGetConvergedReason(sub[0], &reason));
+    PetscCheck(reason >= 0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "block solve for the coupling correction failed (%d)",
+               static_cast<int>(reason));
+    const PetscScalar* a = nullptr;
+    PetscCall(VecGetArrayRead(y, &a));
+    for (PetscInt i = 0; i < n; ++i) Y_(i, j) = PetscRealPart(a[i]);
+    PetscCall(VecRestoreArrayRead(y, &a));
+  }
+  PetscCall(VecDestroy(&e));
+  PetscCall(VecDestroy(&y));
+
+  // G_r = (D_r^-1)_II of every rank r (column-major), and every rank's coupling entries
+  std::vector<double> G_mine(static_cast<size_t>(mk) * static_cast<size_t>(mk)), G_all;
+  for (int j = 0; j < mk; ++j)
+    for (int i = 0; i < mk; ++i) G_mine[static_cast<size_t>(j * mk + i)] = Y_(local_[static_cast<size_t>(i)], j);
+  PetscCall(allgather(comm_, G_mine, MPI_DOUBLE, &G_all));
+  std::vector<PetscInt> all_rows, all_cols;
+  std::vector<double> all_values;
+  PetscCall(allgather(comm_, rows, MPIU_INT, &all_rows));
+  PetscCall(allgather(comm_, cols, MPIU_INT, &all_cols));
+  PetscCall(allgather(comm_, values, MPI_DOUBLE, &all_values));
+  std::vector<size_t> G_offset(static_cast<size_t>(size), 0);
+  for (int r = 1; r < size; ++r) {
+    const auto c = static_cast<size_t>(counts_[static_cast<size_t>(r - 1)]);
+    G_offset[static_cast<size_t>(r)] = G_offset[static_cast<size_t>(r - 1)] + c * c;
+  }
+
+  // S = I + E_II (D^-1)_II, the same on every rank; (D^-1)_II is block diagonal by rank
+  auto position = [&](PetscInt g) { return static_cast<int>(std::lower_bound(I.begin(), I.end(), g) - I.begin()); };
+  auto owner = [&](int p) {
+    return static_cast<int>(std::upper_bound(displs_.begin(), displs_.end(), p) - displs_.begin()) - 1;
+  };
+  Eigen::MatrixXd S = Eigen::MatrixXd::Identity(m_, m_);
+  for (size_t t = 0; t < all_rows.size(); ++t) {
+    const int pb = position(all_rows[t]);
+    const int pc = position(all_cols[t]);
+    const int r = owner(pc);  // the last rank whose part starts at or before pc: its owner
+    const int off = displs_[static_cast<size_t>(r)], c = counts_[static_cast<size_t>(r)];
+    const Eigen::Map<const Eigen::MatrixXd> G(G_all.data() + G_offset[static_cast<size_t>(r)], c, c);
+    S.row(pb).segment(off, c) += all_values[t] * G.row(pc - off);
+  }
+  S_.compute(S);
+  PetscCall(PetscInfo(nullptr, "coupling correction: %d interface unknowns, %d on this rank\n", static_cast<int>(m_), mk));
+  r_local_.resize(local_.size());
+  r_all_.resize(static_cast<size_t>(m_));
+  if (!work_) PetscCall(MatCreateVecs(A, nullptr, &work_));
+  ++setups_;
+  PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::correct(Mat A, Vec b, Vec x) {
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(apply_event(), 0, 0, 0, 0));
+  // (b - A y)_I, y = D^-1 b the block solve's result in x
+  PetscCall(MatMult(A, x, work_));
+  PetscCall(VecAYPX(work_, -1.0, b));
+  const PetscScalar* r = nullptr;
+  PetscCall(VecGetArrayRead(work_, &r));
+  for (size_t k = 0; k < local_.size(); ++k) r_local_[k] = PetscRealPart(r[local_[k]]);
+  PetscCall(VecRestoreArrayRead(work_, &r));
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
+  PetscCallMPI(MPI_Allgatherv(r_local_.data(), static_cast<int>(r_local_.size()), MPI_DOUBLE, r_all_.data(),
+                              counts_.data(), displs_.data(), MPI_DOUBLE, comm_));
+  const Eigen::VectorXd w = S_.solve(Eigen::Map<const Eigen::VectorXd>(r_all_.data(), m_));
+  // x = y + D^-1 P_I w, this rank's part
+  if (!local_.empty()) {
+    PetscScalar* xa = nullptr;
+    PetscCall(VecGetArray(x, &xa));
+    Eigen::Map<Eigen::VectorXd> xl(reinterpret_cast<double*>(xa), Y_.rows());
+    xl.noalias() += Y_ * w.segment(displs_[static_cast<size_t>(rank)], counts_[static_cast<size_t>(rank)]);
+    PetscCall(VecRestoreArray(x, &xa));
+  }
+  PetscCall(PetscLogEventEnd(apply_event(), 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace slidebeam
