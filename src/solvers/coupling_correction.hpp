@@ -80,6 +80,7 @@ class CouplingCorrection {
   MPI_Comm comm_;
   PetscObjectId matrix_id_ = 0;
   bool stale_ = true;
+  bool valid_ = false;                  // the last set-up's block solves succeeded
   bool exact_ = false;                  // attached (correcting), not watching
   bool exact_wanted_ = false;
   PetscInt watch_after_ = 0;
