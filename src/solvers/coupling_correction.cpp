@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/coupling_correction.hpp"
 
+#include "solvers/director_condensation.hpp"
+
 #include <algorithm>
+#include <iterator>
+#include <map>
 #include <limits>
 
 namespace slidebeam {
@@ -42,23 +46,12 @@ CouplingCorrection::~CouplingCorrection() { VecDestroy(&work_); }
 
 PetscErrorCode CouplingCorrection::attach(KSP ksp) {
   PetscFunctionBeginUser;
-  exact_ = true;
-  PetscCall(KSPSetPostSolve(ksp, &CouplingCorrection::post_solve, this));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingCorrection::watch(KSP ksp, PetscInt after, PetscInt max_interface) {
-  PetscFunctionBeginUser;
-  exact_ = false;
-  watch_after_ = after;
-  max_interface_ = max_interface;
   PetscCall(KSPSetPostSolve(ksp, &CouplingCorrection::post_solve, this));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CouplingCorrection::detach(KSP ksp) {
   PetscFunctionBeginUser;
-  exact_ = false;
   PetscCall(KSPSetPostSolve(ksp, nullptr, nullptr));
   PetscFunctionReturn(0);
 }
@@ -71,24 +64,6 @@ PetscErrorCode CouplingCorrection::post_solve(KSP ksp, Vec b, Vec x, void* ctx) 
   // A block solve's failure may be known on its own rank alone: the decisions below are collective.
   int failed = reason < 0 ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, self->comm_));
-  if (!self->exact_) {  // watching the Krylov solves
-    PetscInt its = 0;
-    PetscCall(KSPGetIterationNumber(ksp, &its));
-    if ((failed || its > self->watch_after_) && !self->exact_wanted_ && !self->too_large_) {
-      // the set-up's block solves, one per interface unknown of a rank, must stay affordable
-      Mat A = nullptr;
-      PetscCall(KSPGetOperators(ksp, &A, nullptr));
-      PetscInt largest = 0;
-      PetscCall(self->largest_interface(A, &largest));
-      self->too_large_ = largest > self->max_interface_;
-      self->exact_wanted_ = !self->too_large_;
-      PetscCall(PetscInfo(ksp, "block Jacobi: %d GMRES iterations (reason %d), %d interface unknowns on a rank: %s\n",
-                          static_cast<int>(its), static_cast<int>(reason), static_cast<int>(largest),
-                          self->exact_wanted_ ? "the exact coupling correction from the next Jacobian on"
-                                              : "too many for the exact coupling correction"));
-    }
-    PetscFunctionReturn(0);
-  }
   if (failed) PetscFunctionReturn(0);  // a block solve failed: Newton sees it as it is
   Mat A = nullptr;
   PetscCall(KSPGetOperators(ksp, &A, nullptr));
@@ -127,31 +102,168 @@ PetscErrorCode CouplingCorrection::find_coupling(Mat A, Coupling* c) const {
       c->cols.push_back(colmap[cols[k]]);
       c->values.push_back(PetscRealPart(v[k]));
     }
-    if (nc > 0) c->interface.push_back(i);
+    if (nc > 0) c->coupled_rows.push_back(i);
     PetscCall(MatRestoreRow(Ao, i, &nc, &cols, &v));
   }
   // ... and the columns other ranks couple to that this rank owns
   std::vector<PetscInt> mine_ghosts(colmap, colmap + ghosts), all_ghosts;
   PetscCall(allgather(comm_, mine_ghosts, MPIU_INT, &all_ghosts));
   for (PetscInt g : all_ghosts)
-    if (g >= lo && g < hi) c->interface.push_back(g - lo);
-  std::sort(c->interface.begin(), c->interface.end());
-  c->interface.erase(std::unique(c->interface.begin(), c->interface.end()), c->interface.end());
+    if (g >= lo && g < hi) c->referenced.push_back(g - lo);
+  std::sort(c->referenced.begin(), c->referenced.end());
+  c->referenced.erase(std::unique(c->referenced.begin(), c->referenced.end()), c->referenced.end());
+  std::set_union(c->coupled_rows.begin(), c->coupled_rows.end(), c->referenced.begin(), c->referenced.end(),
+                 std::back_inserter(c->interface));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCorrection::largest_interface(Mat A, PetscInt* largest) const {
+PetscErrorCode CouplingCorrection::largest_coupling(Mat A, PetscInt* largest) {
   PetscFunctionBeginUser;
-  Coupling c;
-  PetscCall(find_coupling(A, &c));
-  *largest = static_cast<PetscInt>(c.interface.size());
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, largest, 1, MPIU_INT, MPI_MAX, comm_));
+  PetscObjectState state = 0;
+  PetscObjectId id = 0;
+  PetscCall(MatGetNonzeroState(A, &state));
+  PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(A), &id));
+  if (state != counted_state_ || id != counted_id_) {
+    Coupling c;
+    PetscCall(find_coupling(A, &c));
+    largest_ = static_cast<PetscInt>(c.coupled_rows.size());
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &largest_, 1, MPIU_INT, MPI_MAX, comm_));
+    counted_state_ = state;
+    counted_id_ = id;
+  }
+  *largest = largest_;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::lay_out(int mine) {
+  PetscFunctionBeginUser;
+  PetscMPIInt size = 1;
+  PetscCallMPI(MPI_Comm_size(comm_, &size));
+  counts_.assign(static_cast<size_t>(size), 0);
+  displs_.assign(static_cast<size_t>(size), 0);
+  PetscCallMPI(MPI_Allgather(&mine, 1, MPI_INT, counts_.data(), 1, MPI_INT, comm_));
+  for (int r = 1; r < size; ++r) displs_[static_cast<size_t>(r)] = displs_[static_cast<size_t>(r - 1)] + counts_[static_cast<size_t>(r - 1)];
+  m_ = displs_.back() + counts_.back();
+  PetscFunctionReturn(0);
+}
+
+/// In the blocks' reduced coordinates a = (u, w) per triad (N^T on the rows, N' on the
+/// columns, Jr = N^T D N' the blocks' condensed matrices, M = N' Jr^-1 N^T their reduced
+/// solves): the rows of N^T E N' that couple two ranks are N^T's rows over the full rows with
+/// off-rank entries, this rank's interface R. With y = M b,
+///     x = y + N' Jr^-1 P_R w,   S w = (N^T (b - A y))_R,   S = I + (N^T E N' Jr^-1 P_R)_R,
+/// and N' Jr^-1 P_R = Y is what solve_reduced_unit returns: S's column j is e_j plus N^T E Y_j
+/// on R, where E Y_j needs Y_j only at the unknowns other ranks' entries reach.
+PetscErrorCode CouplingCorrection::setup_reduced(Mat A) {
+  PetscFunctionBeginUser;
+  PetscInt hi = 0;
+  PetscCall(MatGetOwnershipRange(A, &lo_, &hi));
+  const PetscInt n = hi - lo_;
+  Coupling coupling;
+  PetscCall(find_coupling(A, &coupling));
+  // R: the reduced rows of the coupled rows, and per reduced row the full rows of N^T's row (a
+  // triad's 12 coordinate rows lie within 11 of each other)
+  std::vector<std::pair<PetscInt, double>> weights;
+  std::vector<PetscInt> reduced;
+  for (PetscInt row : coupling.coupled_rows) {
+    condensation_->reduced_weights(row, &weights);
+    for (const auto& [j, w] : weights) reduced.push_back(j);
+  }
+  std::sort(reduced.begin(), reduced.end());
+  reduced.erase(std::unique(reduced.begin(), reduced.end()), reduced.end());
+  local_ = reduced;  // reduced numbering of the block
+  reduced_rows_.assign(reduced.size(), {});
+  std::vector<PetscInt> near;
+  for (PetscInt row : coupling.coupled_rows)
+    for (PetscInt k = std::max<PetscInt>(0, row - 11); k <= std::min(n - 1, row + 11); ++k) near.push_back(k);
+  std::sort(near.begin(), near.end());
+  near.erase(std::unique(near.begin(), near.end()), near.end());
+  for (PetscInt row : near) {
+    condensation_->reduced_weights(row, &weights);
+    for (const auto& [j, w] : weights) {
+      const auto it = std::lower_bound(reduced.begin(), reduced.end(), j);
+      if (it != reduced.end() && *it == j) reduced_rows_[static_cast<size_t>(it - reduced.begin())].emplace_back(row, w);
+    }
+  }
+  const int mk = static_cast<int>(reduced.size());
+  PetscCall(lay_out(mk));
+
+  // Y = N' Jr^-1 P_R, one reduced solve per interface unknown of this rank
+  Vec y = nullptr;
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &y));
+  Y_.resize(n, mk);
+  for (int j = 0; j < mk; ++j) {
+    PetscCall(condensation_->solve_reduced_unit(reduced[static_cast<size_t>(j)], y));
+    const PetscScalar* a = nullptr;
+    PetscCall(VecGetArrayRead(y, &a));
+    for (PetscInt i = 0; i < n; ++i) Y_(i, j) = PetscRealPart(a[i]);
+    PetscCall(VecRestoreArrayRead(y, &a));
+  }
+  PetscCall(VecDestroy(&y));
+
+  // every rank's Y at the unknowns other ranks reach (row-major), with their global indices
+  std::vector<PetscInt> reached(coupling.referenced.size()), all_reached;
+  std::vector<double> Y_reached(coupling.referenced.size() * static_cast<size_t>(mk)), all_Y;
+  for (size_t k = 0; k < coupling.referenced.size(); ++k) {
+    reached[k] = lo_ + coupling.referenced[k];
+    for (int j = 0; j < mk; ++j) Y_reached[k * static_cast<size_t>(mk) + static_cast<size_t>(j)] = Y_(coupling.referenced[k], j);
+  }
+  PetscCall(allgather(comm_, reached, MPIU_INT, &all_reached));
+  PetscCall(allgather(comm_, Y_reached, MPI_DOUBLE, &all_Y));
+  const PetscInt* ranges = nullptr;
+  PetscCall(MatGetOwnershipRanges(A, &ranges));
+  std::map<PetscInt, std::pair<int, size_t>> where;  // global unknown -> (owner, offset of its row in all_Y)
+  {
+    size_t offset = 0;
+    for (PetscInt g : all_reached) {
+      const int r = static_cast<int>(std::upper_bound(ranges, ranges + counts_.size() + 1, g) - ranges) - 1;
+      where[g] = {r, offset};
+      offset += static_cast<size_t>(counts_[static_cast<size_t>(r)]);
+    }
+  }
+
+  // this rank's rows of S, then all of S on every rank
+  std::map<PetscInt, std::vector<std::pair<PetscInt, double>>> entries;  // local row -> (global column, value)
+  for (size_t t = 0; t < coupling.rows.size(); ++t)
+    entries[coupling.rows[t] - lo_].emplace_back(coupling.cols[t], coupling.values[t]);
+  PetscMPIInt rank = 0;
+  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows_mine =
+      Eigen::MatrixXd::Zero(mk, m_);
+  for (int p = 0; p < mk; ++p) {
+    rows_mine(p, displs_[static_cast<size_t>(rank)] + p) = 1.0;
+    for (const auto& [row, w] : reduced_rows_[static_cast<size_t>(p)]) {
+      const auto e = entries.find(row);
+      if (e == entries.end()) continue;
+      for (const auto& [col, value] : e->second) {
+        const auto [r, offset] = where.at(col);
+        const int c = counts_[static_cast<size_t>(r)];
+        rows_mine.row(p).segment(displs_[static_cast<size_t>(r)], c) +=
+            w * value * Eigen::Map<const Eigen::RowVectorXd>(all_Y.data() + offset, c);
+      }
+    }
+  }
+  std::vector<double> mine(rows_mine.data(), rows_mine.data() + rows_mine.size()), all;
+  PetscCall(allgather(comm_, mine, MPI_DOUBLE, &all));
+  S_.compute(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(all.data(), m_, m_));
+  valid_ = true;
+  PetscCall(PetscInfo(nullptr, "coupling correction (reduced): %d interface unknowns, %d on this rank\n",
+                      static_cast<int>(m_), mk));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(setup_event(), 0, 0, 0, 0));
+  if (condensation_) {
+    PetscCall(setup_reduced(A));
+    r_local_.resize(local_.size());
+    r_all_.resize(static_cast<size_t>(m_));
+    if (!work_) PetscCall(MatCreateVecs(A, nullptr, &work_));
+    ++setups_;
+    PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
+    PetscFunctionReturn(0);
+  }
   PetscMPIInt size = 1, rank = 0;
   PetscCallMPI(MPI_Comm_size(comm_, &size));
   PetscCallMPI(MPI_Comm_rank(comm_, &rank));
@@ -169,12 +281,8 @@ PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
   std::vector<PetscInt> mine_global(local_.size()), I;
   for (size_t k = 0; k < local_.size(); ++k) mine_global[k] = lo_ + local_[k];
   PetscCall(allgather(comm_, mine_global, MPIU_INT, &I));
-  m_ = static_cast<PetscInt>(I.size());
-  counts_.assign(static_cast<size_t>(size), 0);
-  displs_.assign(static_cast<size_t>(size), 0);
   const int mk = static_cast<int>(local_.size());
-  PetscCallMPI(MPI_Allgather(&mk, 1, MPI_INT, counts_.data(), 1, MPI_INT, comm_));
-  for (int r = 1; r < size; ++r) displs_[static_cast<size_t>(r)] = displs_[static_cast<size_t>(r - 1)] + counts_[static_cast<size_t>(r - 1)];
+  PetscCall(lay_out(mk));
 
   // Y = D^-1 P_I: one solve with the rank's block per interface unknown it owns
   PC pc = nullptr;
@@ -262,7 +370,14 @@ PetscErrorCode CouplingCorrection::correct(Mat A, Vec b, Vec x) {
   PetscCall(VecAYPX(work_, -1.0, b));
   const PetscScalar* r = nullptr;
   PetscCall(VecGetArrayRead(work_, &r));
-  for (size_t k = 0; k < local_.size(); ++k) r_local_[k] = PetscRealPart(r[local_[k]]);
+  if (condensation_) {  // N^T's rows
+    for (size_t k = 0; k < local_.size(); ++k) {
+      r_local_[k] = 0.0;
+      for (const auto& [row, w] : reduced_rows_[k]) r_local_[k] += w * PetscRealPart(r[row]);
+    }
+  } else {
+    for (size_t k = 0; k < local_.size(); ++k) r_local_[k] = PetscRealPart(r[local_[k]]);
+  }
   PetscCall(VecRestoreArrayRead(work_, &r));
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm_, &rank));

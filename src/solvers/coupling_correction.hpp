@@ -16,16 +16,16 @@
 /// factorisation. Each solve then costs one block application, one product with A, an
 /// allgather of |I| numbers, a dense solve with S and Y = D^-1 P_I times w on each rank.
 ///
-/// Installed as the KSP's post-solve of a KSPPREONLY block Jacobi solve (one block per rank):
-/// PETSc's block Jacobi and its block solvers stay as they are.
+/// With director beams the blocks solve condensed (DirectorCondensation): the correction then
+/// works in the same reduced coordinates, N^T on the rows and N' on the columns, and the solve
+/// is the exact solve of the condensed system, the step serial runs take (use_condensation).
+/// A beam cut then costs 12 interface unknowns per side (two control points, 6 each).
 ///
-/// The set-up's block solves cost about as much as 20 GMRES iterations at 24 interface unknowns
-/// per cut and side, so where GMRES needs 1-2 iterations it is the cheaper exact solve. The
-/// default (-sb_schwarz_exact auto) therefore lets GMRES iterate and watches it: once a solve
-/// takes more than -sb_schwarz_exact_after iterations or fails, the correction takes over
-/// from the next Jacobian on (a failed step is retried with it before MUMPS), for the rest of
-/// the run, as long as no rank has more than -sb_schwarz_exact_max_interface interface unknowns (large steps, many ranks: where block Jacobi's iterations grow
-/// with h and with the number of ranks). While watching, the same post-solve hook only counts.
+/// Installed as the KSP's post-solve of a KSPPREONLY block Jacobi solve (one block per rank):
+/// PETSc's block Jacobi and its block solvers stay as they are. The set-up costs one block
+/// solve per interface unknown at every new Jacobian, so -sb_schwarz_exact auto (the default)
+/// takes it only while no rank has more than -sb_schwarz_exact_max_interface rows coupled to
+/// another rank (many joints cut at once), and GMRES otherwise.
 
 #include <petscksp.h>
 
@@ -34,6 +34,8 @@
 #include <vector>
 
 namespace slidebeam {
+
+class DirectorCondensation;
 
 class CouplingCorrection {
  public:
@@ -45,18 +47,19 @@ class CouplingCorrection {
   /// Make ksp's solve exact: ksp is KSPPREONLY with PCBJACOBI, one block per rank, exact block
   /// solves. The set-up happens at the first solve with another matrix or after invalidate().
   PetscErrorCode attach(KSP ksp);
-  /// Watch ksp's Krylov solves instead (auto mode): a solve slower than `after` iterations, or
-  /// one that fails, makes exact_wanted() true, unless a rank has more than `max_interface`
-  /// interface unknowns (then MUMPS takes over once a step fails).
-  PetscErrorCode watch(KSP ksp, PetscInt after, PetscInt max_interface);
-  /// Whether a watched Krylov solve asked for the exact correction.
-  bool exact_wanted() const { return exact_wanted_; }
-  /// Whether the last solve was corrected (false: watched, or not attached).
-  bool exact() const { return exact_; }
   /// The matrix has new values (a fresh Jacobian): set up again at the next solve.
   void invalidate() { stale_ = true; }
+  /// Largest number of rows coupled to another rank, over the ranks (collective; counted
+  /// again when A's nonzero pattern changes).
+  PetscErrorCode largest_coupling(Mat A, PetscInt* largest);
   /// Remove the post-solve again (ranks no longer coupled).
   PetscErrorCode detach(KSP ksp);
+  /// Solve in the blocks' reduced coordinates: the blocks apply condensation's reduced solve
+  /// alone (DirectorCondensation, Exact mode with the manifold apply), and the correction
+  /// works on N^T's rows, so the solve is the exact solve of the condensed system N^T A N',
+  /// the step of the serial manifold Newton; a line search sets the multipliers. nullptr:
+  /// the blocks' exact solves of the full system. Set before each solve with a new matrix.
+  void use_condensation(DirectorCondensation* condensation) { condensation_ = condensation; }
   /// Interface unknowns of all ranks at the last set-up (0 before the first).
   PetscInt interface_size() const { return m_; }
   /// Set-ups so far (one per factorisation of the Jacobian).
@@ -70,27 +73,33 @@ class CouplingCorrection {
     std::vector<PetscInt> rows, cols;
     std::vector<double> values;
     std::vector<PetscInt> interface;
+    std::vector<PetscInt> coupled_rows;  // local rows with off-rank entries
+    std::vector<PetscInt> referenced;    // local unknowns other ranks' entries reach
   };
   PetscErrorCode find_coupling(Mat A, Coupling* c) const;  // collective
-  PetscErrorCode largest_interface(Mat A, PetscInt* largest) const;  // over the ranks
   static PetscErrorCode post_solve(KSP ksp, Vec b, Vec x, void* ctx);
   PetscErrorCode setup(KSP ksp, Mat A);
+  PetscErrorCode setup_reduced(Mat A);
   PetscErrorCode correct(Mat A, Vec b, Vec x);
+  /// The interface's layout over the ranks from this rank's count: counts_, displs_, m_.
+  PetscErrorCode lay_out(int mine);
 
   MPI_Comm comm_;
   PetscObjectId matrix_id_ = 0;
   bool stale_ = true;
+  PetscObjectState counted_state_ = -1;  // largest_coupling: A's nonzero state when counted
+  PetscObjectId counted_id_ = 0;
+  PetscInt largest_ = 0;
   bool valid_ = false;                  // the last set-up's block solves succeeded
-  bool exact_ = false;                  // attached (correcting), not watching
-  bool exact_wanted_ = false;
-  PetscInt watch_after_ = 0;
-  PetscInt max_interface_ = 0;
-  bool too_large_ = false;              // the interface was too large when a solve asked for the correction
   PetscInt lo_ = 0;                     // first row this rank owns
   std::vector<PetscInt> local_;         // this rank's interface unknowns (local numbering)
   std::vector<int> counts_, displs_;    // interface unknowns per rank, offsets into I
   PetscInt m_ = 0;                      // |I|
   Eigen::MatrixXd Y_;                   // D^-1 P_I on this rank: rows local, columns this rank's part of I
+  DirectorCondensation* condensation_ = nullptr;
+  // reduced mode: per interface unknown of this rank (a reduced row), the full local rows of
+  // N^T's row and their weights
+  std::vector<std::vector<std::pair<PetscInt, double>>> reduced_rows_;
   Eigen::PartialPivLU<Eigen::MatrixXd> S_;
   std::vector<double> r_local_, r_all_; // work: (b - A y)_I
   Vec work_ = nullptr;

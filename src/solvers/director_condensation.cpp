@@ -410,6 +410,49 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   PetscFunctionReturn(0);
 }
 
+void DirectorCondensation::expand(const Group& G, const PetscScalar* a, PetscScalar* yy) const {
+  if (G.triad < 0) {
+    yy[G.first] = a[G.base];
+    return;
+  }
+  const auto t = static_cast<size_t>(G.triad);
+  for (int k = 0; k < 3; ++k) yy[G.first + k] = a[G.base + k];
+  Eigen::Map<Eigen::Matrix<double, 9, 1>>(yy + G.first + 3) = Sp_[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3);
+  for (int l = 0; l < 6; ++l) yy[G.first + kQ + l] = 0.0;  // set by the line search
+}
+
+void DirectorCondensation::reduced_weights(PetscInt row, std::vector<std::pair<PetscInt, double>>* out) const {
+  out->clear();
+  const int g = group_of_[static_cast<size_t>(row)];
+  if (g < 0) return;  // a triad's multiplier
+  const Group& G = groups_[static_cast<size_t>(g)];
+  const PetscInt o = row - G.first;
+  if (G.triad < 0 || o < 3) {
+    out->emplace_back(G.base + o, 1.0);  // a plain unknown, or a triad's position (u)
+    return;
+  }
+  // a director row: N^T's rotation rows are S^T (force state)
+  const auto& S = S_[static_cast<size_t>(G.triad)];
+  for (int c = 0; c < 3; ++c) out->emplace_back(G.base + 3 + c, S(o - 3, c));
+}
+
+PetscErrorCode DirectorCondensation::solve_reduced_unit(PetscInt j, Vec y) {
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(rr_));
+  PetscCall(VecSetValue(rr_, j, 1.0, INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(rr_));
+  PetscCall(VecAssemblyEnd(rr_));
+  PetscCall(MatSolve(F_, rr_, a_));
+  const PetscScalar* a = nullptr;
+  PetscScalar* yy = nullptr;
+  PetscCall(VecGetArrayRead(a_, &a));
+  PetscCall(VecGetArrayWrite(y, &yy));
+  for (const Group& G : groups_) expand(G, a, yy);
+  PetscCall(VecRestoreArrayWrite(y, &yy));
+  PetscCall(VecRestoreArrayRead(a_, &a));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
   PetscFunctionBeginUser;
   // Co-rotated factors (Manifold mode, an iterate away from the factored one): a rigid rotation
@@ -469,22 +512,17 @@ PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
   PetscCall(VecGetArrayRead(a_, &a));
   PetscCall(VecGetArrayWrite(y, &yy));
   for (const Group& G : groups_) {
-    if (G.triad < 0) {
-      yy[G.first] = a[G.base];
+    if (G.triad < 0 || !rotate) {
+      expand(G, a, yy);
       continue;
     }
+    // R a, then N' with the current directors: (a_u, s a_w x d_i)
     const auto t = static_cast<size_t>(G.triad);
-    if (!rotate) {
-      for (int k = 0; k < 3; ++k) yy[G.first + k] = a[G.base + k];
-      Eigen::Map<Eigen::Matrix<double, 9, 1>>(yy + G.first + 3) = Sp_[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3);
-    } else {
-      // R a, then N' with the current directors: (a_u, s a_w x d_i)
-      Eigen::Map<Eigen::Vector3d>(yy + G.first) = Rs[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base);
-      const Eigen::Vector3d w = scale_at_setup_ * (Rs[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3));
-      for (int i = 0; i < 3; ++i) {
-        const PetscInt j = G.first + 3 + 3 * i;
-        Eigen::Map<Eigen::Vector3d>(yy + j) = w.cross(Eigen::Map<const Eigen::Vector3d>(xx + j));
-      }
+    Eigen::Map<Eigen::Vector3d>(yy + G.first) = Rs[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base);
+    const Eigen::Vector3d w = scale_at_setup_ * (Rs[t] * Eigen::Map<const Eigen::Vector3d>(a + G.base + 3));
+    for (int i = 0; i < 3; ++i) {
+      const PetscInt j = G.first + 3 + 3 * i;
+      Eigen::Map<Eigen::Vector3d>(yy + j) = w.cross(Eigen::Map<const Eigen::Vector3d>(xx + j));
     }
     for (int l = 0; l < 6; ++l) yy[G.first + kQ + l] = 0.0;  // set by the line search
   }

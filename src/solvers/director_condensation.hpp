@@ -90,6 +90,13 @@ class DirectorCondensation {
   void set_manifold_apply(bool on) { manifold_apply_ = on; }
   /// Number of reduced unknowns.
   PetscInt reduced_size() const { return n_red_; }
+  /// Exact mode with the manifold apply, after the block's set-up (the coupling correction):
+  /// the reduced rows that full row `row` (local) contributes to in N^T b, with their weights,
+  /// into out (replaced; empty for a triad's multiplier rows).
+  void reduced_weights(PetscInt row, std::vector<std::pair<PetscInt, double>>* out) const;
+  /// ... y = N' Jr^-1 e_j: the block's reduced solve of the unit vector of reduced unknown j,
+  /// in full coordinates (0 on the triads' multipliers), as the manifold apply returns it.
+  PetscErrorCode solve_reduced_unit(PetscInt j, Vec y);
 
  private:
   struct Group {      // a row/column group of the full system
@@ -109,6 +116,8 @@ class DirectorCondensation {
   PetscErrorCode apply_exact(Mat A, Vec b, Vec y);
   PetscErrorCode search(SNESLineSearch ls);
   int red_size(const Group& g) const { return g.triad >= 0 ? 6 : 1; }
+  /// y's part of group G from the reduced solution a, with the set-up's N' (not co-rotated).
+  void expand(const Group& G, const PetscScalar* a, PetscScalar* yy) const;
 
   std::vector<PetscInt> triads_;       // first unknown of each triad's block (owned, serial)
   std::vector<Group> groups_;

@@ -159,8 +159,7 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
   if (model.dof_map().owners() != 1 && !solver_option_set(prefix, "-ksp_type")) {
     // No entry couples two ranks' unknowns (separate structures, one per rank): block Jacobi
     // with exact blocks is the exact solve. Coupled ranks: the same application made exact by
-    // the coupling correction, or GMRES, watched by the correction (-sb_schwarz_exact). The
-    // coupling can only change with the pattern.
+    // the coupling correction, or GMRES (-sb_schwarz_exact).
     bool coupled = true;
     PetscCall(ranks_coupled(J, &coupled));
     const CoreOptions options = core_options(model.comm());
@@ -168,17 +167,21 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
     if (coupled) PetscCall(correction_of(ksp, &correction));
     if (!coupled) {
       how = SchwarzSolve::Blocks;
-    } else if (options.schwarz_exact == CoreOptions::Exact::Always ||
-               (options.schwarz_exact == CoreOptions::Exact::Auto && correction->exact_wanted())) {
+    } else if (options.schwarz_exact == CoreOptions::Exact::Always) {
       how = SchwarzSolve::Corrected;
+    } else if (options.schwarz_exact == CoreOptions::Exact::Auto) {
+      // the set-up solves once per interface unknown: not where many joints are cut
+      PetscInt largest = 0;
+      PetscCall(correction->largest_coupling(J, &largest));
+      if (largest <= options.schwarz_exact_max_interface) how = SchwarzSolve::Corrected;
+      PetscCall(PetscInfo(ksp, "ranks coupled through up to %d rows of a rank: %s\n", static_cast<int>(largest),
+                          how == SchwarzSolve::Corrected ? "the exact coupling correction" : "GMRES"));
     }
     if (how != SchwarzSolve::Krylov && !preonly) PetscCall(KSPSetType(ksp, KSPPREONLY));
     if (how == SchwarzSolve::Krylov && preonly) PetscCall(use_gmres(ksp));
     if (how == SchwarzSolve::Corrected) {
       PetscCall(correction->attach(ksp));
       correction->invalidate();  // J was assembled anew
-    } else if (how == SchwarzSolve::Krylov && options.schwarz_exact == CoreOptions::Exact::Auto) {
-      PetscCall(correction->watch(ksp, options.schwarz_exact_after, options.schwarz_exact_max_interface));
     } else if (CouplingCorrection* c = coupling_correction(ksp)) {
       PetscCall(c->detach(ksp));
     }

@@ -43,9 +43,9 @@ enum class SchwarzSolve {
 /// again; for block Jacobi attach the rank's elimination order to J's diagonal block (which a
 /// new pattern may have replaced), and solve with one application (KSPPREONLY): while J couples
 /// no two ranks the blocks' solve is exact; once it does, the coupling correction makes it exact
-/// (CouplingCorrection, owned by ksp), or GMRES iterates (-sb_schwarz_exact: auto lets GMRES
-/// iterate until a solve is slow or fails). A KSP the options name stays. `solve`
-/// (optional) receives which of these it is.
+/// (CouplingCorrection, owned by ksp), or GMRES iterates (-sb_schwarz_exact; auto: the
+/// correction unless a rank has many rows coupled to another). A KSP the options name stays.
+/// `solve` (optional) receives which of these it is.
 PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed,
                                SchwarzSolve* solve = nullptr);
 /// The coupling correction prepare_schwarz composed with ksp (ranks coupled), or nullptr.

@@ -142,18 +142,14 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
     PetscInt pick = static_cast<PetscInt>(o->schwarz_exact);
     PetscCall(PetscOptionsEList("-sb_schwarz_exact",
                                 "block Jacobi on coupled ranks: one application made exact by the correction on the "
-                                "ranks' interface unknowns (always), GMRES (never), or GMRES until a solve is slow or "
-                                "fails (auto)",
+                                "ranks' interface unknowns (always), GMRES (never), or the correction unless a rank "
+                                "has more than -sb_schwarz_exact_max_interface coupled rows (auto)",
                                 "", choices, 3, choices[pick], &pick, nullptr));
     o->schwarz_exact = static_cast<CoreOptions::Exact>(pick);
   }
-  PetscCall(PetscOptionsInt("-sb_schwarz_exact_after",
-                            "-sb_schwarz_exact auto: GMRES iterations of one solve beyond which the exact correction "
-                            "takes over",
-                            "", o->schwarz_exact_after, &o->schwarz_exact_after, nullptr));
   PetscCall(PetscOptionsInt("-sb_schwarz_exact_max_interface",
-                            "-sb_schwarz_exact auto: the exact correction only while no rank has more interface "
-                            "unknowns (its set-up solves once per interface unknown)",
+                            "-sb_schwarz_exact auto: the exact correction only while no rank has more rows coupled "
+                            "to another rank (its set-up solves once per interface unknown)",
                             "", o->schwarz_exact_max_interface, &o->schwarz_exact_max_interface, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_below",
                             "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",

@@ -59,13 +59,12 @@ struct CoreOptions {
   PetscBool schwarz = PETSC_FALSE;
   PetscBool schwarz_set = PETSC_FALSE;  // -sb_schwarz given (otherwise: the default of schwarz_requested)
   PetscInt schwarz_overlap = 0;
-  /// block Jacobi on ranks that are coupled (solvers/coupling_correction.hpp): GMRES until a
-  /// solve is slow or fails, then the exact coupling correction (auto); always the
-  /// correction; never (GMRES)
+  /// block Jacobi on ranks that are coupled (solvers/coupling_correction.hpp): the exact
+  /// coupling correction unless a rank has more than schwarz_exact_max_interface rows coupled
+  /// to another rank, then GMRES (auto); always the correction; never (GMRES)
   enum class Exact { Auto, Always, Never };
   Exact schwarz_exact = Exact::Auto;
-  PetscInt schwarz_exact_after = 20;  // auto: GMRES iterations of one solve beyond which the correction takes over
-  PetscInt schwarz_exact_max_interface = 256;  // auto: ... unless a rank has more interface unknowns
+  PetscInt schwarz_exact_max_interface = 256;
   /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
   /// Measured on 2 ranks (docs/performance.md): below about 10^3 unknowns the distributed
   /// solve costs 1.4-6.6x the serial one; from 1.8 10^3 on it is faster.

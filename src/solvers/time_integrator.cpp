@@ -494,16 +494,20 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
     PetscCall(SNESGetKSP(snes, &ksp));
     SchwarzSolve solve = SchwarzSolve::Krylov;
     PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_, &solve));
+    CouplingCorrection* correction = coupling_correction(ksp);
+    if (correction) correction->use_condensation(nullptr);
     if (self->block_condensation_) {
-      // One application of the blocks is the whole solve (ranks not coupled): the reduced solves
-      // alone, the line search's manifold update and least-squares multipliers do the rest, as
-      // serially. The coupling correction and GMRES need the blocks' exact solves, and the
-      // full step carries Newton's multipliers. (Set before the blocks are set up: the exact
-      // solve's extra data is built only if used.)
-      const bool alone = solve == SchwarzSolve::Blocks;
-      self->block_condensation_->set_manifold_apply(alone);
-      self->block_update_->set_newton_multipliers(!alone);
+      // One application of the blocks' reduced solves is the whole solve where the ranks are
+      // not coupled, and with the coupling correction in reduced coordinates where they are:
+      // the line search's manifold update and least-squares multipliers do the rest, as
+      // serially. GMRES needs the blocks' exact solves, and its step carries Newton's
+      // multipliers. (Set before the blocks are set up: the exact solve's extra data is built
+      // only if used.)
+      const bool reduced = solve == SchwarzSolve::Blocks || solve == SchwarzSolve::Corrected;
+      self->block_condensation_->set_manifold_apply(reduced);
+      self->block_update_->set_newton_multipliers(!reduced);
       PetscCall(self->condense_schwarz_blocks(J));
+      if (correction && solve == SchwarzSolve::Corrected) correction->use_condensation(self->block_condensation_.get());
     }
   }
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
@@ -624,9 +628,7 @@ SolveResult TimeIntegrator::step(double h) {
     // After a failure, from the same predictor: first a pivoting LU (if the fast one was in
     // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
     if (attempt > 0) {
-      if (schwarz_ && use_coupling_correction()) {
-        if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));
-      } else if (fast_lu_ || schwarz_) {
+      if (fast_lu_ || schwarz_) {
         use_pivoting_lu();
       } else if (!tried_full_newton) {
         SB_CHECK(SNESSetLagJacobian(snes_, 1));
@@ -712,17 +714,6 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   stepped_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
   if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();
-}
-
-bool TimeIntegrator::use_coupling_correction() {
-  KSP ksp = nullptr;
-  SB_CHECK(SNESGetKSP(snes_, &ksp));
-  const CouplingCorrection* c = coupling_correction(ksp);
-  // GMRES on coupled ranks was slow or failed in this step (the correction watched it): the
-  // exact solve before MUMPS. A step that failed for other reasons goes on to MUMPS at once.
-  if (!c || c->exact() || !c->exact_wanted()) return false;
-  SB_CHECK(PetscInfo(snes_, "Step failed with GMRES on block Jacobi: the exact coupling correction from now on\n"));
-  return true;
 }
 
 void TimeIntegrator::use_pivoting_lu() {

@@ -166,10 +166,6 @@ class TimeIntegrator {
   PetscErrorCode step_forces(Vec x1, Vec F);
   PetscErrorCode step_forces(Vec x1, Vec F, const StepEval& eval);
   /// Leave the non-pivoting LU for SuperLU (after a failure with it).
-  /// After a failed step on coupled ranks whose GMRES solves were slow or failed
-  /// (-sb_schwarz_exact auto): retry with the exact coupling correction, which the next
-  /// Jacobian puts in place. False if that is not the case.
-  bool use_coupling_correction();
   void use_pivoting_lu();
   /// Add the converged step's work of every counted effect to flows_ (x_: start, x1_: end).
   void account_energy_flows();

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: MIT
 """The exact parallel solve on coupled ranks (src/solvers/coupling_correction.hpp): block Jacobi's
 one application plus the correction on the ranks' interface unknowns solves the step's linear
-system exactly, in one KSP iteration; -sb_schwarz_exact auto switches to it once GMRES is slow.
-Meaningful under mpirun -n 2."""
+system exactly, in one KSP iteration: with director beams the condensed system, so that a
+parallel step takes the serial step's Newton iterations at any step size. Meaningful under
+mpirun -n 2."""
 from __future__ import annotations
 
 import subprocess
@@ -11,6 +12,7 @@ from pathlib import Path
 
 import pytest
 from mpi4py import MPI
+import numpy as np
 from petsc4py import PETSc
 
 import slidebeam
@@ -26,7 +28,7 @@ SLIDER = ROOT / "runs" / "hard" / "slider_skips_spans.toml"
 
 def long_rope(tmp_path: Path) -> slidebeam.Scene:
     """A 200-span rope with one hanger, cut once between the ranks: GMRES on block Jacobi needs
-    8-13 iterations per solve there (the blocks float on M/h^2 alone)."""
+    8-13 iterations per solve there (each block is held by its stiffness and c0 M alone)."""
     out = tmp_path / "rope.toml"
     subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cables.py"), "--carriers", "1", "--spans", "200",
                     "--hangers", "1", "--start", "reference", "--t-end", "0.005", "--dt", "1e-3", "--out", str(out)],
@@ -81,61 +83,49 @@ def assert_solved_exactly(ksp: PETSc.KSP) -> None:
     assert ours <= 10 * mumps + 1e-14, (ours, mumps)
 
 
-def test_the_correction_solves_coupled_ranks_exactly_in_one_application():
-    """With the correction the step's KSP is preonly, one iteration per solve, and a random
-    right-hand side is solved as exactly as MUMPS solves it; the run equals the serial one to
-    1e-10."""
-    scene = slidebeam.load_scene(SLIDER, ["analysis.t_end=0.03"])
-    with petsc_options(sb_schwarz_exact="always"):
-        sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+def run(scene: slidebeam.Scene, comm, **options: str):
+    """The run's outcome, the KSP iterations of its solves and the simulation."""
+    with petsc_options(**options):
+        sim = slidebeam.Simulation(scene, comm)
         counts = iterations(sim)
-        assert sim.run_dynamic().complete
-        ksp = sim.snes.getKSP()
-        assert ksp.getType() == PETSc.KSP.Type.PREONLY
-        assert counts and set(counts) == {1}
-        assert_solved_exactly(ksp)
-        distributed_and_serial_records(scene)
+        outcome = sim.run_dynamic()
+    return outcome, counts, sim
 
 
-def test_without_the_correction_gmres_iterates():
+def test_with_the_correction_a_parallel_step_is_the_serial_step():
+    """The rail of slider_skips_spans cut across at 10x its step (dt = 0.1): one application per
+    solve, and every step takes the serial run's Newton iterations to the same state (1e-10);
+    GMRES on block Jacobi, whose steps carry Newton's multipliers, has steps rejected there."""
+    scene = slidebeam.load_scene(SLIDER, ["analysis.t_end=0.3", "analysis.dt=0.1"])
+    serial, _, _ = run(scene, MPI.COMM_SELF)
+    exact, counts, sim = run(scene, MPI.COMM_WORLD, sb_schwarz_exact="always")
+    assert sim.snes.getKSP().getType() == PETSc.KSP.Type.PREONLY and set(counts) == {1}
+    assert exact.complete and exact.rejected_steps == serial.rejected_steps == 0
+    assert [r.newton_iterations for r in exact.records] == [r.newton_iterations for r in serial.records]
+    for a, b in zip(exact.records, serial.records):
+        assert abs(a.total_energy - b.total_energy) <= 1e-10 * max(1.0, abs(b.total_energy))
+        assert np.abs(np.array(a.tracked) - np.array(b.tracked)).max() < 1e-10
+    gmres, counts, _ = run(scene, MPI.COMM_WORLD, sb_schwarz_exact="never")
+    assert gmres.rejected_steps > 0
+
+
+def test_the_correction_of_the_full_system_solves_it_as_exactly_as_mumps():
+    """Without the condensation (-sb_condense_directors false) the blocks solve the full
+    saddle-point system, and so does the correction: a random right-hand side is solved as
+    exactly as MUMPS solves it."""
     scene = slidebeam.load_scene(SLIDER, ["analysis.t_end=0.03"])
-    with petsc_options(sb_schwarz_exact="never"):
-        sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
-        counts = iterations(sim)
-        assert sim.run_dynamic().complete
-        assert sim.snes.getKSP().getType() == PETSc.KSP.Type.GMRES
-        assert counts and min(counts) >= 1
-
-
-def test_auto_switches_to_the_correction_once_gmres_is_slow(tmp_path):
-    """-sb_schwarz_exact auto (the default) lets GMRES iterate until a solve takes more than
-    -sb_schwarz_exact_after iterations; from the next Jacobian on every solve is one
-    application. The rope's steps end where the serial ones do (1e-10)."""
-    scene = long_rope(tmp_path)
-    with petsc_options(sb_schwarz_exact="never"):
-        sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
-        gmres = iterations(sim)
-        assert sim.run_dynamic().complete
-        assert max(gmres) > 4
-    with petsc_options(sb_schwarz_exact_after="4"):
-        sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
-        auto = iterations(sim)
-        assert sim.run_dynamic().complete
-        assert sim.snes.getKSP().getType() == PETSc.KSP.Type.PREONLY
-        first_slow = next(i for i, n in enumerate(auto) if n > 4)
-        assert auto[:first_slow + 1] == gmres[:first_slow + 1]
-        assert set(auto[first_slow + 1:]) == {1} and len(auto) > first_slow + 3
+    outcome, counts, sim = run(scene, MPI.COMM_WORLD, sb_schwarz_exact="always", sb_condense_directors="false")
+    assert outcome.complete and set(counts) == {1}
+    with petsc_options(sb_condense_directors="false"):
         assert_solved_exactly(sim.snes.getKSP())
-        distributed_and_serial_records(scene)
 
 
-def test_auto_leaves_a_large_interface_to_gmres(tmp_path):
-    """A rank whose interface has more unknowns than -sb_schwarz_exact_max_interface would pay
-    one block solve per interface unknown at every Jacobian: auto keeps GMRES there."""
+def test_auto_takes_the_correction_unless_the_interface_is_large(tmp_path):
+    """The default: the correction where few rows couple the ranks (a rope cut once: 24 per
+    side), GMRES where many do (here: a limit of 10)."""
     scene = long_rope(tmp_path)
-    with petsc_options(sb_schwarz_exact_after="4", sb_schwarz_exact_max_interface="10"):
-        sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
-        counts = iterations(sim)
-        assert sim.run_dynamic().complete
-        assert sim.snes.getKSP().getType() == PETSc.KSP.Type.GMRES
-        assert max(counts) > 4
+    outcome, counts, sim = run(scene, MPI.COMM_WORLD)
+    assert outcome.complete and sim.snes.getKSP().getType() == PETSc.KSP.Type.PREONLY and set(counts) == {1}
+    outcome, counts, sim = run(scene, MPI.COMM_WORLD, sb_schwarz_exact_max_interface="10")
+    assert outcome.complete and sim.snes.getKSP().getType() == PETSc.KSP.Type.GMRES and max(counts) > 4
+    distributed_and_serial_records(scene)
