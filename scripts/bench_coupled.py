@@ -7,7 +7,7 @@ on the whole system. Prints a Markdown table: wall time of the time steps (media
 runs), KSP iterations per solve (max / mean), rejected steps and what the run ended with. Time
 it only on an otherwise idle machine.
 
-    scripts/bench_coupled.py                 # the default scenes, 3 runs each (about 5 minutes)
+    scripts/bench_coupled.py                 # the default scenes, 3 runs each (about 3 minutes)
     scripts/bench_coupled.py --repeat 5
 """
 from __future__ import annotations
@@ -44,6 +44,8 @@ def scenes(work: Path) -> list[tuple[str, Path, list[str]]]:
     return [
         ("slider_skips_spans (rail cut once), dt = 1e-2, 0.3 s", ROOT / "runs" / "hard" / "slider_skips_spans.toml",
          ["analysis.t_end=0.3"]),
+        ("the same at dt = 0.1 (10x)", ROOT / "runs" / "hard" / "slider_skips_spans.toml",
+         ["analysis.t_end=0.3", "analysis.dt=0.1"]),
         ("2000-span rope, 1 hanger (cut once), dt = 1e-3, 10 steps", rope, ["analysis.t_end=0.01", "analysis.dt=1e-3"]),
         ("the same rope, dt = 1e-2, 10 steps", rope, ["analysis.t_end=0.1", "analysis.dt=1e-2"]),
         ("400-span rope, 40 hangers (joints cut), dt = 1e-3, 10 steps", hung,
