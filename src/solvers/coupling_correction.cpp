@@ -64,7 +64,13 @@ PetscErrorCode CouplingCorrection::post_solve(KSP ksp, Vec b, Vec x, void* ctx) 
   // A block solve's failure may be known on its own rank alone: the decisions below are collective.
   int failed = reason < 0 ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, self->comm_));
-  if (failed) PetscFunctionReturn(0);  // a block solve failed: Newton sees it as it is
+  // A block solve failed. KSPPREONLY knows it on that rank alone, and Newton would stop there
+  // while the other ranks go on: the solution is made NaN everywhere, so that every rank's
+  // Newton fails at the same place (the time integrator then retries the step).
+  if (failed) {
+    PetscCall(VecSet(x, std::numeric_limits<double>::quiet_NaN()));
+    PetscFunctionReturn(0);
+  }
   Mat A = nullptr;
   PetscCall(KSPGetOperators(ksp, &A, nullptr));
   PetscObjectId id = 0;
@@ -255,15 +261,18 @@ PetscErrorCode CouplingCorrection::setup_reduced(Mat A) {
 PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(setup_event(), 0, 0, 0, 0));
-  if (condensation_) {
-    PetscCall(setup_reduced(A));
-    r_local_.resize(local_.size());
-    r_all_.resize(static_cast<size_t>(m_));
-    if (!work_) PetscCall(MatCreateVecs(A, nullptr, &work_));
-    ++setups_;
-    PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
-    PetscFunctionReturn(0);
-  }
+  if (condensation_) PetscCall(setup_reduced(A));
+  else PetscCall(setup_full(ksp, A));
+  r_local_.resize(local_.size());
+  r_all_.resize(static_cast<size_t>(m_));
+  if (!work_) PetscCall(MatCreateVecs(A, nullptr, &work_));
+  ++setups_;
+  PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCorrection::setup_full(KSP ksp, Mat A) {
+  PetscFunctionBeginUser;
   PetscMPIInt size = 1, rank = 0;
   PetscCallMPI(MPI_Comm_size(comm_, &size));
   PetscCallMPI(MPI_Comm_rank(comm_, &rank));
@@ -318,7 +327,6 @@ PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
   valid_ = !failed;
   if (failed) {
     PetscCall(PetscInfo(nullptr, "coupling correction: a block solve failed in the set-up\n"));
-    PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
 
@@ -354,11 +362,6 @@ PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
   }
   S_.compute(S);
   PetscCall(PetscInfo(nullptr, "coupling correction: %d interface unknowns, %d on this rank\n", static_cast<int>(m_), mk));
-  r_local_.resize(local_.size());
-  r_all_.resize(static_cast<size_t>(m_));
-  if (!work_) PetscCall(MatCreateVecs(A, nullptr, &work_));
-  ++setups_;
-  PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 

@@ -79,7 +79,8 @@ class CouplingCorrection {
   PetscErrorCode find_coupling(Mat A, Coupling* c) const;  // collective
   static PetscErrorCode post_solve(KSP ksp, Vec b, Vec x, void* ctx);
   PetscErrorCode setup(KSP ksp, Mat A);
-  PetscErrorCode setup_reduced(Mat A);
+  PetscErrorCode setup_full(KSP ksp, Mat A);  // the blocks' exact solves of the full system
+  PetscErrorCode setup_reduced(Mat A);        // the blocks' condensed solves
   PetscErrorCode correct(Mat A, Vec b, Vec x);
   /// The interface's layout over the ranks from this rank's count: counts_, displs_, m_.
   PetscErrorCode lay_out(int mine);

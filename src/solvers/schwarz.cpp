@@ -167,9 +167,7 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
     if (coupled) PetscCall(correction_of(ksp, &correction));
     if (!coupled) {
       how = SchwarzSolve::Blocks;
-    } else if (options.schwarz_exact == CoreOptions::Exact::Always) {
-      how = SchwarzSolve::Corrected;
-    } else if (options.schwarz_exact == CoreOptions::Exact::Auto) {
+    } else if (options.schwarz_exact) {
       // the set-up solves once per interface unknown: not where many joints are cut
       PetscInt largest = 0;
       PetscCall(correction->largest_coupling(J, &largest));

@@ -137,19 +137,14 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
   PetscCall(PetscOptionsInt("-sb_schwarz_overlap",
                             "Schwarz: 0 block Jacobi, one block per rank; 1 restricted additive Schwarz with overlap",
                             "", o->schwarz_overlap, &o->schwarz_overlap, nullptr));
-  {
-    const char* const choices[] = {"auto", "always", "never"};
-    PetscInt pick = static_cast<PetscInt>(o->schwarz_exact);
-    PetscCall(PetscOptionsEList("-sb_schwarz_exact",
-                                "block Jacobi on coupled ranks: one application made exact by the correction on the "
-                                "ranks' interface unknowns (always), GMRES (never), or the correction unless a rank "
-                                "has more than -sb_schwarz_exact_max_interface coupled rows (auto)",
-                                "", choices, 3, choices[pick], &pick, nullptr));
-    o->schwarz_exact = static_cast<CoreOptions::Exact>(pick);
-  }
+  PetscCall(PetscOptionsBool("-sb_schwarz_exact",
+                             "block Jacobi on coupled ranks: one application made exact by the correction on the "
+                             "ranks' interface unknowns, where no rank has more than -sb_schwarz_exact_max_interface "
+                             "coupled rows (false: GMRES)",
+                             "", o->schwarz_exact, &o->schwarz_exact, nullptr));
   PetscCall(PetscOptionsInt("-sb_schwarz_exact_max_interface",
-                            "-sb_schwarz_exact auto: the exact correction only while no rank has more rows coupled "
-                            "to another rank (its set-up solves once per interface unknown)",
+                            "-sb_schwarz_exact: the exact correction only while no rank has more rows coupled to "
+                            "another rank (its set-up solves once per interface unknown)",
                             "", o->schwarz_exact_max_interface, &o->schwarz_exact_max_interface, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_below",
                             "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",

@@ -60,10 +60,9 @@ struct CoreOptions {
   PetscBool schwarz_set = PETSC_FALSE;  // -sb_schwarz given (otherwise: the default of schwarz_requested)
   PetscInt schwarz_overlap = 0;
   /// block Jacobi on ranks that are coupled (solvers/coupling_correction.hpp): the exact
-  /// coupling correction unless a rank has more than schwarz_exact_max_interface rows coupled
-  /// to another rank, then GMRES (auto); always the correction; never (GMRES)
-  enum class Exact { Auto, Always, Never };
-  Exact schwarz_exact = Exact::Auto;
+  /// coupling correction where no rank has more than schwarz_exact_max_interface rows coupled
+  /// to another rank (GMRES otherwise); false: GMRES
+  PetscBool schwarz_exact = PETSC_FALSE;
   PetscInt schwarz_exact_max_interface = 256;
   /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
   /// Measured on 2 ranks (docs/performance.md): below about 10^3 unknowns the distributed
