@@ -23,9 +23,9 @@
 ///
 /// Installed as the KSP's post-solve of a KSPPREONLY block Jacobi solve (one block per rank):
 /// PETSc's block Jacobi and its block solvers stay as they are. The set-up costs one block
-/// solve per interface unknown at every new Jacobian, so -sb_schwarz_exact auto (the default)
-/// takes it only while no rank has more than -sb_schwarz_exact_max_interface rows coupled to
-/// another rank (many joints cut at once), and GMRES otherwise.
+/// solve per interface unknown at every new Jacobian, so -sb_schwarz_exact takes it only while
+/// no rank has more than -sb_schwarz_exact_max_interface rows coupled to another rank (many
+/// joints cut at once), and GMRES otherwise.
 
 #include <petscksp.h>
 
