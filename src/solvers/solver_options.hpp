@@ -61,8 +61,8 @@ struct CoreOptions {
   PetscInt schwarz_overlap = 0;
   /// block Jacobi on ranks that are coupled (solvers/coupling_correction.hpp): the exact
   /// coupling correction where no rank has more than schwarz_exact_max_interface rows coupled
-  /// to another rank (GMRES otherwise); false: GMRES
-  PetscBool schwarz_exact = PETSC_FALSE;
+  /// to another rank (GMRES otherwise); false: GMRES always
+  PetscBool schwarz_exact = PETSC_TRUE;
   PetscInt schwarz_exact_max_interface = 256;
   /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
   /// Measured on 2 ranks (docs/performance.md): below about 10^3 unknowns the distributed

@@ -263,7 +263,8 @@ def test_seed_strains_fall_back_to_a_pivoting_lu():
     if serial:
         assert pc.getType() == "shell"  # condensed director triads
     else:
-        assert pc.getType() == "bjacobi" and regular.snes.getKSP().getType() == "gmres"
+        # the pendulum is cut between the ranks: one application with the coupling correction
+        assert pc.getType() == "bjacobi" and regular.snes.getKSP().getType() == "preonly"
     scene = slidebeam.scene_from_dict({
         "analysis": {"type": "dynamic", "integrator": "energy-momentum", "dt": 0.01, "t_end": 0.05},
         "beam": [{"name": "rod", "start": [0, 0, 0], "end": [1, 0, 0], "spans": 4, "strain": "seed",
