@@ -6,6 +6,7 @@
 #include "solvers/solver_options.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -126,6 +127,19 @@ PetscErrorCode correction_of(KSP ksp, CouplingCorrection** c) {
 }
 }  // namespace
 
+/// One application (KSPPREONLY) knows a block's failure on its own rank only (PETSc's
+/// KSPSolve_PREONLY), where Newton would stop while the other ranks go on: a failure anywhere
+/// makes the solution NaN on every rank, and every rank's Newton fails at the same place.
+PetscErrorCode fail_on_every_rank(KSP ksp, Vec, Vec x, void*) {
+  PetscFunctionBeginUser;
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  int failed = reason < 0 ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(ksp))));
+  if (failed) PetscCall(VecSet(x, std::numeric_limits<double>::quiet_NaN()));
+  PetscFunctionReturn(0);
+}
+
 CouplingCorrection* coupling_correction(KSP ksp) {
   PetscObject o = nullptr;
   PetscObjectQuery(reinterpret_cast<PetscObject>(ksp), kCorrectionKey, &o);
@@ -183,8 +197,10 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
     } else if (CouplingCorrection* c = coupling_correction(ksp)) {
       PetscCall(c->detach(ksp));
     }
+    if (how == SchwarzSolve::Blocks) PetscCall(KSPSetPostSolve(ksp, &fail_on_every_rank, nullptr));
   } else if (preonly) {
     how = SchwarzSolve::Blocks;  // one rank owns the model (-sb_serial_below), or the user's preonly
+    if (model.dof_map().owners() != 1) PetscCall(KSPSetPostSolve(ksp, &fail_on_every_rank, nullptr));
   }
   if (solve) *solve = how;
   // Block Jacobi factors each rank's diagonal block (no copy) in the model's order restricted
