@@ -42,6 +42,17 @@ PetscErrorCode allgather(MPI_Comm comm, const std::vector<T>& mine, MPI_Datatype
 }
 }  // namespace
 
+PetscErrorCode fail_on_every_rank(KSP ksp, Vec x, bool* failed) {
+  PetscFunctionBeginUser;
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  int any = reason < 0 ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(ksp))));
+  if (any) PetscCall(VecSet(x, std::numeric_limits<double>::quiet_NaN()));
+  if (failed) *failed = any != 0;
+  PetscFunctionReturn(0);
+}
+
 CouplingCorrection::~CouplingCorrection() { VecDestroy(&work_); }
 
 PetscErrorCode CouplingCorrection::attach(KSP ksp) {
@@ -59,18 +70,9 @@ PetscErrorCode CouplingCorrection::detach(KSP ksp) {
 PetscErrorCode CouplingCorrection::post_solve(KSP ksp, Vec b, Vec x, void* ctx) {
   PetscFunctionBeginUser;
   auto* self = static_cast<CouplingCorrection*>(ctx);
-  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  PetscCall(KSPGetConvergedReason(ksp, &reason));
-  // A block solve's failure may be known on its own rank alone: the decisions below are collective.
-  int failed = reason < 0 ? 1 : 0;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, self->comm_));
-  // A block solve failed. KSPPREONLY knows it on that rank alone, and Newton would stop there
-  // while the other ranks go on: the solution is made NaN everywhere, so that every rank's
-  // Newton fails at the same place (the time integrator then retries the step).
-  if (failed) {
-    PetscCall(VecSet(x, std::numeric_limits<double>::quiet_NaN()));
-    PetscFunctionReturn(0);
-  }
+  bool failed = false;
+  PetscCall(fail_on_every_rank(ksp, x, &failed));
+  if (failed) PetscFunctionReturn(0);
   Mat A = nullptr;
   PetscCall(KSPGetOperators(ksp, &A, nullptr));
   PetscObjectId id = 0;
@@ -123,8 +125,10 @@ PetscErrorCode CouplingCorrection::find_coupling(Mat A, Coupling* c) const {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCorrection::largest_coupling(Mat A, PetscInt* largest) {
+PetscErrorCode CouplingCorrection::applies_to(Mat A, bool* yes) {
   PetscFunctionBeginUser;
+  *yes = false;
+  if (!enabled_) PetscFunctionReturn(0);
   PetscObjectState state = 0;
   PetscObjectId id = 0;
   PetscCall(MatGetNonzeroState(A, &state));
@@ -136,8 +140,11 @@ PetscErrorCode CouplingCorrection::largest_coupling(Mat A, PetscInt* largest) {
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &largest_, 1, MPIU_INT, MPI_MAX, comm_));
     counted_state_ = state;
     counted_id_ = id;
+    PetscCall(PetscInfo(A, "ranks coupled through up to %d rows of a rank: %s\n", static_cast<int>(largest_),
+                        largest_ <= max_interface_ ? "the exact coupling correction" : "GMRES"));
   }
-  *largest = largest_;
+  // the set-up solves once per interface unknown: not where many joints are cut
+  *yes = largest_ <= max_interface_;
   PetscFunctionReturn(0);
 }
 
@@ -160,13 +167,11 @@ PetscErrorCode CouplingCorrection::lay_out(int mine) {
 ///     x = y + N' Jr^-1 P_R w,   S w = (N^T (b - A y))_R,   S = I + (N^T E N' Jr^-1 P_R)_R,
 /// and N' Jr^-1 P_R = Y is what solve_reduced_unit returns: S's column j is e_j plus N^T E Y_j
 /// on R, where E Y_j needs Y_j only at the unknowns other ranks' entries reach.
-PetscErrorCode CouplingCorrection::setup_reduced(Mat A) {
+PetscErrorCode CouplingCorrection::setup_reduced(Mat A, const Coupling& coupling) {
   PetscFunctionBeginUser;
   PetscInt hi = 0;
   PetscCall(MatGetOwnershipRange(A, &lo_, &hi));
   const PetscInt n = hi - lo_;
-  Coupling coupling;
-  PetscCall(find_coupling(A, &coupling));
   // R: the reduced rows of the coupled rows, and per reduced row the full rows of N^T's row (a
   // triad's 12 coordinate rows lie within 11 of each other)
   std::vector<std::pair<PetscInt, double>> weights;
@@ -261,26 +266,24 @@ PetscErrorCode CouplingCorrection::setup_reduced(Mat A) {
 PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(setup_event(), 0, 0, 0, 0));
-  if (condensation_) PetscCall(setup_reduced(A));
-  else PetscCall(setup_full(ksp, A));
+  Coupling coupling;
+  PetscCall(find_coupling(A, &coupling));
+  if (condensation_) PetscCall(setup_reduced(A, coupling));
+  else PetscCall(setup_full(ksp, A, coupling));
   r_local_.resize(local_.size());
   r_all_.resize(static_cast<size_t>(m_));
   if (!work_) PetscCall(MatCreateVecs(A, nullptr, &work_));
-  ++setups_;
   PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCorrection::setup_full(KSP ksp, Mat A) {
+PetscErrorCode CouplingCorrection::setup_full(KSP ksp, Mat A, const Coupling& coupling) {
   PetscFunctionBeginUser;
-  PetscMPIInt size = 1, rank = 0;
+  PetscMPIInt size = 1;
   PetscCallMPI(MPI_Comm_size(comm_, &size));
-  PetscCallMPI(MPI_Comm_rank(comm_, &rank));
   PetscInt hi = 0;
   PetscCall(MatGetOwnershipRange(A, &lo_, &hi));
   const PetscInt n = hi - lo_;
-  Coupling coupling;
-  PetscCall(find_coupling(A, &coupling));
   local_ = coupling.interface;
   const std::vector<PetscInt>& rows = coupling.rows;
   const std::vector<PetscInt>& cols = coupling.cols;

@@ -37,9 +37,17 @@ namespace slidebeam {
 
 class DirectorCondensation;
 
+/// After one block application (KSPPREONLY) on several ranks: a block that failed on any rank
+/// (KSPSolve_PREONLY knows it on its own rank only, where Newton would stop while the other
+/// ranks go on) makes x NaN on every rank, so that every rank's Newton fails at the same place
+/// (the SNES must allow linear solve failures). failed (optional): whether it did.
+PetscErrorCode fail_on_every_rank(KSP ksp, Vec x, bool* failed = nullptr);
+
 class CouplingCorrection {
  public:
-  explicit CouplingCorrection(MPI_Comm comm) : comm_(comm) {}
+  /// enabled: -sb_schwarz_exact; max_interface: -sb_schwarz_exact_max_interface.
+  CouplingCorrection(MPI_Comm comm, bool enabled, PetscInt max_interface)
+      : comm_(comm), enabled_(enabled), max_interface_(max_interface) {}
   CouplingCorrection(const CouplingCorrection&) = delete;
   CouplingCorrection& operator=(const CouplingCorrection&) = delete;
   ~CouplingCorrection();
@@ -49,9 +57,10 @@ class CouplingCorrection {
   PetscErrorCode attach(KSP ksp);
   /// The matrix has new values (a fresh Jacobian): set up again at the next solve.
   void invalidate() { stale_ = true; }
-  /// Largest number of rows coupled to another rank, over the ranks (collective; counted
-  /// again when A's nonzero pattern changes).
-  PetscErrorCode largest_coupling(Mat A, PetscInt* largest);
+  /// Whether the correction is to solve with A: enabled, and no rank has more than
+  /// max_interface rows coupled to another rank (collective; counted again when A's nonzero
+  /// pattern changes).
+  PetscErrorCode applies_to(Mat A, bool* yes);
   /// Remove the post-solve again (ranks no longer coupled).
   PetscErrorCode detach(KSP ksp);
   /// Solve in the blocks' reduced coordinates: the blocks apply condensation's reduced solve
@@ -60,10 +69,6 @@ class CouplingCorrection {
   /// the step of the serial manifold Newton; a line search sets the multipliers. nullptr:
   /// the blocks' exact solves of the full system. Set before each solve with a new matrix.
   void use_condensation(DirectorCondensation* condensation) { condensation_ = condensation; }
-  /// Interface unknowns of all ranks at the last set-up (0 before the first).
-  PetscInt interface_size() const { return m_; }
-  /// Set-ups so far (one per factorisation of the Jacobian).
-  int setups() const { return setups_; }
 
  private:
   /// The ranks' coupling: this rank's off-rank entries (global row, column, value) and its
@@ -79,18 +84,21 @@ class CouplingCorrection {
   PetscErrorCode find_coupling(Mat A, Coupling* c) const;  // collective
   static PetscErrorCode post_solve(KSP ksp, Vec b, Vec x, void* ctx);
   PetscErrorCode setup(KSP ksp, Mat A);
-  PetscErrorCode setup_full(KSP ksp, Mat A);  // the blocks' exact solves of the full system
-  PetscErrorCode setup_reduced(Mat A);        // the blocks' condensed solves
+  // the blocks' exact solves of the full system, or their condensed solves
+  PetscErrorCode setup_full(KSP ksp, Mat A, const Coupling& coupling);
+  PetscErrorCode setup_reduced(Mat A, const Coupling& coupling);
   PetscErrorCode correct(Mat A, Vec b, Vec x);
   /// The interface's layout over the ranks from this rank's count: counts_, displs_, m_.
   PetscErrorCode lay_out(int mine);
 
   MPI_Comm comm_;
+  bool enabled_;
+  PetscInt max_interface_;
   PetscObjectId matrix_id_ = 0;
   bool stale_ = true;
-  PetscObjectState counted_state_ = -1;  // largest_coupling: A's nonzero state when counted
+  PetscObjectState counted_state_ = -1;  // applies_to: A's nonzero state when counted
   PetscObjectId counted_id_ = 0;
-  PetscInt largest_ = 0;
+  PetscInt largest_ = 0;                 // ... the most rows a rank had coupled to another
   bool valid_ = false;                  // the last set-up's block solves succeeded
   PetscInt lo_ = 0;                     // first row this rank owns
   std::vector<PetscInt> local_;         // this rank's interface unknowns (local numbering)
@@ -104,7 +112,6 @@ class CouplingCorrection {
   Eigen::PartialPivLU<Eigen::MatrixXd> S_;
   std::vector<double> r_local_, r_all_; // work: (b - A y)_I
   Vec work_ = nullptr;
-  int setups_ = 0;
 };
 
 }  // namespace slidebeam

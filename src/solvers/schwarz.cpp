@@ -109,7 +109,9 @@ PetscErrorCode correction_of(KSP ksp, CouplingCorrection** c) {
   PetscObject o = nullptr;
   PetscCall(PetscObjectQuery(reinterpret_cast<PetscObject>(ksp), kCorrectionKey, &o));
   if (!o) {
-    auto* made = new CouplingCorrection(PetscObjectComm(reinterpret_cast<PetscObject>(ksp)));
+    const MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(ksp));
+    const CoreOptions options = core_options(comm);
+    auto* made = new CouplingCorrection(comm, options.schwarz_exact == PETSC_TRUE, options.schwarz_exact_max_interface);
     PetscContainer container = nullptr;
     PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &container));
     PetscCall(PetscContainerSetPointer(container, made));
@@ -127,16 +129,10 @@ PetscErrorCode correction_of(KSP ksp, CouplingCorrection** c) {
 }
 }  // namespace
 
-/// One application (KSPPREONLY) knows a block's failure on its own rank only (PETSc's
-/// KSPSolve_PREONLY), where Newton would stop while the other ranks go on: a failure anywhere
-/// makes the solution NaN on every rank, and every rank's Newton fails at the same place.
-PetscErrorCode fail_on_every_rank(KSP ksp, Vec, Vec x, void*) {
+/// The post-solve of one block application on uncoupled ranks (fail_on_every_rank).
+PetscErrorCode fail_together(KSP ksp, Vec, Vec x, void*) {
   PetscFunctionBeginUser;
-  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  PetscCall(KSPGetConvergedReason(ksp, &reason));
-  int failed = reason < 0 ? 1 : 0;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(ksp))));
-  if (failed) PetscCall(VecSet(x, std::numeric_limits<double>::quiet_NaN()));
+  PetscCall(fail_on_every_rank(ksp, x));
   PetscFunctionReturn(0);
 }
 
@@ -176,18 +172,14 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
     // the coupling correction, or GMRES (-sb_schwarz_exact).
     bool coupled = true;
     PetscCall(ranks_coupled(J, &coupled));
-    const CoreOptions options = core_options(model.comm());
     CouplingCorrection* correction = nullptr;
     if (coupled) PetscCall(correction_of(ksp, &correction));
     if (!coupled) {
       how = SchwarzSolve::Blocks;
-    } else if (options.schwarz_exact) {
-      // the set-up solves once per interface unknown: not where many joints are cut
-      PetscInt largest = 0;
-      PetscCall(correction->largest_coupling(J, &largest));
-      if (largest <= options.schwarz_exact_max_interface) how = SchwarzSolve::Corrected;
-      PetscCall(PetscInfo(ksp, "ranks coupled through up to %d rows of a rank: %s\n", static_cast<int>(largest),
-                          how == SchwarzSolve::Corrected ? "the exact coupling correction" : "GMRES"));
+    } else {
+      bool corrected = false;
+      PetscCall(correction->applies_to(J, &corrected));
+      if (corrected) how = SchwarzSolve::Corrected;
     }
     if (how != SchwarzSolve::Krylov && !preonly) PetscCall(KSPSetType(ksp, KSPPREONLY));
     if (how == SchwarzSolve::Krylov && preonly) PetscCall(use_gmres(ksp));
@@ -197,10 +189,10 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
     } else if (CouplingCorrection* c = coupling_correction(ksp)) {
       PetscCall(c->detach(ksp));
     }
-    if (how == SchwarzSolve::Blocks) PetscCall(KSPSetPostSolve(ksp, &fail_on_every_rank, nullptr));
+    if (how == SchwarzSolve::Blocks) PetscCall(KSPSetPostSolve(ksp, &fail_together, nullptr));
   } else if (preonly) {
     how = SchwarzSolve::Blocks;  // one rank owns the model (-sb_serial_below), or the user's preonly
-    if (model.dof_map().owners() != 1) PetscCall(KSPSetPostSolve(ksp, &fail_on_every_rank, nullptr));
+    if (model.dof_map().owners() != 1) PetscCall(KSPSetPostSolve(ksp, &fail_together, nullptr));
   }
   if (solve) *solve = how;
   // Block Jacobi factors each rank's diagonal block (no copy) in the model's order restricted

@@ -48,9 +48,6 @@ enum class SchwarzSolve {
 /// `solve` (optional) receives which of these it is.
 PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_changed,
                                SchwarzSolve* solve = nullptr);
-/// KSP post-solve for one block application on several ranks: a block that failed on any rank
-/// makes the solution NaN on every rank (the SNES must allow linear solve failures).
-PetscErrorCode fail_on_every_rank(KSP ksp, Vec b, Vec x, void* ctx);
 /// The coupling correction prepare_schwarz composed with ksp (ranks coupled), or nullptr.
 class CouplingCorrection* coupling_correction(KSP ksp);
 /// Whether any entry of J couples unknowns owned by different ranks (collective).

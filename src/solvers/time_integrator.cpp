@@ -494,11 +494,11 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
     PetscCall(SNESGetKSP(snes, &ksp));
     SchwarzSolve solve = SchwarzSolve::Krylov;
     PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_, &solve));
-    // One application (preonly) reports a block's failure on its rank alone; the post-solves
-    // make the step NaN on every rank instead, and Newton fails everywhere (fail_on_every_rank).
+    // One application on several ranks reports a block's failure on its rank alone; the
+    // post-solves make the step NaN on every rank instead, and Newton fails everywhere
+    // (fail_on_every_rank).
     const bool distributed = self->model_.dof_map().owners() != 1;
-    const bool one_application = solve == SchwarzSolve::Corrected || (solve == SchwarzSolve::Blocks && distributed);
-    PetscCall(SNESSetMaxLinearSolveFailures(snes, one_application ? PETSC_MAX_INT : 1));
+    PetscCall(SNESSetMaxLinearSolveFailures(snes, solve != SchwarzSolve::Krylov && distributed ? PETSC_MAX_INT : 1));
     CouplingCorrection* correction = coupling_correction(ksp);
     if (correction) correction->use_condensation(nullptr);
     if (self->block_condensation_) {
