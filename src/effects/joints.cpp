@@ -77,6 +77,9 @@ class RigidJoint final : public Effect {
     out.has_moment = true;
   }
   PetscInt elimination_anchor(const Model& m) const override { return cp(m, a_, ca_); }
+  void reference_couplings(const Model& m, std::vector<std::pair<PetscInt, PetscInt>>& pairs) const override {
+    pairs.emplace_back(cp(m, a_, ca_), cp(m, b_, cb_));
+  }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
     add_cp_blocks(m.dof_map(), cp(m, a_, ca_), 1, dofs);

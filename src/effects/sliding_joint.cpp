@@ -42,6 +42,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -122,6 +123,21 @@ class SlidingJoint final : public Effect {
   PetscInt elimination_anchor(const Model& m) const override { return slider_cp(m, stencil_.n - 1); }
   void elimination_precedence(std::vector<std::pair<int, int>>& pairs) const override {
     pairs.emplace_back(slider_, carrier_);
+  }
+  void reference_couplings(const Model& m, std::vector<std::pair<PetscInt, PetscInt>>& pairs) const override {
+    // the carrier control point nearest the slider point in the reference configuration (the
+    // parallel search runs after numbering; a scan of one beam's points is cheap here)
+    const Beam& C = m.beam(carrier_);
+    const int nq = C.coordinates_per_cp();
+    int nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < C.n_cp(); ++c) {
+      const double* x = C.q_ref().data() + static_cast<size_t>(nq) * static_cast<size_t>(c);
+      const double d = (x[0] - point_[0]) * (x[0] - point_[0]) + (x[1] - point_[1]) * (x[1] - point_[1]) +
+                       (x[2] - point_[2]) * (x[2] - point_[2]);
+      if (d < best) best = d, nearest = c;
+    }
+    pairs.emplace_back(slider_cp(m, stencil_.n - 1), C.first_cp() + nearest);
   }
   void distribute(const Model& m) override {
     owned_ = m.dof_map().owns_cp(slider_cp(m, 0));

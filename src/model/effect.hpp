@@ -295,6 +295,11 @@ class Effect {
   /// eliminated after it. Choose a point the extras couple to, so that the multipliers find their
   /// pivot in the coordinates before them and their fill stays local.
   virtual PetscInt elimination_anchor(const Model&) const { return -1; }
+  /// Pairs of control points this effect couples in the reference configuration (a rigid
+  /// joint's two points; a sliding joint's slider point and the carrier point nearest to it). The
+  /// numbering keeps coupled points close, so that a rank's share of a structure stays connected
+  /// and its interface with other ranks small (Model::numbering_order).
+  virtual void reference_couplings(const Model&, std::vector<std::pair<PetscInt, PetscInt>>&) const {}
   /// Beams whose control points should be eliminated before another beam's, as (first, then)
   /// pairs: a slider before its carrier, so that a joint's fill lands in the carrier's band.
   virtual void elimination_precedence(std::vector<std::pair<int, int>>&) const {}

@@ -100,7 +100,8 @@ void Model::finalize() {
   for (size_t c = 0; c < coordinates.size(); ++c) total += coordinates[c] + multipliers[c] + attached[c];
   // a model too small to gain from distribution is owned and solved by rank 0 alone
   const PetscInt serial_below = core_options(comm_).serial_below;
-  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < serial_below ? 1 : 0);
+  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < serial_below ? 1 : 0,
+                numbering_order());
   for (size_t k = 0; k < effects_.size(); ++k)
     if (effects_[k]->n_extra() > 0)
       effects_[k]->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]
@@ -646,6 +647,60 @@ std::vector<PetscInt> Model::director_triads() const {
   std::sort(cps.begin(), cps.end());
   cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
   return cps;
+}
+
+std::vector<PetscInt> Model::numbering_order() const {
+  std::vector<std::pair<PetscInt, PetscInt>> links;
+  for (const auto& e : effects_) e->reference_couplings(*this, links);
+  links.erase(std::remove_if(links.begin(), links.end(), [](const auto& l) { return l.first == l.second; }),
+              links.end());
+  if (links.empty()) return {};
+  // Graph of the control points: each beam a chain, plus the effects' couplings.
+  const auto n = static_cast<size_t>(n_cp_total_);
+  std::vector<std::vector<PetscInt>> adjacent(n);
+  for (const auto& b : beams_)
+    for (int c = 0; c + 1 < b.n_cp(); ++c) {
+      const PetscInt a = b.first_cp() + c;
+      adjacent[static_cast<size_t>(a)].push_back(a + 1);
+      adjacent[static_cast<size_t>(a) + 1].push_back(a);
+    }
+  for (const auto& [a, b] : links) {
+    adjacent[static_cast<size_t>(a)].push_back(b);
+    adjacent[static_cast<size_t>(b)].push_back(a);
+  }
+  for (auto& next : adjacent) {
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+  }
+  // Cuthill-McKee: breadth first, unvisited neighbours by increasing degree (then index).
+  for (auto& next : adjacent)
+    std::stable_sort(next.begin(), next.end(), [&](PetscInt u, PetscInt v) {
+      return adjacent[static_cast<size_t>(u)].size() < adjacent[static_cast<size_t>(v)].size();
+    });
+  std::vector<int> mark(n, 0);  // the last search that reached a point (0: none)
+  int search = 0;
+  const auto breadth_first = [&](PetscInt root, std::vector<PetscInt>& reached) {
+    ++search;
+    reached.assign(1, root);
+    mark[static_cast<size_t>(root)] = search;
+    for (size_t head = 0; head < reached.size(); ++head)
+      for (PetscInt v : adjacent[static_cast<size_t>(reached[head])])
+        if (mark[static_cast<size_t>(v)] != search) {
+          mark[static_cast<size_t>(v)] = search;
+          reached.push_back(v);
+        }
+  };
+  std::vector<PetscInt> order, component;
+  order.reserve(n);
+  for (PetscInt first = 0; first < n_cp_total_; ++first) {
+    if (mark[static_cast<size_t>(first)] != 0) continue;
+    // From the point farthest from the structure's first point (a pseudo-peripheral point);
+    // reversed, the order then starts near the first point: a lone beam keeps its own order.
+    breadth_first(first, component);
+    breadth_first(component.back(), component);
+    order.insert(order.end(), component.rbegin(), component.rend());
+  }
+  return order;
 }
 
 std::vector<PetscInt> Model::elimination_order() const {

@@ -147,6 +147,13 @@ class Model {
   /// factorisation's cost grows linearly with the scene (the natural order, with all extras at
   /// the end, fills every carrier from its joints to its last point). Same on every rank.
   std::vector<PetscInt> elimination_order() const;
+  /// The control points in the order the DofMap numbers them: each connected structure (beams
+  /// joined through joints, Effect::reference_couplings) in reverse Cuthill-McKee order, which
+  /// keeps a beam in its own order and slots a beam hanging from another among the points it
+  /// hangs from; structures in the order of their first point. Splitting this order into
+  /// contiguous parts then cuts each structure across few points. Empty when no effect couples
+  /// two points (index order). Depends on the scene alone, not on the number of ranks.
+  std::vector<PetscInt> numbering_order() const;
   /// Owned control points that are orthonormality-constrained director triads (sorted).
   std::vector<PetscInt> director_triads() const;
 

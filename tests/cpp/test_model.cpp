@@ -169,6 +169,37 @@ TEST(Model, DofMapWithFewerOwnersThanRanks) {
   }
 }
 
+TEST(Model, DofMapNumbersSlotsInTheGivenOrder) {
+  // Slots follow the order; each rank owns a contiguous run of it with about its share of the
+  // unknowns; the numbering is the same on any number of ranks.
+  const std::vector<int> nq = {12, 12, 12, 6, 6, 12, 12}, nl = {6, 6, 6, 0, 0, 6, 6}, attached = {0, 4, 0, 0, 0, 0, 0};
+  const std::vector<PetscInt> order = {3, 0, 5, 1, 6, 4, 2};
+  for (int size = 1; size <= 4; ++size) {
+    PetscInt next_lo = 0;
+    for (int r = 0; r < size; ++r) {
+      DofMap d(nq, nl, 5, r, size, attached, 0, order);
+      DofMap serial(nq, nl, 5, 0, 1, attached, 0, order);
+      EXPECT_EQ(d.owned_lo(), next_lo);
+      next_lo = d.owned_hi();
+      PetscInt expected = 0;
+      int last_owner = 0;
+      for (PetscInt cp : order) {
+        EXPECT_EQ(d.q(cp, 0), expected);
+        EXPECT_EQ(d.q(cp, 0), serial.q(cp, 0));
+        expected += d.slot_size(cp);
+        EXPECT_GE(d.cp_owner(cp), last_owner);  // owners in order
+        last_owner = d.cp_owner(cp);
+        if (d.owns_cp(cp)) EXPECT_TRUE(d.q(cp, 0) >= d.owned_lo() && d.q(cp, d.slot_size(cp) - 1) < d.owned_hi());
+      }
+      EXPECT_EQ(d.slot_size(1), 22);
+      EXPECT_EQ(d.extra(0), expected);
+    }
+    EXPECT_EQ(next_lo, 5 * 18 + 2 * 6 + 4 + 5);
+  }
+  EXPECT_THROW(DofMap(nq, nl, 0, 0, 1, {}, 0, {0, 1, 2}), std::invalid_argument);
+  EXPECT_THROW(DofMap(nq, nl, 0, 0, 1, {}, 0, {0, 1, 2, 3, 4, 5, 5}), std::invalid_argument);
+}
+
 TEST(Model, DofMapMixedBlockSizes) {
   // Director control points (12 + 6) and ANCF nodes (6 + 0) in one numbering: blocks are
   // contiguous, multipliers follow the coordinates, extras follow all blocks.
