@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Coupled ranks: scenes whose even split of control points cuts through a beam or its joints,
+"""Coupled ranks: scenes whose split of control points over ranks cuts through a beam or its joints,
 solved on 1 rank and on 2 ranks with each parallel linear solve: GMRES on block Jacobi
 (-sb_schwarz_exact false), the exact coupling correction (the default) and MUMPS on the whole
 system. Prints a Markdown table: wall time of the time steps (median of --repeat
@@ -48,7 +48,7 @@ def scenes(work: Path) -> list[tuple[str, Path, list[str]]]:
          ["analysis.t_end=0.3", "analysis.dt=0.1"]),
         ("2000-span rope, 1 hanger (cut once), dt = 1e-3, 10 steps", rope, ["analysis.t_end=0.01", "analysis.dt=1e-3"]),
         ("the same rope, dt = 1e-2, 10 steps", rope, ["analysis.t_end=0.1", "analysis.dt=1e-2"]),
-        ("400-span rope, 40 hangers (joints cut), dt = 1e-3, 10 steps", hung,
+        ("400-span rope, 40 hangers (cut once), dt = 1e-3, 10 steps", hung,
          ["analysis.t_end=0.01", "analysis.dt=1e-3"]),
     ]
 

@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Shipped scenes on 1 and 2 ranks: the run's wall time (summary.json's wall_time_s, median of
---repeat runs) serially, on 2 ranks with the default -sb_serial_below (small models owned by
-rank 0 alone) and on 2 ranks distributed (-sb_serial_below 0). Prints a Markdown table with the
-ratios to the serial time. Time it only on an otherwise idle machine.
+"""Shipped and generated scenes on 1 and 2 ranks: the run's wall time (summary.json's
+wall_time_s, median of --repeat runs; the equilibrium start included where the scene has one)
+serially, on 2 ranks with the default -sb_serial_below (small models owned by rank 0 alone) and on
+2 ranks distributed (-sb_serial_below 0). Prints a Markdown table with the ratios to the serial
+time. Time it only on an otherwise idle machine.
 
-    scripts/bench_ranks.py                 # the default scenes, 3 runs each
+    scripts/bench_ranks.py                 # the default shipped scenes, 3 runs each
+    scripts/bench_ranks.py --generated     # make_cables.py scenes of 2.6e3 to 2.6e4 unknowns
     scripts/bench_ranks.py --repeat 5 runs/cables/zip_line.toml
 """
 from __future__ import annotations
@@ -23,6 +25,22 @@ SCENES = [("runs/seed/free_fall_1+4.toml", []), ("runs/hard/two_sliders.toml", [
           ("runs/cables/zip_line.toml", []), ("runs/effects/ropeway.toml", ["analysis.t_end=0.4"]),
           ("runs/cables/ropeway.toml", ["analysis.t_end=0.4"]),
           ("runs/hard/slider_skips_spans.toml", ["analysis.t_end=0.3"])]
+# make_cables.py arguments: carriers, spans, hangers (equilibrium start, 50 steps of 1e-3)
+GENERATED = [(1, 100, 10), (3, 64, 8), (1, 400, 40), (5, 200, 20)]
+
+
+def generate(work: Path) -> list[tuple[str, list[str]]]:
+    """The GENERATED scenes, written into work."""
+    import sys
+
+    out = []
+    for carriers, spans, hangers in GENERATED:
+        path = work / f"cables_{carriers}x{spans}x{hangers}.toml"
+        subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cables.py"), "--carriers", str(carriers),
+                        "--spans", str(spans), "--hangers", str(hangers), "--t-end", "0.05", "--out", str(path)],
+                       check=True, capture_output=True)
+        out.append((str(path), []))
+    return out
 
 
 def run(scene: str, sets: list[str], ranks: int, petsc: list[str], work: Path) -> tuple[float, int]:
@@ -41,12 +59,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scenes", nargs="*", help="scene files (default: a set of shipped scenes)")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--generated", action="store_true", help="generated cable scenes (make_cables.py)")
     args = ap.parse_args()
-    scenes = [(s, []) for s in args.scenes] or SCENES
     print("| scene | unknowns | 1 rank, s | 2 ranks (default), s | ratio | 2 ranks distributed, s | ratio |")
     print("|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
+        scenes = generate(work) if args.generated else [(s, []) for s in args.scenes] or SCENES
         for scene, sets in scenes:
             times = {}
             unknowns = 0

@@ -32,6 +32,24 @@ class EquilibriumFailure(RuntimeError):
     """The static start of a dynamic run found no equilibrium."""
 
 
+@dataclass(frozen=True)
+class EquilibriumOutcome:
+    """How the static start of a dynamic run ended (``Simulation.settled``)."""
+
+    converged: bool
+    pseudo_steps: int  # continuation steps
+    newton_iterations: int
+    residual0: float  # |F| at the start
+    residual: float  # |F| at the end
+    polished: bool  # a final Newton solve without continuation closed it
+    at_roundoff: bool  # stopped at the residual's roundoff floor
+    interrupted: int  # the signal that stopped it, or 0
+
+    @classmethod
+    def of(cls, result: "_core.EquilibriumResult") -> "EquilibriumOutcome":
+        return cls(*(getattr(result, f.name) for f in dataclasses.fields(cls)))
+
+
 class BeamPoint(NamedTuple):
     """A point of a beam (:meth:`Simulation.point`): the centre line position phi and the
     directors d1, d2, d3, each an array of 3. ANCF cables have no directors: d1 is the tangent
@@ -139,7 +157,7 @@ class Simulation:
         self._t = 0.0
         self.use_predictor = True
         self.integrator: _core.TimeIntegrator | None = None
-        self.settled: _core.EquilibriumResult | None = None  # the static start, once done (settle)
+        self.settled: EquilibriumOutcome | None = None  # the static start, once done (settle)
         self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.load_step_cuts = 0  # load steps of the last solve_static that failed and were halved
@@ -181,20 +199,21 @@ class Simulation:
             self.warnings.append(message)
             warnings.warn(message, ConstraintWarning, stacklevel=3)
 
-    def settle(self) -> "_core.EquilibriumResult":
+    def settle(self) -> EquilibriumOutcome:
         """Start a dynamic run from static equilibrium: solve for the equilibrium under the loads
         at t = 0 (pseudo-transient continuation, robust for mechanisms and slack cables), with
         each slider held or free as its scene says, then restart the integrator there at rest
         (plus the scene's initial velocities). Raises EquilibriumFailure if no equilibrium is
-        reached; the state is then the last one of the continuation."""
+        reached; the state is then the last one of the continuation.
+
+        On several ranks (-sb_equilibrium_on_rank_0, the default) rank 0 solves it alone with
+        the serial solver, on a model of its own, and hands the state to every rank: the
+        distributed static solve (MUMPS on the whole system) cost 2-3x the serial one."""
         assert self.integrator is not None, "settle() starts dynamic runs"
-        solver = _core.EquilibriumSolver(self._model)
-        held = [self.sliding_coordinate_index(k) for k, j in enumerate(self.scene.sliding_joints) if j.static == "held"]
-        solver.set_held(held)
-        free = [k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"]
-        solver.set_bounds([self.sliding_coordinate_index(k) for k in free], [0.0] * len(free),
-                          [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in free])
-        result = solver.solve(0.0, self.scene.analysis.dt)
+        if self._settle_on_rank_0():
+            result = self._settle_alone()
+        else:
+            result = self._settle_with(self._model)
         self.settled = result
         if not result.converged:
             raise EquilibriumFailure(
@@ -202,6 +221,64 @@ class Simulation:
                 f"after {result.pseudo_steps} continuation steps and {result.newton_iterations} Newton iterations")
         self._start_motion()
         return result
+
+    def _settle_with(self, model: "_core.Model") -> EquilibriumOutcome:
+        """The static start on a model (this simulation's, or rank 0's serial copy of it)."""
+        solver = _core.EquilibriumSolver(model)
+        held = [self.sliding_coordinate_index(k) for k, j in enumerate(self.scene.sliding_joints) if j.static == "held"]
+        solver.set_held(held)
+        free = [k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"]
+        solver.set_bounds([self.sliding_coordinate_index(k) for k in free], [0.0] * len(free),
+                          [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in free])
+        return EquilibriumOutcome.of(solver.solve(0.0, self.scene.analysis.dt))
+
+    def _settle_on_rank_0(self) -> bool:
+        """True if the model is distributed over several ranks and -sb_equilibrium_on_rank_0
+        holds (collective)."""
+        comm = self._model.x.getComm().tompi4py()
+        if comm.Get_size() == 1 or not PETSc.Options().getBool("sb_equilibrium_on_rank_0", _core.EQUILIBRIUM_ON_RANK_0):
+            return False
+        return comm.allreduce(1 if self._model.x.getLocalSize() > 0 else 0) > 1
+
+    def _settle_alone(self) -> EquilibriumOutcome:
+        """The static start solved on rank 0 by a serial model of the same scene (the numbering
+        depends on the scene alone, so the unknowns are the same), from this model's state; the
+        other ranks sleep meanwhile (rather than poll MPI, which would keep their cores busy).
+        The result and the state then go to every rank (collective)."""
+        import time
+
+        from mpi4py import MPI
+
+        comm = self._model.x.getComm().tompi4py()
+        x = self._model.x
+        scatter, whole = PETSc.Scatter.toZero(x)
+        scatter.scatter(x, whole, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        outcome: EquilibriumOutcome | str | None = None
+        error: Exception | None = None
+        try:
+            if comm.Get_rank() == 0:
+                try:
+                    model, _ = build_model(self.scene, MPI.COMM_SELF)
+                    model.x.setArray(whole.getArray(readonly=True))
+                    outcome = self._settle_with(model)
+                    whole.setArray(model.x.getArray(readonly=True))
+                except Exception as exc:  # the other ranks must learn of it, not wait forever
+                    error, outcome = exc, f"{type(exc).__name__}: {exc}"
+                comm.Ibarrier().Wait()
+            else:
+                request = comm.Ibarrier()
+                while not request.Test():
+                    time.sleep(0.01)
+            outcome = comm.bcast(outcome, root=0)
+            if error is not None:
+                raise error
+            if isinstance(outcome, str):
+                raise RuntimeError(f"the static start failed on rank 0: {outcome}")
+            scatter.scatter(whole, x, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.REVERSE)
+        finally:
+            scatter.destroy()
+            whole.destroy()
+        return outcome
 
     @property
     def t(self) -> float:

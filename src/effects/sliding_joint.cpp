@@ -121,6 +121,9 @@ class SlidingJoint final : public Effect {
   }
 
   PetscInt elimination_anchor(const Model& m) const override { return slider_cp(m, stencil_.n - 1); }
+  void anchor_points(const Model& m, std::vector<PetscInt>& cps) const override {
+    for (int j = 0; j < stencil_.n; ++j) cps.push_back(slider_cp(m, j));
+  }
   void elimination_precedence(std::vector<std::pair<int, int>>& pairs) const override {
     pairs.emplace_back(slider_, carrier_);
   }

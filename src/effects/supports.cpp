@@ -213,6 +213,9 @@ class Spherical final : public Effect {
   PetscInt elimination_anchor(const Model& m) const override {
     return m.beam(beam_).first_cp() + stencil_.cp[stencil_.n - 1];
   }
+  void anchor_points(const Model& m, std::vector<PetscInt>& cps) const override {
+    for (int j = 0; j < stencil_.n; ++j) cps.push_back(m.beam(beam_).first_cp() + stencil_.cp[j]);
+  }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
     for (int j = 0; j < stencil_.n; ++j) add_cp_blocks(m.dof_map(), m.beam(beam_).first_cp() + stencil_.cp[j], 1, dofs);

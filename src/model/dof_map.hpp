@@ -31,9 +31,11 @@ class DofMap {
   /// owners: how many ranks own unknowns (the first ones; 0: all `size`). A scene too small to
   /// gain from distribution is owned by rank 0 alone: its solve is the serial one, the other
   /// ranks hold nothing. order: the control points in numbering order (a permutation; empty:
-  /// index order).
+  /// index order). joined[p] != 0: no rank boundary right before position p of the order (the
+  /// points an effect's extras take their pivots from stay on one rank); empty: none.
   DofMap(const std::vector<int>& coordinates, const std::vector<int>& multipliers, PetscInt n_extra, int rank,
-         int size, const std::vector<int>& attached = {}, int owners = 0, const std::vector<PetscInt>& order = {});
+         int size, const std::vector<int>& attached = {}, int owners = 0, const std::vector<PetscInt>& order = {},
+         const std::vector<char>& joined = {});
 
   PetscInt n_cp() const { return n_cp_; }
   PetscInt n_extra() const { return n_extra_; }

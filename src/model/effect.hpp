@@ -295,6 +295,13 @@ class Effect {
   /// eliminated after it. Choose a point the extras couple to, so that the multipliers find their
   /// pivot in the coordinates before them and their fill stays local.
   virtual PetscInt elimination_anchor(const Model&) const { return -1; }
+  /// The control points whose coordinates give the extras their pivots, the anchor among them
+  /// (a slider point's stencil): the split over ranks keeps them on one rank, since a rank's
+  /// block with the extras but not those points would be singular.
+  virtual void anchor_points(const Model& m, std::vector<PetscInt>& cps) const {
+    const PetscInt a = elimination_anchor(m);
+    if (a >= 0) cps.push_back(a);
+  }
   /// Pairs of control points this effect couples in the reference configuration (a rigid
   /// joint's two points; a sliding joint's slider point and the carrier point nearest to it). The
   /// numbering keeps coupled points close, so that a rank's share of a structure stays connected

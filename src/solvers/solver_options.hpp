@@ -65,9 +65,13 @@ struct CoreOptions {
   PetscBool schwarz_exact = PETSC_TRUE;
   PetscInt schwarz_exact_max_interface = 256;
   /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
-  /// Measured on 2 ranks (docs/performance.md): below about 10^3 unknowns the distributed
-  /// solve costs 1.4-6.6x the serial one; from 1.8 10^3 on it is faster.
-  PetscInt serial_below = 1500;
+  /// Measured on 2 ranks (scripts/bench_ranks.py, docs/performance.md): the distributed run
+  /// costs 1.7x the serial one at 166 unknowns and 1.04x at 458; from about 800 on it is faster.
+  PetscInt serial_below = 600;
+  /// the static start of a distributed run solved on rank 0 alone by the serial solver (the
+  /// manifold Newton on the condensed system), its state then handed to every rank; false: on
+  /// all ranks (MUMPS on the whole system, which is slower here than one rank)
+  PetscBool equilibrium_on_rank_0 = PETSC_TRUE;
 };
 
 /// Read the -sb_ options (collective on comm).

@@ -196,6 +196,14 @@ TEST(Model, DofMapNumbersSlotsInTheGivenOrder) {
     }
     EXPECT_EQ(next_lo, 5 * 18 + 2 * 6 + 4 + 5);
   }
+  // joined positions move a boundary on: positions 1-3 of the order (points 0, 5, 1) stay together
+  const std::vector<char> joined = {0, 0, 1, 1, 0, 0, 0};
+  for (int size = 2; size <= 3; ++size)
+    for (int r = 0; r < size; ++r) {
+      DofMap d(nq, nl, 5, r, size, attached, 0, order, joined);
+      EXPECT_EQ(d.cp_owner(0), d.cp_owner(5));
+      EXPECT_EQ(d.cp_owner(5), d.cp_owner(1));
+    }
   EXPECT_THROW(DofMap(nq, nl, 0, 0, 1, {}, 0, {0, 1, 2}), std::invalid_argument);
   EXPECT_THROW(DofMap(nq, nl, 0, 0, 1, {}, 0, {0, 1, 2, 3, 4, 5, 5}), std::invalid_argument);
 }

@@ -75,6 +75,23 @@ def test_two_ranks_cut_a_ropeway_once(tmp_path):
     assert outcome.complete and sim.snes.getKSP().getType() == PETSc.KSP.Type.PREONLY
 
 
+@pytest.mark.skipif(MPI.COMM_WORLD.Get_size() != 2, reason="two ranks: mpirun -n 2")
+def test_a_slider_stencil_is_never_cut(tmp_path):
+    """Three carriers with 8 hangers each: the split falls inside the middle carrier's numbering,
+    between a hanger's points. The points a joint's multipliers take their pivots from (the
+    slider point's stencil) stay on the rank of the multipliers, so every block is regular: no
+    step is rejected and every solve is one block application (with the stencil cut, a block
+    met a zero pivot and every step fell back to MUMPS)."""
+    out = tmp_path / "three.toml"
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cables.py"), "--carriers", "3", "--spans", "64",
+                    "--hangers", "8", "--start", "reference", "--t-end", "0.003", "--out", str(out)],
+                   check=True, capture_output=True)
+    sim = slidebeam.Simulation(slidebeam.load_scene(out), MPI.COMM_WORLD)
+    outcome = sim.run_dynamic()
+    assert outcome.complete and outcome.rejected_steps == 0
+    assert sim.snes.getKSP().getType() == PETSc.KSP.Type.PREONLY and not sim.integrator.pivoting_lu
+
+
 def test_a_ropeway_distributed_equals_serial(tmp_path):
     """The numbering changes where the unknowns live, not the run: a ropeway on all ranks steps
     as on one."""
