@@ -358,6 +358,16 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("mass", &TimeIntegrator::mass)
       .def_property_readonly("snes", &TimeIntegrator::snes)
       .def_property_readonly("jacobian_evaluations", &TimeIntegrator::jacobian_evaluations)
+      .def_property_readonly(
+          "parallel_solves",
+          [](const TimeIntegrator& s) {
+            const auto& p = s.parallel_solves();
+            return py::dict(py::arg("blocks") = p.blocks, py::arg("corrected") = p.corrected,
+                            py::arg("krylov") = p.krylov, py::arg("coupled_rows") = p.coupled_rows);
+          },
+          "step Jacobians solved on the Schwarz path (several ranks) by one block application (blocks), "
+          "one application plus the coupling correction (corrected) and GMRES (krylov); coupled_rows: the most "
+          "rows of a rank coupled to another rank")
       .def_property_readonly("jacobian", [](const TimeIntegrator& s) { return s.jacobian(); }, "the step Jacobian (petsc4py)")
       .def("kinetic_energy", &TimeIntegrator::kinetic_energy)
       .def("motion",

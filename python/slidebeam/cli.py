@@ -414,7 +414,7 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
 def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
                  output: XdmfOutput, state=None) -> int:
     from .checkpoint import write_checkpoint
-    from .results import dynamic_summary, write_files
+    from .results import dynamic_summary, parallel_line, write_files
 
     checkpoint = out / "checkpoint.h5"
 
@@ -471,6 +471,8 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
     if not outcome.failed:
         if not outcome.complete:
             _say(rank, outcome.message)
+        if "parallel" in summary:
+            _say(rank, parallel_line(summary))
         _say(rank, f"done in {wall:.3f} s: {summary['steps']} steps, {summary['newton_iterations']} Newton iterations; "
                    f"results in {out}/")
         return EXIT_OK

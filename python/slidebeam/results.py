@@ -205,7 +205,41 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
     if scene.sliding_joints:
         summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
     summary["reactions"] = [r.as_dict() for r in last.reactions]
+    if sim.x.getComm().getSize() > 1:
+        summary["parallel"] = parallel_summary(sim)
     return summary
+
+
+def parallel_summary(sim: Simulation) -> dict[str, Any]:
+    """How a dynamic run on several ranks shared and solved its unknowns: unknowns per rank, the
+    most rows of a rank coupled to another rank, how many step Jacobians were solved by one block
+    application (ranks not coupled), one application plus the coupling correction (exact) and
+    GMRES, whether the steps fell back to the pivoting LU, and where the static start ran.
+    Collective."""
+    solves = dict(sim.integrator.parallel_solves)
+    return {
+        "unknowns_per_rank": sim.x.getComm().tompi4py().allgather(sim.x.getLocalSize()),
+        "coupled_rows": solves.pop("coupled_rows"),
+        "jacobians_solved_by": {"one block application": solves["blocks"],
+                                "block application and coupling correction": solves["corrected"],
+                                "GMRES": solves["krylov"]},
+        "pivoting_lu": bool(sim.integrator.pivoting_lu),
+        "static_start": None if sim.settled is None else ("rank 0 alone" if sim.settled_on_rank_0 else "all ranks"),
+    }
+
+
+def parallel_line(summary: dict[str, Any]) -> str:
+    """One line on how the ranks shared and solved the run (summary["parallel"])."""
+    p = summary["parallel"]
+    sizes = p["unknowns_per_rank"]
+    solved = ", ".join(f"{n} by {how}" for how, n in p["jacobians_solved_by"].items() if n)
+    line = (f"{len(sizes)} ranks: {min(sizes)}-{max(sizes)} unknowns each, coupled through up to "
+            f"{p['coupled_rows']} rows of a rank; step Jacobians solved {solved or 'by the pivoting LU'}")
+    if p["pivoting_lu"]:
+        line += "; the steps fell back to the pivoting LU (MUMPS)"
+    if p["static_start"]:
+        line += f"; static start on {p['static_start']}"
+    return line
 
 
 def _records_and_summary(sim: Simulation, result, wall_time: float | None) -> tuple[list, dict[str, Any]]:

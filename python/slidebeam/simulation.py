@@ -158,6 +158,7 @@ class Simulation:
         self.use_predictor = True
         self.integrator: _core.TimeIntegrator | None = None
         self.settled: EquilibriumOutcome | None = None  # the static start, once done (settle)
+        self.settled_on_rank_0 = False  # ... solved by rank 0 alone (-sb_equilibrium_on_rank_0)
         self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.load_step_cuts = 0  # load steps of the last solve_static that failed and were halved
@@ -210,7 +211,8 @@ class Simulation:
         the serial solver, on a model of its own, and hands the state to every rank: the
         distributed static solve (MUMPS on the whole system) cost 2-3x the serial one."""
         assert self.integrator is not None, "settle() starts dynamic runs"
-        if self._settle_on_rank_0():
+        self.settled_on_rank_0 = self._settle_on_rank_0()
+        if self.settled_on_rank_0:
             result = self._settle_alone()
         else:
             result = self._settle_with(self._model)

@@ -172,8 +172,7 @@ PetscErrorCode CouplingCorrection::setup_reduced(Mat A, const Coupling& coupling
   PetscInt hi = 0;
   PetscCall(MatGetOwnershipRange(A, &lo_, &hi));
   const PetscInt n = hi - lo_;
-  // R: the reduced rows of the coupled rows, and per reduced row the full rows of N^T's row (a
-  // triad's 12 coordinate rows lie within 11 of each other)
+  // R: the reduced rows of the coupled rows, and per reduced row the full rows of N^T's row
   std::vector<std::pair<PetscInt, double>> weights;
   std::vector<PetscInt> reduced;
   for (PetscInt row : coupling.coupled_rows) {
@@ -184,16 +183,13 @@ PetscErrorCode CouplingCorrection::setup_reduced(Mat A, const Coupling& coupling
   reduced.erase(std::unique(reduced.begin(), reduced.end()), reduced.end());
   local_ = reduced;  // reduced numbering of the block
   reduced_rows_.assign(reduced.size(), {});
-  std::vector<PetscInt> near;
-  for (PetscInt row : coupling.coupled_rows)
-    for (PetscInt k = std::max<PetscInt>(0, row - 11); k <= std::min(n - 1, row + 11); ++k) near.push_back(k);
-  std::sort(near.begin(), near.end());
-  near.erase(std::unique(near.begin(), near.end()), near.end());
-  for (PetscInt row : near) {
-    condensation_->reduced_weights(row, &weights);
-    for (const auto& [j, w] : weights) {
-      const auto it = std::lower_bound(reduced.begin(), reduced.end(), j);
-      if (it != reduced.end() && *it == j) reduced_rows_[static_cast<size_t>(it - reduced.begin())].emplace_back(row, w);
+  std::vector<PetscInt> full;
+  for (size_t p = 0; p < reduced.size(); ++p) {
+    condensation_->full_rows(reduced[p], &full);
+    for (PetscInt row : full) {
+      condensation_->reduced_weights(row, &weights);
+      for (const auto& [j, w] : weights)
+        if (j == reduced[p]) reduced_rows_[p].emplace_back(row, w);
     }
   }
   const int mk = static_cast<int>(reduced.size());

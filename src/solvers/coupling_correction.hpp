@@ -61,6 +61,8 @@ class CouplingCorrection {
   /// max_interface rows coupled to another rank (collective; counted again when A's nonzero
   /// pattern changes).
   PetscErrorCode applies_to(Mat A, bool* yes);
+  /// The most rows of a rank coupled to another rank, as applies_to last counted them.
+  PetscInt coupled_rows() const { return largest_; }
   /// Remove the post-solve again (ranks no longer coupled).
   PetscErrorCode detach(KSP ksp);
   /// Solve in the blocks' reduced coordinates: the blocks apply condensation's reduced solve

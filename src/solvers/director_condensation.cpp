@@ -436,6 +436,21 @@ void DirectorCondensation::reduced_weights(PetscInt row, std::vector<std::pair<P
   for (int c = 0; c < 3; ++c) out->emplace_back(G.base + 3 + c, S(o - 3, c));
 }
 
+void DirectorCondensation::full_rows(PetscInt reduced, std::vector<PetscInt>* out) const {
+  out->clear();
+  // groups are numbered in reduced order: the last one starting at or before `reduced`
+  const auto after = std::upper_bound(groups_.begin(), groups_.end(), reduced,
+                                      [](PetscInt j, const Group& g) { return j < g.base; });
+  if (after == groups_.begin()) return;
+  const Group& G = *(after - 1);
+  const PetscInt o = reduced - G.base;
+  if (G.triad < 0 || o < 3) {
+    out->push_back(G.first + o);
+    return;
+  }
+  for (PetscInt k = 3; k < G.size; ++k) out->push_back(G.first + k);  // a rotation row: S^T over d1, d2, d3
+}
+
 PetscErrorCode DirectorCondensation::solve_reduced_unit(PetscInt j, Vec y) {
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(rr_));

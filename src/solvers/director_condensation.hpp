@@ -94,6 +94,10 @@ class DirectorCondensation {
   /// the reduced rows that full row `row` (local) contributes to in N^T b, with their weights,
   /// into out (replaced; empty for a triad's multiplier rows).
   void reduced_weights(PetscInt row, std::vector<std::pair<PetscInt, double>>* out) const;
+  /// The inverse: the full rows (local) whose reduced_weights reach reduced row `reduced`, into
+  /// out (replaced): a triad's position row, its 9 director rows for a rotation row, or the
+  /// unknown itself.
+  void full_rows(PetscInt reduced, std::vector<PetscInt>* out) const;
   /// ... y = N' Jr^-1 e_j: the block's reduced solve of the unit vector of reduced unknown j,
   /// in full coordinates (0 on the triads' multipliers), as the manifold apply returns it.
   PetscErrorCode solve_reduced_unit(PetscInt j, Vec y);

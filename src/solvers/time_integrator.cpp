@@ -501,6 +501,9 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
     PetscCall(SNESSetMaxLinearSolveFailures(snes, solve != SchwarzSolve::Krylov && distributed ? PETSC_MAX_INT : 1));
     CouplingCorrection* correction = coupling_correction(ksp);
     if (correction) correction->use_condensation(nullptr);
+    ParallelSolves& count = self->parallel_solves_;
+    ++(solve == SchwarzSolve::Blocks ? count.blocks : solve == SchwarzSolve::Corrected ? count.corrected : count.krylov);
+    if (correction) count.coupled_rows = std::max<long>(count.coupled_rows, correction->coupled_rows());
     if (self->block_condensation_) {
       // One application of the blocks' reduced solves is the whole solve where the ranks are
       // not coupled, and with the coupling correction in reduced coordinates where they are:

@@ -110,6 +110,14 @@ class TimeIntegrator {
   SNES snes() const { return snes_; }
   /// Number of step-Jacobian assemblies so far (each followed by a factorisation).
   int jacobian_evaluations() const { return jac_evals_; }
+  /// How the step Jacobians were solved on the Schwarz path (several ranks): how many with one
+  /// block application (ranks not coupled), one application plus the coupling correction, and
+  /// GMRES; and the most rows of a rank coupled to another rank that any of them had.
+  struct ParallelSolves {
+    long blocks = 0, corrected = 0, krylov = 0;
+    long coupled_rows = 0;
+  };
+  const ParallelSolves& parallel_solves() const { return parallel_solves_; }
   const IntegratorParams& params() const { return params_; }
 
   /// Kinetic energy 1/2 v^T M v and momenta of a state, from one product p = M v.
@@ -207,6 +215,7 @@ class TimeIntegrator {
   PetscReal reuse_rate_ = 0.2;
   PetscBool full_newton_after_rebuild_ = PETSC_FALSE;
   int jac_evals_ = 0;
+  ParallelSolves parallel_solves_;
   long solve_count_ = 0, jac_solve_ = -1;
   PetscInt jac_iter_ = -1;
   double jac_c0_ = 0.0;

@@ -73,6 +73,17 @@ def test_two_ranks_cut_a_ropeway_once(tmp_path):
     assert max(sizes) < 0.55 * sum(sizes)  # about half each
     outcome = sim.run_dynamic()
     assert outcome.complete and sim.snes.getKSP().getType() == PETSc.KSP.Type.PREONLY
+    # summary.json says so: every step Jacobian solved by one application plus the correction
+    from slidebeam.results import dynamic_summary, parallel_line
+
+    summary = dynamic_summary(sim, outcome)
+    p = summary["parallel"]
+    assert p["jacobians_solved_by"] == {"one block application": 0,
+                                        "block application and coupling correction": sim.integrator.jacobian_evaluations,
+                                        "GMRES": 0}
+    assert 0 < p["coupled_rows"] <= 48 and sum(p["unknowns_per_rank"]) == sim.x.getSize()
+    assert not p["pivoting_lu"] and p["static_start"] is None
+    assert "coupling correction" in parallel_line(summary)
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.Get_size() != 2, reason="two ranks: mpirun -n 2")
