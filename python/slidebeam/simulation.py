@@ -145,7 +145,8 @@ class Simulation:
         integrator: the C++ ``TimeIntegrator`` of a dynamic scene (None in statics).
         settled: the result of the static start (``settle``), once done.
         stopped: why the last ``solve_static`` ended early without failing (None otherwise).
-        warnings: what the start found and corrected (initial velocities).
+        warnings: what the start found and corrected (initial velocities), and a static start
+            that could not run on rank 0 alone.
         use_predictor: ``solve_static`` starts each load step from the secant predictor.
     """
 
@@ -212,9 +213,9 @@ class Simulation:
         distributed static solve (MUMPS on the whole system) cost 2-3x the serial one."""
         assert self.integrator is not None, "settle() starts dynamic runs"
         self.settled_on_rank_0 = self._settle_on_rank_0()
-        if self.settled_on_rank_0:
-            result = self._settle_alone()
-        else:
+        result = self._settle_alone() if self.settled_on_rank_0 else None
+        if result is None:  # one rank, the option off, or rank 0 cannot hold the whole model
+            self.settled_on_rank_0 = False
             result = self._settle_with(self._model)
         self.settled = result
         if not result.converged:
@@ -242,11 +243,12 @@ class Simulation:
             return False
         return comm.allreduce(1 if self._model.x.getLocalSize() > 0 else 0) > 1
 
-    def _settle_alone(self) -> EquilibriumOutcome:
+    def _settle_alone(self) -> EquilibriumOutcome | None:
         """The static start solved on rank 0 by a serial model of the same scene (the numbering
         depends on the scene alone, so the unknowns are the same), from this model's state; the
         other ranks sleep meanwhile (rather than poll MPI, which would keep their cores busy).
-        The result and the state then go to every rank (collective)."""
+        The result and the state then go to every rank (collective). None, with a warning, if
+        rank 0's node has not the memory for the whole model: the caller solves it distributed."""
         import time
 
         from mpi4py import MPI
@@ -257,23 +259,33 @@ class Simulation:
         scatter.scatter(x, whole, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         outcome: EquilibriumOutcome | str | None = None
         error: Exception | None = None
+        too_big: str | None = None
         try:
             if comm.Get_rank() == 0:
+                model = None
                 try:
                     model, _ = build_model(self.scene, MPI.COMM_SELF)
-                    model.x.setArray(whole.getArray(readonly=True))
-                    outcome = self._settle_with(model)
-                    whole.setArray(model.x.getArray(readonly=True))
-                except Exception as exc:  # the other ranks must learn of it, not wait forever
-                    error, outcome = exc, f"{type(exc).__name__}: {exc}"
+                except SceneError as exc:  # not on one node: distributed after all
+                    too_big = str(exc)
+                if model is not None:
+                    try:
+                        model.x.setArray(whole.getArray(readonly=True))
+                        outcome = self._settle_with(model)
+                        whole.setArray(model.x.getArray(readonly=True))
+                    except Exception as exc:  # the other ranks must learn of it, not wait forever
+                        error, outcome = exc, f"{type(exc).__name__}: {exc}"
                 comm.Ibarrier().Wait()
             else:
                 request = comm.Ibarrier()
                 while not request.Test():
                     time.sleep(0.01)
-            outcome = comm.bcast(outcome, root=0)
+            outcome, too_big = comm.bcast((outcome, too_big), root=0)
             if error is not None:
                 raise error
+            if too_big is not None:
+                self.warnings.append(f"the static start runs on all ranks: rank 0 alone cannot hold the model "
+                                     f"({too_big})")
+                return None
             if isinstance(outcome, str):
                 raise RuntimeError(f"the static start failed on rank 0: {outcome}")
             scatter.scatter(whole, x, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.REVERSE)

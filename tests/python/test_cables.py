@@ -202,6 +202,29 @@ def test_static_start_is_the_same_on_all_ranks_and_on_one(on_rank_0):
             assert max(abs(u - v) for u, v in zip(p, q)) < (1e-10 if on_rank_0 == "true" else 1e-8)
 
 
+@pytest.mark.skipif(MPI.COMM_WORLD.Get_size() != 2, reason="two ranks: mpirun -n 2")
+def test_static_start_runs_distributed_when_rank_0_cannot_hold_the_model(monkeypatch):
+    """Rank 0's serial copy of the model is refused by the memory check (here: made to refuse
+    any model on one rank): the static start runs on all ranks instead, and says so."""
+    import slidebeam
+    import slidebeam.model
+    from slidebeam.scene import SceneError
+
+    check = slidebeam.model.check_memory
+
+    def refuse_alone(scene, comm=None):
+        if comm is not None and comm.Get_size() == 1:
+            raise SceneError("needs more memory than this node has", scene.file, "[[beam]]", "spans")
+        return check(scene, comm)
+
+    scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.002"])
+    sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+    monkeypatch.setattr(slidebeam.model, "check_memory", refuse_alone)
+    sim.settle()
+    assert sim.settled.converged and not sim.settled_on_rank_0
+    assert any("rank 0 alone cannot hold the model" in w for w in sim.warnings)
+
+
 @pytest.mark.skip_in_parallel
 def test_iterative_solver_path_gives_the_direct_solvers_history(run_cli, tmp_path):
     """runs/cables/iterative.opts (GMRES + Schwarz on the model's subdomains), on one rank and
