@@ -100,22 +100,9 @@ void Model::finalize() {
   for (size_t c = 0; c < coordinates.size(); ++c) total += coordinates[c] + multipliers[c] + attached[c];
   // a model too small to gain from distribution is owned and solved by rank 0 alone
   const PetscInt serial_below = core_options(comm_).serial_below;
-  // no rank boundary between an effect's anchor points (their positions in the numbering)
   const std::vector<PetscInt> order = numbering_order();
-  std::vector<PetscInt> position(static_cast<size_t>(n_cp_total_));
-  for (PetscInt p = 0; p < n_cp_total_; ++p) position[static_cast<size_t>(order.empty() ? p : order[static_cast<size_t>(p)])] = p;
-  std::vector<char> joined(static_cast<size_t>(n_cp_total_), 0);
-  for (const auto& e : effects_) {
-    if (e->n_extra() == 0) continue;
-    std::vector<PetscInt> cps;
-    e->anchor_points(*this, cps);
-    if (cps.size() < 2) continue;
-    PetscInt lo = n_cp_total_, hi = -1;
-    for (PetscInt cp : cps) lo = std::min(lo, position[static_cast<size_t>(cp)]), hi = std::max(hi, position[static_cast<size_t>(cp)]);
-    for (PetscInt p = lo + 1; p <= hi; ++p) joined[static_cast<size_t>(p)] = 1;
-  }
   map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < serial_below ? 1 : 0, order,
-                joined);
+                joined_positions(order));
   for (size_t k = 0; k < effects_.size(); ++k)
     if (effects_[k]->n_extra() > 0)
       effects_[k]->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]
@@ -715,6 +702,27 @@ std::vector<PetscInt> Model::numbering_order() const {
     order.insert(order.end(), component.rbegin(), component.rend());
   }
   return order;
+}
+
+std::vector<char> Model::joined_positions(const std::vector<PetscInt>& order) const {
+  std::vector<PetscInt> position(static_cast<size_t>(n_cp_total_));
+  for (PetscInt p = 0; p < n_cp_total_; ++p)
+    position[static_cast<size_t>(order.empty() ? p : order[static_cast<size_t>(p)])] = p;
+  std::vector<char> joined(static_cast<size_t>(n_cp_total_), 0);
+  std::vector<PetscInt> cps;
+  for (const auto& e : effects_) {
+    if (e->n_extra() == 0) continue;
+    cps.clear();
+    e->anchor_points(*this, cps);
+    if (cps.size() < 2) continue;
+    PetscInt lo = n_cp_total_, hi = -1;
+    for (PetscInt cp : cps) {
+      lo = std::min(lo, position[static_cast<size_t>(cp)]);
+      hi = std::max(hi, position[static_cast<size_t>(cp)]);
+    }
+    for (PetscInt p = lo + 1; p <= hi; ++p) joined[static_cast<size_t>(p)] = 1;
+  }
+  return joined;
 }
 
 std::vector<PetscInt> Model::elimination_order() const {

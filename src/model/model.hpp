@@ -154,6 +154,10 @@ class Model {
   /// contiguous parts then cuts each structure across few points. Empty when no effect couples
   /// two points (index order). Depends on the scene alone, not on the number of ranks.
   std::vector<PetscInt> numbering_order() const;
+  /// Per position of a numbering order (empty: index order): 1 where no rank boundary may fall
+  /// right before it, between the first and last of an effect's anchor points
+  /// (Effect::anchor_points), so that its extras find their pivots on their own rank.
+  std::vector<char> joined_positions(const std::vector<PetscInt>& order) const;
   /// Owned control points that are orthonormality-constrained director triads (sorted).
   std::vector<PetscInt> director_triads() const;
 
