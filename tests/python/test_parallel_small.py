@@ -114,7 +114,7 @@ def test_a_checkpoint_of_a_run_on_rank_0_alone_restarts_distributed(run_cli, tmp
 
 @pytest.mark.skipif(MPI.COMM_WORLD.Get_size() != 2, reason="two ranks: mpirun -n 2")
 @pytest.mark.parametrize("scene_file, sets, coupled", [
-    # two carriers with their hangers: the even split of control points cuts between them
+    # two carriers with their hangers: the split of the numbering falls between them
     (ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.004"], False),
     # one carrier and its slider, cut across the carrier
     (ROOT / "runs" / "hard" / "slider_skips_spans.toml", ["analysis.t_end=0.004"], True),
@@ -132,4 +132,8 @@ def test_uncoupled_ranks_solve_with_one_application(scene_file, sets, coupled):
     ksp = sim.snes.getKSP()
     assert ksp.getType() == PETSc.KSP.Type.PREONLY
     assert ksp.getIterationNumber() == 1
+    solves = sim.integrator.parallel_solves
+    jacobians = sim.integrator.jacobian_evaluations
+    assert (solves["corrected"], solves["blocks"]) == ((jacobians, 0) if coupled else (0, jacobians))
+    assert solves["krylov"] == 0 and (solves["coupled_rows"] > 0) == coupled
     distributed_and_serial_records(scene)
