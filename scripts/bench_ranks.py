@@ -23,6 +23,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = [("runs/seed/free_fall_1+4.toml", []), ("runs/hard/two_sliders.toml", []),
           ("runs/cables/zip_line.toml", []), ("runs/effects/ropeway.toml", ["analysis.t_end=0.4"]),
+          ("runs/pendulum64.toml", []), ("runs/rollup.toml", []), ("runs/rollup.toml", ["beam.0.spans=256"]),
           ("runs/cables/ropeway.toml", ["analysis.t_end=0.4"]),
           ("runs/hard/slider_skips_spans.toml", ["analysis.t_end=0.3"])]
 # make_cables.py arguments: carriers, spans, hangers (equilibrium start, 50 steps of 1e-3)

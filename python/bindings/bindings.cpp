@@ -269,8 +269,8 @@ PYBIND11_MODULE(_core, m) {
                                        py::arg("time_steps") = kStepPrefix, py::arg("mass") = kMassPrefix);
   // -sb_serial_below's default: the CLI decides by it before any model exists
   m.attr("SERIAL_BELOW") = CoreOptions{}.serial_below;
-  // -sb_equilibrium_on_rank_0's default: Simulation.settle decides by it
-  m.attr("EQUILIBRIUM_ON_RANK_0") = static_cast<bool>(CoreOptions{}.equilibrium_on_rank_0);
+  // -sb_statics_on_rank_0's default: the CLI and Simulation.settle decide by it
+  m.attr("STATICS_ON_RANK_0") = static_cast<bool>(CoreOptions{}.statics_on_rank_0);
 
   py::class_<EquilibriumResult>(m, "EquilibriumResult")
       .def_readonly("converged", &EquilibriumResult::converged)

@@ -19,8 +19,6 @@ class BeamSeriesSampler:
         """({field: array} as record writes them, the sample points); collective"""
         ...
 
-EQUILIBRIUM_ON_RANK_0: bool  # = True
-
 class EquilibriumResult:
     @property
     def converged(self) -> bool: ...
@@ -162,9 +160,11 @@ class RecordWriter:
     @property
     def failed_record(self) -> int: ...
 
-SERIAL_BELOW: int  # = 600
+SERIAL_BELOW: int  # = 1500
 
 SOLVER_PREFIXES: dict[str, str]  # = {'static': 'sb_static_', 'equilibrium': 'sb_eq_', 'time_steps': 'sb_ts_', 'mass': 'sb_mass_'}
+
+STATICS_ON_RANK_0: bool  # = True
 
 class SolveResult:
     @property

@@ -22,7 +22,7 @@ from .scene import Scene, SceneError, load_scene, scene_from_dict
 from .checkpoint import CheckpointError
 from .costs import output_phase
 from . import options_check
-from .parallel import release_waiting_ranks, running_alone, serial_below
+from .parallel import release_waiting_ranks, running_alone, serial_below, statics_on_rank_0
 from .resources import check_memory, constraint_entries, estimate, memory_line, size_text
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
@@ -313,9 +313,15 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
 
+    alone = None
     if comm.Get_size() > 1 and (unknowns := estimate(scene).unknowns) < (below := serial_below()):
         # too small to gain from distribution: rank 0 runs it alone, the others wait
-        _say(rank, f"{unknowns} unknowns or fewer (below -sb_serial_below {below}): rank 0 runs the scene alone")
+        alone = f"{unknowns} unknowns or fewer (below -sb_serial_below {below}): rank 0 runs the scene alone"
+    elif comm.Get_size() > 1 and scene.analysis.type == "static" and statics_on_rank_0():
+        # statics has no distributed path that pays (MUMPS on the whole system: 2-4x slower)
+        alone = "a static analysis: rank 0 runs the scene alone with the serial solver (-sb_statics_on_rank_0)"
+    if alone:
+        _say(rank, alone)
         if rank != 0:
             _wait_for_rank_0(comm)
             return EXIT_OK

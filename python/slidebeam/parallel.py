@@ -61,6 +61,15 @@ def release_waiting_ranks() -> None:
     MPI.COMM_WORLD.Ibarrier().Wait()
 
 
+def statics_on_rank_0() -> bool:
+    """-sb_statics_on_rank_0: static solves of a distributed run on rank 0 alone."""
+    from petsc4py import PETSc
+
+    from . import _core
+
+    return bool(PETSc.Options().getBool("sb_statics_on_rank_0", _core.STATICS_ON_RANK_0))
+
+
 def serial_below() -> int:
     """-sb_serial_below: a model with fewer unknowns runs on one rank (0: always distribute)."""
     from petsc4py import PETSc

@@ -21,6 +21,7 @@ from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .options_check import is_number
+from .parallel import statics_on_rank_0
 from .scene import Scene, SceneError
 
 
@@ -159,7 +160,7 @@ class Simulation:
         self.use_predictor = True
         self.integrator: _core.TimeIntegrator | None = None
         self.settled: EquilibriumOutcome | None = None  # the static start, once done (settle)
-        self.settled_on_rank_0 = False  # ... solved by rank 0 alone (-sb_equilibrium_on_rank_0)
+        self.settled_on_rank_0 = False  # ... solved by rank 0 alone (-sb_statics_on_rank_0)
         self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.load_step_cuts = 0  # load steps of the last solve_static that failed and were halved
@@ -208,7 +209,7 @@ class Simulation:
         (plus the scene's initial velocities). Raises EquilibriumFailure if no equilibrium is
         reached; the state is then the last one of the continuation.
 
-        On several ranks (-sb_equilibrium_on_rank_0, the default) rank 0 solves it alone with
+        On several ranks (-sb_statics_on_rank_0, the default) rank 0 solves it alone with
         the serial solver, on a model of its own, and hands the state to every rank: the
         distributed static solve (MUMPS on the whole system) cost 2-3x the serial one."""
         assert self.integrator is not None, "settle() starts dynamic runs"
@@ -236,10 +237,10 @@ class Simulation:
         return EquilibriumOutcome.of(solver.solve(0.0, self.scene.analysis.dt))
 
     def _settle_on_rank_0(self) -> bool:
-        """True if the model is distributed over several ranks and -sb_equilibrium_on_rank_0
+        """True if the model is distributed over several ranks and -sb_statics_on_rank_0
         holds (collective)."""
         comm = self._model.x.getComm().tompi4py()
-        if comm.Get_size() == 1 or not PETSc.Options().getBool("sb_equilibrium_on_rank_0", _core.EQUILIBRIUM_ON_RANK_0):
+        if comm.Get_size() == 1 or not statics_on_rank_0():
             return False
         return comm.allreduce(1 if self._model.x.getLocalSize() > 0 else 0) > 1
 

@@ -146,10 +146,11 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
                             "-sb_schwarz_exact: the exact correction only while no rank has more rows coupled to "
                             "another rank (its set-up solves once per interface unknown)",
                             "", o->schwarz_exact_max_interface, &o->schwarz_exact_max_interface, nullptr));
-  PetscCall(PetscOptionsBool("-sb_equilibrium_on_rank_0",
-                             "the static start of a distributed run: solved on rank 0 alone by the serial solver, "
-                             "its state handed to every rank (false: on all ranks, MUMPS on the whole system)",
-                             "", o->equilibrium_on_rank_0, &o->equilibrium_on_rank_0, nullptr));
+  PetscCall(PetscOptionsBool("-sb_statics_on_rank_0",
+                             "static solves under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
+                             "static analysis there, and the static start of a dynamic run hands its state to every "
+                             "rank (false: on all ranks, MUMPS on the whole system)",
+                             "", o->statics_on_rank_0, &o->statics_on_rank_0, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_below",
                             "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
                             "", o->serial_below, &o->serial_below, nullptr));

@@ -66,12 +66,14 @@ struct CoreOptions {
   PetscInt schwarz_exact_max_interface = 256;
   /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
   /// Measured on 2 ranks (scripts/bench_ranks.py, docs/performance.md): the distributed run
-  /// costs 1.7x the serial one at 166 unknowns and 1.04x at 458; from about 800 on it is faster.
-  PetscInt serial_below = 600;
-  /// the static start of a distributed run solved on rank 0 alone by the serial solver (the
-  /// manifold Newton on the condensed system), its state then handed to every rank; false: on
-  /// all ranks (MUMPS on the whole system, which is slower here than one rank)
-  PetscBool equilibrium_on_rank_0 = PETSC_TRUE;
+  /// costs 1.9x the serial one at 166 unknowns, 1.8x on the 64-span pendulum (1188); sliding
+  /// scenes gain from about 800 unknowns, every scene measured from 1832 on.
+  PetscInt serial_below = 1500;
+  /// static solves of a distributed run solved on rank 0 alone by the serial solver (the
+  /// manifold Newton on the condensed system): `slidebeam run` runs a static analysis there,
+  /// and the static start of a dynamic run hands its state to every rank; false: on all ranks
+  /// (MUMPS on the whole system, 2-4x slower on 2 ranks than on one)
+  PetscBool statics_on_rank_0 = PETSC_TRUE;
 };
 
 /// Read the -sb_ options (collective on comm).

@@ -181,14 +181,14 @@ def test_equilibrium_start_keys_are_checked(tmp_path):
 def test_static_start_is_the_same_on_all_ranks_and_on_one(on_rank_0):
     """Meaningful under mpirun. By default rank 0 solves the static start alone with the serial
     solver: the same continuation, Newton iterations and residual as the serial run, bit for
-    bit. Distributed (-sb_equilibrium_on_rank_0 false: MUMPS on the whole system), the
+    bit. Distributed (-sb_statics_on_rank_0 false: MUMPS on the whole system), the
     equilibrium equals the serial one to the level its residual floor defines it (1e-8 of the
     sag)."""
     import slidebeam
     from test_condensation import petsc_options
 
     scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.002"])
-    with petsc_options(sb_equilibrium_on_rank_0=on_rank_0):
+    with petsc_options(sb_statics_on_rank_0=on_rank_0):
         world_sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
         world = world_sim.run_dynamic().records
     alone_sim = slidebeam.Simulation(scene, MPI.COMM_SELF)

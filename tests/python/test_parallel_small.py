@@ -63,6 +63,26 @@ def test_small_scenes_under_mpirun_are_owned_by_rank_0(run_cli, tmp_path):
 
 
 @pytest.mark.skip_in_parallel
+def test_a_static_analysis_under_mpirun_runs_on_rank_0(run_cli, tmp_path):
+    """A static analysis has no distributed path that pays: under mpirun rank 0 runs it alone
+    at any size (here distributed otherwise: -sb_serial_below 0), and its history is the serial
+    one; -sb_statics_on_rank_0 false distributes it (MUMPS)."""
+    from test_restart import rows
+
+    scene = str(ROOT / "runs" / "rollup.toml")
+    common = ["-q", "--set", "analysis.steps=4", "--set", "output.xdmf=false"]
+    one = run_cli("run", scene, "--out", "one", *common)
+    two = run_cli("run", scene, "--out", "two", *common, "--", "-sb_serial_below", "0", np=2)
+    spread = run_cli("run", scene, "--out", "spread", *common, "--", "-sb_serial_below", "0",
+                     "-sb_statics_on_rank_0", "false", np=2)
+    assert one.returncode == two.returncode == spread.returncode == 0, two.stderr + spread.stderr
+    assert "a static analysis: rank 0 runs the scene alone" in two.stdout
+    assert "rank 0 runs the scene alone" not in spread.stdout
+    a, b = rows(tmp_path / "one" / "history.csv"), rows(tmp_path / "two" / "history.csv")
+    assert len(a) == len(b) == 5 and a == b
+
+
+@pytest.mark.skip_in_parallel
 def test_sigterm_to_mpirun_stops_a_run_on_rank_0_alone_cleanly(tmp_path):
     """mpirun passes SIGTERM to every rank: the waiting rank ignores it, rank 0 stops after its
     step and writes a consistent folder, and every rank ends."""
