@@ -22,7 +22,7 @@ from .scene import Scene, SceneError, load_scene, scene_from_dict
 from .checkpoint import CheckpointError
 from .costs import output_phase
 from . import options_check
-from .parallel import release_waiting_ranks, running_alone, serial_below, statics_on_rank_0
+from .parallel import release_waiting_ranks, running_alone, serial_below, statics_on_rank_0, wait_sleeping
 from .resources import check_memory, constraint_entries, estimate, memory_line, size_text
 from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
@@ -339,9 +339,7 @@ def _wait_for_rank_0(comm) -> None:
 
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, signal.SIG_IGN)
-    request = comm.Ibarrier()
-    while not request.Test():
-        time.sleep(0.01)
+    wait_sleeping(comm)
 
 
 def _run_scene(scene: Scene, restart: Path | None, out: Path, args: argparse.Namespace, rank: int, ranks: int) -> int:

@@ -5,6 +5,7 @@ collective of the run (output, checkpoints, stop signals, cost tables) goes over
 from __future__ import annotations
 
 import contextlib
+import time
 from collections.abc import Iterator
 from typing import Any
 
@@ -59,6 +60,14 @@ def release_waiting_ranks() -> None:
     from mpi4py import MPI
 
     MPI.COMM_WORLD.Ibarrier().Wait()
+
+
+def wait_sleeping(comm: Any) -> None:
+    """Wait in a barrier of comm until the rank doing the work enters it, sleeping between
+    checks: polling MPI would keep this rank's core busy, the core the working rank may need."""
+    request = comm.Ibarrier()
+    while not request.Test():
+        time.sleep(0.01)
 
 
 def statics_on_rank_0() -> bool:

@@ -21,7 +21,7 @@ from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .options_check import is_number
-from .parallel import statics_on_rank_0
+from .parallel import statics_on_rank_0, wait_sleeping
 from .scene import Scene, SceneError
 
 
@@ -250,8 +250,6 @@ class Simulation:
         other ranks sleep meanwhile (rather than poll MPI, which would keep their cores busy).
         The result and the state then go to every rank (collective). None, with a warning, if
         rank 0's node has not the memory for the whole model: the caller solves it distributed."""
-        import time
-
         from mpi4py import MPI
 
         comm = self._model.x.getComm().tompi4py()
@@ -277,9 +275,7 @@ class Simulation:
                         error, outcome = exc, f"{type(exc).__name__}: {exc}"
                 comm.Ibarrier().Wait()
             else:
-                request = comm.Ibarrier()
-                while not request.Test():
-                    time.sleep(0.01)
+                wait_sleeping(comm)
             outcome, too_big = comm.bcast((outcome, too_big), root=0)
             if error is not None:
                 raise error

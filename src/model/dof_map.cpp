@@ -42,7 +42,9 @@ DofMap::DofMap(const std::vector<int>& coordinates, const std::vector<int>& mult
   for (size_t p = 0; p < n; ++p) {
     const PetscInt cp = sequence[p];
     const PetscInt s = start_[static_cast<size_t>(cp)];
-    while ((joined.empty() || !joined[p]) && r < owners_ - 1 && static_cast<long long>(s) * owners_ >= static_cast<long long>(slots_end_) * (r + 1)) ++r;
+    const bool may_cut = joined.empty() || !joined[p];
+    while (may_cut && r < owners_ - 1 && static_cast<long long>(s) * owners_ >= static_cast<long long>(slots_end_) * (r + 1))
+      ++r;
     owner_[static_cast<size_t>(cp)] = r;
     for (int k = r; k >= 0 && begin[static_cast<size_t>(k)] == slots_end_; --k) begin[static_cast<size_t>(k)] = s;
   }
