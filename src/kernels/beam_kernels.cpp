@@ -250,10 +250,10 @@ StrainTable point_table(const StrainTable& T, const GaussPoint& gp) {
   Tc[0] = {1, {{{kPhiS, kPhiS, 0.5}, {0, 0, 0.0}}}};
   // Gamma_i -= 1/2 d_i . d_1 (i = 2, 3): the interpolated directors' shear S_1i of S = 1/2 (D^T D - I)
   for (int i = 1; i < 3; ++i) Tc[i].terms[Tc[i].n_terms++] = {kD1 + i, kD1, -0.5};
-  // K_i += v (the same form in d', d''): the curvature lost to the shrinkage, v |K|^2 K
+  // K_i += c (the same form in d', d''): the curvature lost to the shrinkage, about v |K|^2 K
   for (int i = 3; i < 6; ++i)
     for (int t = 0; t < T[i].n_terms; ++t)
-      Tc[i].terms[Tc[i].n_terms++] = {T[i].terms[t].a + 3, T[i].terms[t].b + 3, gp.v * T[i].terms[t].c};
+      Tc[i].terms[Tc[i].n_terms++] = {T[i].terms[t].a + 3, T[i].terms[t].b + 3, gp.correction_weight * T[i].terms[t].c};
   return Tc;
 }
 
@@ -369,7 +369,7 @@ struct SeedForms {
 
 // What point_table changes in the Simo-Reissner strains of a corrected point (the centre line's
 // axial strain, the director-interpolation correction) and in their weighted gradient, written
-// out like the forms above (v per point).
+// out like the forms above (v: the point's correction weight).
 struct DirectorCorrection {
   template <class T>
   static void strains(const T* z, const T& v, T* e) {
@@ -434,7 +434,7 @@ __attribute__((always_inline)) inline void span_residual(const Stiffness& C, con
     dN[a] = load(st.dN[a]);
     if (Corrected) ddN[a] = load(st.ddN[a]);
   }
-  if (Corrected) v = load(st.v);
+  if (Corrected) v = load(st.correction_weight);
   const double* q = q1.data();
   for (int c = 0; c < 3; ++c) z1[c] = dN[0] * q[c] + dN[1] * q[kNq + c] + dN[2] * q[2 * kNq + c];
   for (int k = 3; k < kNq; ++k) {
@@ -478,7 +478,7 @@ SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec
     }
     st.w[g] = gp.w;
     for (int a = 0; a < 3; ++a) st.ddN[a][g] = gp.ddN[a];
-    st.v[g] = gp.v;
+    st.correction_weight[g] = gp.correction_weight;
     const VecZ z = apply_P(gp, q0);
     const Vec6 e = strains(point_table(T, gp), z);
     for (int k = 0; k < kNz; ++k) st.z0[k][g] = z(k);
@@ -515,7 +515,7 @@ void span_residual_em(const StrainTable& T, const Stiffness& C, const SpanEmStat
       gp.ddN[a] = st.ddN[a][g];
     }
     gp.w = st.w[g];
-    gp.v = st.v[g];
+    gp.correction_weight = st.correction_weight[g];
     gp.corrected = st.corrected;
     for (int k = 0; k < kNz; ++k) z0(k) = st.z0[k][g];
     for (int k = 0; k < 6; ++k) {

@@ -96,15 +96,14 @@ void form_add_hessian(const QuadraticForm& f, double w, Eigen::Matrix<double, N,
 
 /// Basis data of one quadrature point of a span: N, dN/ds and d2N/ds2 (already divided by the
 /// parameter-to-arc-length factor) and the integration weight in arc length. corrected: the
-/// point's strains carry the director-interpolation correction of point_table, with
-/// v = sum_a N_a (g_a - s)^2 the second moment of the control points' Greville abscissae g_a
-/// about s (arc length squared).
+/// point's strains carry the director-interpolation correction of point_table, with the weight
+/// bspline::director_correction_weight (arc length squared).
 struct GaussPoint {
   std::array<double, 3> N;
   std::array<double, 3> dN;
   double w;
   std::array<double, 3> ddN{};
-  double v = 0.0;
+  double correction_weight = 0.0;
   bool corrected = false;
   double t = 0.0;  ///< position in the span, 0 at its left knot, 1 at its right
 };
@@ -120,10 +119,11 @@ VecZ field_values(const GaussPoint& gp, const VecEl& q);
 /// the Simo-Reissner measure (assumed strains), where the axial strain is the centre line's,
 /// 1/2 (phi'.phi' - 1), and the shear and curvature compensate to leading order the stretch of
 /// directors interpolated between orthonormal control points (theory.md, "director interpolation"):
-///   Gamma_i - 1/2 d_i . d_1 (i = 2, 3)  and  K_i + v K_i(d', d''),
-/// K_i(d', d'') being the curvature form with d' in place of d and d'' in place of d'. All are
-/// still quadratic forms in the coordinates and objective, so everything built on the tables
-/// (exact energy-momentum, frame indifference, the exact tangent) holds unchanged.
+///   Gamma_i - 1/2 d_i . d_1 (i = 2, 3)  and  K_i + c K_i(d', d''),
+/// K_i(d', d'') being the curvature form with d' in place of d and d'' in place of d', c the
+/// point's correction_weight. All are still quadratic forms in the coordinates and objective, so
+/// everything built on the tables (exact energy-momentum, frame indifference, the exact tangent)
+/// holds unchanged.
 StrainTable point_table(const StrainTable& T, const GaussPoint& gp);
 /// Strains at z (of the table given: pass point_table's for a point's strains).
 Vec6 strains(const StrainTable& T, const VecZ& z);
@@ -190,7 +190,7 @@ void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Ga
 /// (unused lanes zero, weight 0). Constant during a step: computed once per step.
 struct alignas(32) SpanEmState {
   double N[3][kSpanLanes], dN[3][kSpanLanes], w[kSpanLanes];
-  double ddN[3][kSpanLanes], v[kSpanLanes];  ///< corrected points only (point_table)
+  double ddN[3][kSpanLanes], correction_weight[kSpanLanes];  ///< corrected points only (point_table)
   bool corrected;
   double z0[kNz][kSpanLanes];
   double e0[6][kSpanLanes];

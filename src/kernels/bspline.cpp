@@ -24,6 +24,20 @@ int find_span(int n_spans, double xi) {
 
 double greville(int n_spans, int a) { return 0.5 * (knot(n_spans, a + 1) + knot(n_spans, a + 2)); }
 
+double director_correction_weight(int n_spans, int span, double xi) {
+  // With sum_a N_a = 1 and sum_a N_a g_a = xi: m3' = sum_a N_a' d^3 - 3 v and
+  // 1 + v''/2 = 1/2 sum_a N_a'' d^2, for d = g_a - xi.
+  const SpanBasis b = basis_on_span(n_spans, span, xi);
+  double v = 0.0, dm3 = 0.0, ddm2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = greville(n_spans, span + a) - xi;
+    v += b.N[a] * d * d;
+    dm3 += b.dN[a] * d * d * d;
+    ddm2 += b.ddN[a] * d * d;
+  }
+  return (0.5 * v + dm3 / 6.0) / (0.5 * ddm2);
+}
+
 SpanBasis basis_on_span(int n_spans, int e, double xi) {
   // Cox-de Boor for p = 2 on span [u_{e+2}, u_{e+3}) of the full knot vector.
   const int i = e + 2;

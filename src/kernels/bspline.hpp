@@ -30,6 +30,14 @@ inline SpanBasis basis(int n_spans, double xi) { return basis_on_span(n_spans, f
 /// Greville abscissa of control point a (0 <= a <= n_spans+1): mean of its two interior knots.
 double greville(int n_spans, int a);
 
+/// Weight c of the director-interpolation correction (docs/theory.md, "Directors between control
+/// points") at xi on span `span`, in units of the parameter squared (times L^2 for arc length):
+///   c = (v + m3' / 6) / (1 + v'' / 2),   v = sum_a N_a (g_a - xi)^2,  m3 = sum_a N_a (g_a - xi)^3,
+/// with g_a the Greville abscissae. v is the interpolated directors' stretch per squared
+/// curvature, m3 / 6 the twist lag of their angle; dividing by 1 + v''/2 undoes the stretch's
+/// share in the correction's own form, which counts in the end spans, where v varies.
+double director_correction_weight(int n_spans, int span, double xi);
+
 /// Knot value u_i of the open uniform knot vector {0,0,0,1/n,...,(n-1)/n,1,1,1}.
 double knot(int n_spans, int i);
 

@@ -21,11 +21,7 @@ kernels::GaussPoint basis_point(int n_spans, double L, int e, double xi, double 
   gp.w = w;
   gp.t = xi * n_spans - e;
   gp.corrected = corrected;
-  if (corrected)
-    for (int a = 0; a < 3; ++a) {
-      const double d = (bspline::greville(n_spans, e + a) - xi) * L;
-      gp.v += b.N[a] * d * d;
-    }
+  if (corrected) gp.correction_weight = L * L * bspline::director_correction_weight(n_spans, e, xi);
   return gp;
 }
 
