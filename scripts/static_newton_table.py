@@ -16,6 +16,7 @@
 """
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -24,11 +25,14 @@ sys.path.insert(0, str(ROOT / "python"))
 
 
 def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--plain", action="store_true", help="plain Newton on the full system (-sb_condense_directors false)")
+    args = parser.parse_args()
     from petsc4py import PETSc
 
     import slidebeam
 
-    if "--plain" in sys.argv[1:]:
+    if args.plain:
         PETSc.Options().setValue("sb_condense_directors", "false")
 
     def static(name: str, sets: list[str]) -> tuple[list[int], int, float, bool]:

@@ -424,7 +424,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
 
     def save(st) -> None:
         with output_phase():
-            output.flush()  # the series on disk matches the checkpoint: a restart continues it
+            output.checkpoint()  # the series on disk matches the checkpoint: a restart continues it
             write_checkpoint(sim, st, checkpoint)
 
     a = scene.analysis

@@ -30,11 +30,13 @@ a copy of each record and writes it on a thread of its own: creating the HDF5 ob
 costs more than a small scene's time step. Every ``FLUSH_EVERY`` records (or ``PENDING_BYTES`` of
 data), the writer flushes the ``.h5`` and then appends the new steps to the ``.xdmf``, over its
 closing tags in one write, so the ``.xdmf`` on disk always describes complete steps whose data is
-on disk. At checkpoints and at the end the run waits for the writers.
+on disk. At checkpoints and at the end the run waits for the writers; at a checkpoint each
+series also moves on to a new data file (``beams.1.h5``, ...: see :class:`Series`).
 """
 from __future__ import annotations
 
 import copy
+import glob
 import os
 import re
 import sys
@@ -61,6 +63,7 @@ _HEAD = (b'<?xml version="1.0"?>\n<Xdmf Version="3.0"><Domain>'
 _TAIL = b"</Grid></Domain></Xdmf>\n"
 _ATTRIBUTE_TYPE = {1: "Scalar", 3: "Vector", 6: "Tensor6"}
 _RECORD_PATH = re.compile(r":/[^/<]+/(\d+)<")  # ...h5:/<field>/<record>< in a step's DataItems
+_RECORD_FILE = re.compile(r">([^<>:]+):/[^/<]+/\d+<")  # >file.h5:/<field>/<record>< : the record's file
 
 
 class OutputFailure(Exception):
@@ -110,7 +113,14 @@ class Series:
     """One time series (rank 0): ``<name>.xdmf`` and ``<name>.h5`` beside it. ``points`` and
     ``cells`` are the reference mesh (``topology``: "Polyline" or "Polyvertex"), ``constants``
     the point data that never changes. ``resume_after``: continue the series on disk, keeping
-    its steps up to that time (restart)."""
+    its steps up to that time (restart).
+
+    Records go into segments: ``<name>.h5`` (with the mesh) until the first checkpoint, then
+    ``<name>.1.h5``, ``<name>.2.h5``, ... from one checkpoint to the next (:meth:`new_segment`).
+    A segment is closed before its checkpoint is written and never opened for writing again, so
+    a run killed at any moment (HDF5 files are not crash-safe: a group's index can be left
+    half-rewritten) cannot damage the records a restart keeps; the restart deletes the segments
+    written after its checkpoint."""
 
     def __init__(self, xdmf: Path, points: np.ndarray, cells: np.ndarray, topology: str,
                  constants: dict[str, np.ndarray], resume_after: float | None = None) -> None:
@@ -123,19 +133,44 @@ class Series:
         self.next_record = 0
         self._written: list[str] = []  # steps handed to the writer, not yet in the .xdmf
         self._times: dict[int, float] = {}  # record -> time, to name the one whose writing failed
+        self._fields: dict[str, np.ndarray] | None = None  # the first record: every record's fields
         self._template: tuple[list[str], list[str]] | None = None  # the step's text around {t}, split at {r}
         resume = resume_after is not None and self.xdmf.is_file() and self.h5_path.is_file()
         kept = self._kept_steps(resume_after) if resume else []
+        self.segment = self._resume_segments(kept) if resume else self._remove_segments(keep=set())
         with h5py.File(self.h5_path, "a" if resume else "w") as h5:
-            if resume:
-                self._drop_records_after(h5, kept)
             self._mesh = self._write_mesh(h5, points, cells, topology, constants)
-        self._writer = _core.RecordWriter(str(self.h5_path), COMPACT_BYTES)
+        if self.segment > 0:
+            h5py.File(self.segment_path(self.segment), "w").close()
+        self._writer = _core.RecordWriter(str(self.segment_path(self.segment)), COMPACT_BYTES)
+        self._segment_records = 0
         self._has_text = bool(kept)  # the .xdmf exists, or the writer has steps to create it with
         if kept:  # the .xdmf as it was up to the restart time, in this structure
             self._create_text(kept)
         else:  # created by the writer with the first steps
             self._writer.set_text_file(str(self.xdmf), 0, _TAIL, _HEAD)
+
+    def segment_path(self, k: int) -> Path:
+        """The data file of segment k (0: ``<name>.h5``, which holds the mesh too)."""
+        return self.h5_path if k == 0 else self.xdmf.with_name(f"{self.xdmf.stem}.{k}.h5")
+
+    def _segments_on_disk(self) -> dict[int, Path]:
+        found = {}
+        for path in self.xdmf.parent.glob(f"{glob.escape(self.xdmf.stem)}.*.h5"):
+            k = path.name[len(self.xdmf.stem) + 1:-len(".h5")]
+            if k.isdigit() and int(k) > 0:
+                found[int(k)] = path
+        return found
+
+    def _remove_segments(self, keep: set[str]) -> int:
+        """Delete the segment files (beyond the first) not named in keep; the highest kept."""
+        last = 0
+        for k, path in self._segments_on_disk().items():
+            if path.name in keep:
+                last = max(last, k)
+            else:
+                path.unlink()
+        return last
 
     # -- resume ------------------------------------------------------------------------------
     def _kept_steps(self, resume_after: float) -> list[str]:
@@ -161,16 +196,28 @@ class Series:
             kept.append(ET.tostring(grid, encoding="unicode"))
         return kept
 
-    def _drop_records_after(self, h5, kept: list[str]) -> None:
-        """New records follow the kept steps; datasets of records after them (written past the
-        checkpoint by the run that stopped) are removed."""
+    def _resume_segments(self, kept: list[str]) -> int:
+        """New records follow the kept steps, in a segment of their own: the one after the last
+        the kept steps use. Segments written after the checkpoint are deleted. Records after
+        the kept ones in a kept segment (a restart from an earlier checkpoint than the last;
+        the segment was closed whole) are removed from it."""
+        import h5py
+
         used = [int(m) for text in kept for m in _RECORD_PATH.findall(text)]
         self.next_record = max(used, default=-1) + 1
-        for name, group in h5.items():
-            if name == "mesh" or not hasattr(group, "keys"):
+        files = {m for text in kept for m in _RECORD_FILE.findall(text)}
+        last = self._remove_segments(keep=files)
+        for k in range(last + 1):
+            path = self.segment_path(k)
+            if not path.is_file():
                 continue
-            for key in [k for k in group.keys() if k.isdigit() and int(k) >= self.next_record]:
-                del group[key]
+            with h5py.File(path, "a") as h5:
+                for name, group in h5.items():
+                    if name == "mesh" or not hasattr(group, "keys"):
+                        continue
+                    for key in [key for key in group.keys() if key.isdigit() and int(key) >= self.next_record]:
+                        del group[key]
+        return last + 1 if files else 0
 
     # -- structure ---------------------------------------------------------------------------
     def _write_mesh(self, h5, points: np.ndarray, cells: np.ndarray, topology: str,
@@ -192,20 +239,21 @@ class Series:
                          for name, v in constants.items())
         return text + "{steps}" + consts
 
-    def _step_template(self, data: dict[str, np.ndarray]) -> str:
-        """A step's grid with {t} and {r} (record) to fill in: the same for every record."""
-        h5 = self.h5_path.name
+    def _step_template(self, data: dict[str, np.ndarray]) -> tuple[list[str], list[str]]:
+        """A step's grid with {t} and {r} (record) to fill in: the same for every record of the
+        segment; its text before and after {t}, each split at {r}."""
+        h5 = self.segment_path(self.segment).name
         fields = "".join(_attribute(name, _data_item(h5, f"/{name}/{{r}}", v.shape, v.dtype), v.shape)
                          for name, v in data.items())
         mesh, consts = self._mesh.split("{steps}")
-        return f'<Grid GridType="Uniform">{mesh}<Time Value="{{t}}" />{fields}{consts}</Grid>'
+        before, after = f'<Grid GridType="Uniform">{mesh}<Time Value="{{t}}" />{fields}{consts}</Grid>'.split("{t}")
+        return before.split("{r}"), after.split("{r}")
 
     # -- writing -----------------------------------------------------------------------------
     def add(self, t: float, data: dict[str, np.ndarray]) -> None:
         """Hand a record to the writer (one dataset per field and record)."""
-        if self._template is None:
-            before, after = self._step_template(data).split("{t}")
-            self._template = before.split("{r}"), after.split("{r}")
+        if self._fields is None:
+            self._fields = data
         self._writer.add(self.next_record, data)
         self.added(t)
 
@@ -217,11 +265,36 @@ class Series:
 
     def added(self, t: float) -> None:
         """Record ``next_record``, at time t, is with the writer (its fields as the first record's)."""
+        if self._template is None:
+            self._template = self._step_template(self._fields)
         before, after = self._template
         r = str(self.next_record)
         self._written.append(r.join(before) + repr(float(t)) + r.join(after))
         self._times[self.next_record] = float(t)
         self.next_record += 1
+        self._segment_records += 1
+
+    def new_segment(self) -> None:
+        """Wait until the .xdmf describes every record so far, close their data file and write
+        the records that follow into a new one (at a checkpoint, before it is written). Nothing
+        to do if the segment holds no record yet."""
+        if self._segment_records == 0:
+            return
+        self.flush(wait=True)
+        error = self._writer.close()
+        if error:
+            raise OutputFailure(error)
+        self.segment += 1
+        path = self.segment_path(self.segment)
+        import h5py
+
+        from . import _core
+
+        h5py.File(path, "w").close()
+        self._writer = _core.RecordWriter(str(path), COMPACT_BYTES)
+        self._writer.set_text_file(str(self.xdmf), self.xdmf.stat().st_size - len(_TAIL), _TAIL)
+        self._segment_records = 0
+        self._template = None
 
     def flush(self, wait: bool, backlog: int = 0) -> None:
         """Make the .xdmf describe the records handed over so far, once their data is on disk:
@@ -275,6 +348,9 @@ class NoOutput:
         pass
 
     def flush(self, wait: bool = True) -> None:
+        pass
+
+    def checkpoint(self) -> None:
         pass
 
     def close(self) -> None:
@@ -467,6 +543,21 @@ class XdmfOutput:
             error = f"writing the XDMF output failed {err}" if str(err).startswith("at t =") else \
                 f"writing the XDMF output at t = {self._last_t:.6g} failed: {err}"
         except OSError as err:  # the .xdmf text
+            self._abandon()
+            error = f"writing the XDMF output at t = {self._last_t:.6g} failed: {_first_line(err)}"
+        self._raise_on_any_rank(error)
+
+    def checkpoint(self) -> None:
+        """Before a checkpoint is written (collective): bring the .xdmf files up to date and close
+        the data files of their records; the records that follow go into new files
+        (:meth:`Series.new_segment`), which a run killed later may leave damaged but a restart
+        from this checkpoint deletes."""
+        self.flush()
+        error = None
+        try:
+            for s in self._series:
+                s.new_segment()
+        except (OutputFailure, OSError) as err:
             self._abandon()
             error = f"writing the XDMF output at t = {self._last_t:.6g} failed: {_first_line(err)}"
         self._raise_on_any_rank(error)
