@@ -11,7 +11,7 @@ import shlex
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, NamedTuple
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from petsc4py import PETSc
@@ -80,6 +80,10 @@ class StepRecord:
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
     joints: list[JointState] = field(default_factory=list)
     reactions: list[Reaction] = field(default_factory=list)
+
+
+# what solve_static leaves on the simulation besides its state
+_STATIC_OUTCOME = ("t", "load_step_cuts", "stopped", "stop_signal", "stop_is_failure")
 
 
 def options_file_of(scene: Scene) -> Path | None:
@@ -213,7 +217,7 @@ class Simulation:
         the serial solver, on a model of its own, and hands the state to every rank: the
         distributed static solve (MUMPS on the whole system) cost 2-3x the serial one."""
         assert self.integrator is not None, "settle() starts dynamic runs"
-        self.settled_on_rank_0 = self._settle_on_rank_0()
+        self.settled_on_rank_0 = self._statics_on_rank_0()
         result = self._settle_alone() if self.settled_on_rank_0 else None
         if result is None:  # one rank, the option off, or rank 0 cannot hold the whole model
             self.settled_on_rank_0 = False
@@ -236,7 +240,7 @@ class Simulation:
                           [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in free])
         return EquilibriumOutcome.of(solver.solve(0.0, self.scene.analysis.dt))
 
-    def _settle_on_rank_0(self) -> bool:
+    def _statics_on_rank_0(self) -> bool:
         """True if the model is distributed over several ranks and -sb_statics_on_rank_0
         holds (collective)."""
         comm = self._model.x.getComm().tompi4py()
@@ -245,46 +249,85 @@ class Simulation:
         return comm.allreduce(1 if self._model.x.getLocalSize() > 0 else 0) > 1
 
     def _settle_alone(self) -> EquilibriumOutcome | None:
-        """The static start solved on rank 0 by a serial model of the same scene (the numbering
-        depends on the scene alone, so the unknowns are the same), from this model's state; the
-        other ranks sleep meanwhile (rather than poll MPI, which would keep their cores busy).
-        The result and the state then go to every rank (collective). None, with a warning, if
-        rank 0's node has not the memory for the whole model: the caller solves it distributed."""
+        """The static start solved on rank 0 by a serial model of the same scene (see
+        _alone_on_rank_0); None if rank 0 cannot hold the model."""
         from mpi4py import MPI
 
+        def serial_model():
+            model, _ = build_model(self.scene, MPI.COMM_SELF)
+            return model, model.x
+
+        return self._alone_on_rank_0("the static start", serial_model, self._settle_with)
+
+    def _solve_static_alone(self, on_step: Callable[[StepRecord], None] | None,
+                            max_cuts: int) -> list[StepRecord] | None:
+        """solve_static on rank 0 by a serial simulation of the same scene (see
+        _alone_on_rank_0), its outcome then this simulation's; None if rank 0 cannot hold the
+        model. on_step is called on rank 0 as the load steps are taken, on the other ranks with
+        the same records once they are all taken."""
+        from mpi4py import MPI
+
+        def serial_simulation():
+            sim = Simulation(self.scene, MPI.COMM_SELF)
+            return sim, sim.x
+
+        def solve(sim: Simulation):
+            sim.t, sim.use_predictor = self.t, self.use_predictor
+            records = sim.solve_static(on_step, max_cuts)
+            return records, {name: getattr(sim, name) for name in _STATIC_OUTCOME}
+
+        outcome = self._alone_on_rank_0("the static solve", serial_simulation, solve)
+        if outcome is None:
+            return None
+        records, state = outcome
+        for name, value in state.items():
+            setattr(self, name, value)
+        if on_step and self._model.x.getComm().tompi4py().Get_rank() != 0:
+            for rec in records[1:]:
+                on_step(rec)
+        return records
+
+    def _alone_on_rank_0(self, what: str, build: Callable[[], tuple[Any, PETSc.Vec]],
+                         work: Callable[[Any], Any]) -> Any:
+        """work(serial) on rank 0 alone, where build() gives a serial copy of this model (the
+        numbering depends on the scene alone, so the unknowns are the same) and its state
+        vector, set from this model's state; the other ranks sleep meanwhile (rather than poll
+        MPI, which would keep their cores busy). The serial state and work's result (which
+        must pickle) then go to every rank (collective). None, with a warning, if rank 0's node
+        has not the memory for the whole model: the caller solves it distributed."""
         comm = self._model.x.getComm().tompi4py()
         x = self._model.x
         scatter, whole = PETSc.Scatter.toZero(x)
         scatter.scatter(x, whole, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-        outcome: EquilibriumOutcome | str | None = None
+        outcome: Any = None
+        failure: str | None = None
         error: Exception | None = None
         too_big: str | None = None
         try:
             if comm.Get_rank() == 0:
-                model = None
+                serial = None
                 try:
-                    model, _ = build_model(self.scene, MPI.COMM_SELF)
+                    serial, serial_x = build()
                 except SceneError as exc:  # not on one node: distributed after all
                     too_big = str(exc)
-                if model is not None:
+                if serial is not None:
                     try:
-                        model.x.setArray(whole.getArray(readonly=True))
-                        outcome = self._settle_with(model)
-                        whole.setArray(model.x.getArray(readonly=True))
+                        serial_x.setArray(whole.getArray(readonly=True))
+                        outcome = work(serial)
+                        whole.setArray(serial_x.getArray(readonly=True))
                     except Exception as exc:  # the other ranks must learn of it, not wait forever
-                        error, outcome = exc, f"{type(exc).__name__}: {exc}"
+                        error, failure, outcome = exc, f"{type(exc).__name__}: {exc}", None
                 comm.Ibarrier().Wait()
             else:
                 wait_sleeping(comm)
-            outcome, too_big = comm.bcast((outcome, too_big), root=0)
+            outcome, failure, too_big = comm.bcast((outcome, failure, too_big), root=0)
             if error is not None:
                 raise error
             if too_big is not None:
-                self.warnings.append(f"the static start runs on all ranks: rank 0 alone cannot hold the model "
-                                     f"({too_big})")
+                self.warnings.append(f"{what} runs on all ranks: rank 0 alone cannot hold the model ({too_big})")
                 return None
-            if isinstance(outcome, str):
-                raise RuntimeError(f"the static start failed on rank 0: {outcome}")
+            if failure is not None:
+                raise RuntimeError(f"{what} failed on rank 0: {failure}")
             scatter.scatter(whole, x, addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.REVERSE)
         finally:
             scatter.destroy()
@@ -486,7 +529,18 @@ class Simulation:
         A step that fails is retried from the last converged state in halves, down to
         1/2**max_cuts of the increment; if that fails too, the state is left at the last
         converged one and the failed attempt is the last record.
+
+        On several ranks (-sb_statics_on_rank_0, the default) rank 0 solves it alone with the
+        serial solver, on a simulation of its own, and hands the records and the state to every
+        rank (the distributed static solve, MUMPS on the whole system, costs 2-4 times the
+        serial one). ``on_step`` then runs on rank 0 as the steps are taken and on the other
+        ranks once they are all taken: it must not call collective operations of this
+        simulation (set the option false for that).
         """
+        if self._statics_on_rank_0():
+            records = self._solve_static_alone(on_step, max_cuts)
+            if records is not None:
+                return records
         a = self.scene.analysis
         records = [self.record(0, None)]
         self.load_step_cuts = 0

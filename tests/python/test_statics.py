@@ -11,6 +11,7 @@ import pytest
 from mpi4py import MPI
 
 import slidebeam
+from test_condensation import petsc_options
 
 L, EI = 10.0, 100.0
 
@@ -72,13 +73,15 @@ def test_bend45_converges_to_published_tip(root, quadrature):
 
 
 def test_distributed_equals_serial(root):
-    """The same solve on all ranks (COMM_WORLD) and on each rank alone (COMM_SELF) agree to 1e-10.
-    Meaningful under mpirun -n 2, where the beams are split over ranks."""
+    """The same solve distributed over all ranks (COMM_WORLD, -sb_statics_on_rank_0 false) and on
+    each rank alone (COMM_SELF) agree to 1e-10. Meaningful under mpirun -n 2, where the beams are
+    split over ranks."""
     for scene_file, sets in (("rollup.toml", ["beam.0.spans=12", "analysis.steps=4"]),
                              ("bend45.toml", ["beam.0.spans=9", "analysis.steps=6"])):
         scene = slidebeam.load_scene(root / "runs" / scene_file, sets)
-        world = slidebeam.Simulation(scene, MPI.COMM_WORLD)
-        rec_w = world.solve_static()
+        with petsc_options(sb_statics_on_rank_0="false"):
+            world = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+            rec_w = world.solve_static()
         q_w = world.control_points(0)
         alone = slidebeam.Simulation(scene, MPI.COMM_SELF)
         rec_s = alone.solve_static()
@@ -88,6 +91,30 @@ def test_distributed_equals_serial(root):
         for a, b in zip(rec_w, rec_s):
             assert np.abs(np.array(a.tracked) - np.array(b.tracked)).max() < 1e-10
             assert abs(a.strain_energy - b.strain_energy) <= 1e-10 * max(1.0, abs(b.strain_energy))
+
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.Get_size() < 2, reason="under mpirun")
+def test_a_distributed_simulation_solves_statics_on_rank_0(root, tmp_path):
+    """Simulation(scene, COMM_WORLD).solve_static() under mpirun (-sb_statics_on_rank_0, the
+    default): rank 0 solves it alone with the serial solver, and every rank gets the serial
+    solve's records and state bit for bit; on_step sees the same records on every rank. A
+    trolley hung on a rope, a hard first load step (distributed, MUMPS took it elsewhere)."""
+    text = (root / "runs" / "cables" / "zip_line.toml").read_text()
+    dynamic_only = ("integrator =", 'start = "', "t_end =", "dt =")
+    text = "\n".join(line for line in text.splitlines() if not line.startswith(dynamic_only))
+    (tmp_path / "zip_line.toml").write_text(text.replace('type = "dynamic"', 'type = "static"\nsteps = 3'))
+    scene = slidebeam.load_scene(tmp_path / "zip_line.toml", ["beam.0.spans=24", 'sliding_joint.0.static="free"'])
+    world = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+    assert world.x.getOwnershipRange()[1] > world.x.getOwnershipRange()[0]  # every rank owns a part
+    seen: list[slidebeam.StepRecord] = []
+    rec_w = world.solve_static(seen.append)
+    alone = slidebeam.Simulation(scene, MPI.COMM_SELF)
+    rec_s = alone.solve_static()
+    assert rec_w == rec_s and seen == rec_s[1:]
+    assert (world.t, world.load_step_cuts, world.stopped) == (alone.t, alone.load_step_cuts, alone.stopped)
+    assert np.array_equal(world.control_points(0), alone.control_points(0))
+    assert world.joint_states() == alone.joint_states()
 
 
 ARC_NORMAL = np.array([1.0, 2.0, 2.0]) / 3.0  # an arc in a tilted plane, about an off-origin centre
