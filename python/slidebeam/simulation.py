@@ -6,12 +6,13 @@ handles, no copies): scripts may read or modify them, or drive SNES themselves.
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import shlex
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, NamedTuple
+from typing import Any, Callable, Iterator, NamedTuple
 
 import numpy as np
 from petsc4py import PETSc
@@ -80,6 +81,26 @@ class StepRecord:
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
     joints: list[JointState] = field(default_factory=list)
     reactions: list[Reaction] = field(default_factory=list)
+
+
+@contextlib.contextmanager
+def _options_as(options: dict[str, str | None]) -> Iterator[None]:
+    """The PETSc options database holds exactly `options` for the block, then what it held."""
+    db = PETSc.Options()
+    before = db.getAll()
+
+    def hold(wanted: dict[str, str | None]) -> None:
+        for name in db.getAll():
+            if name not in wanted:
+                db.delValue(name)
+        for name, value in wanted.items():
+            db.setValue(name, value)
+
+    hold(options)
+    try:
+        yield
+    finally:
+        hold(before)
 
 
 # what solve_static leaves on the simulation besides its state
@@ -158,6 +179,9 @@ class Simulation:
     def __init__(self, scene: Scene, comm: object | None = None) -> None:
         self.scene = scene
         _apply_petsc_options(scene)
+        # the options the model is built with: a serial copy on rank 0 (_alone_on_rank_0) is
+        # built with them too, whatever the database holds by then
+        self._options: dict[str, str | None] = PETSc.Options().getAll()
         self._model, self.effects = build_model(scene, comm)
         self._solver = _core.StaticSolver(self._model)
         self._t = 0.0
@@ -242,10 +266,13 @@ class Simulation:
 
     def _statics_on_rank_0(self) -> bool:
         """True if the model is distributed over several ranks and -sb_statics_on_rank_0
-        holds (collective)."""
+        held when the simulation was built (collective)."""
         comm = self._model.x.getComm().tompi4py()
-        if comm.Get_size() == 1 or not statics_on_rank_0():
+        if comm.Get_size() == 1:
             return False
+        with _options_as(self._options):  # as the simulation was built
+            if not statics_on_rank_0():
+                return False
         return comm.allreduce(1 if self._model.x.getLocalSize() > 0 else 0) > 1
 
     def _settle_alone(self) -> EquilibriumOutcome | None:
@@ -307,7 +334,8 @@ class Simulation:
             if comm.Get_rank() == 0:
                 serial = None
                 try:
-                    serial, serial_x = build()
+                    with _options_as(self._options):
+                        serial, serial_x = build()
                 except SceneError as exc:  # not on one node: distributed after all
                     too_big = str(exc)
                 if serial is not None:
