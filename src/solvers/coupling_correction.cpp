@@ -53,7 +53,10 @@ PetscErrorCode fail_on_every_rank(KSP ksp, Vec x, bool* failed) {
   PetscFunctionReturn(0);
 }
 
-CouplingCorrection::~CouplingCorrection() { VecDestroy(&work_); }
+CouplingCorrection::~CouplingCorrection() {
+  VecScatterDestroy(&ghost_scatter_);
+  VecDestroy(&ghosts_);
+}
 
 PetscErrorCode CouplingCorrection::attach(KSP ksp) {
   PetscFunctionBeginUser;
@@ -85,7 +88,7 @@ PetscErrorCode CouplingCorrection::post_solve(KSP ksp, Vec b, Vec x, void* ctx) 
   // A post-solve cannot set the KSP's reason: a solve that is not exact is made unusable, so
   // that Newton fails (NaN) and the step is retried on the fallback path.
   if (!self->valid_) PetscCall(VecSet(x, std::numeric_limits<double>::quiet_NaN()));
-  else PetscCall(self->correct(A, b, x));
+  else PetscCall(self->correct(A, x));
   PetscFunctionReturn(0);
 }
 
@@ -268,7 +271,24 @@ PetscErrorCode CouplingCorrection::setup(KSP ksp, Mat A) {
   else PetscCall(setup_full(ksp, A, coupling));
   r_local_.resize(local_.size());
   r_all_.resize(static_cast<size_t>(m_));
-  if (!work_) PetscCall(MatCreateVecs(A, nullptr, &work_));
+  coupled_rows_ = coupling.coupled_rows;
+  coupled_residual_.resize(coupled_rows_.size());
+  // y's values at the columns of A's off-diagonal block (in its compressed order)
+  Mat Ad = nullptr, Ao = nullptr;
+  const PetscInt* colmap = nullptr;
+  PetscCall(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
+  PetscInt ghosts = 0;
+  PetscCall(MatGetSize(Ao, nullptr, &ghosts));
+  PetscCall(VecScatterDestroy(&ghost_scatter_));
+  PetscCall(VecDestroy(&ghosts_));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, ghosts, &ghosts_));
+  Vec x = nullptr;
+  PetscCall(MatCreateVecs(A, &x, nullptr));
+  IS from = nullptr;
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, ghosts, colmap, PETSC_COPY_VALUES, &from));
+  PetscCall(VecScatterCreate(x, from, ghosts_, nullptr, &ghost_scatter_));
+  PetscCall(ISDestroy(&from));
+  PetscCall(VecDestroy(&x));
   PetscCall(PetscLogEventEnd(setup_event(), 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -364,23 +384,45 @@ PetscErrorCode CouplingCorrection::setup_full(KSP ksp, Mat A, const Coupling& co
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCorrection::correct(Mat A, Vec b, Vec x) {
+PetscErrorCode CouplingCorrection::correct(Mat A, Vec x) {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(apply_event(), 0, 0, 0, 0));
-  // (b - A y)_I, y = D^-1 b the block solve's result in x
-  PetscCall(MatMult(A, x, work_));
-  PetscCall(VecAYPX(work_, -1.0, b));
-  const PetscScalar* r = nullptr;
-  PetscCall(VecGetArrayRead(work_, &r));
+  // (b - A y)_I with y = D^-1 b, the block solve's result in x: the blocks' solves are exact
+  // (b - D y = 0 on each rank, in N^T's rows when condensed), so it is -(E y)_I, the coupling
+  // entries times y's values on the other ranks: no product with the whole of A.
+  PetscCall(VecScatterBegin(ghost_scatter_, x, ghosts_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(ghost_scatter_, x, ghosts_, INSERT_VALUES, SCATTER_FORWARD));
+  {
+    Mat Ad = nullptr, Ao = nullptr;
+    const PetscInt* colmap = nullptr;
+    PetscCall(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &colmap));
+    const PetscScalar* g = nullptr;
+    PetscCall(VecGetArrayRead(ghosts_, &g));
+    for (size_t k = 0; k < coupled_rows_.size(); ++k) {
+      PetscInt nc = 0;
+      const PetscInt* cols = nullptr;
+      const PetscScalar* v = nullptr;
+      PetscCall(MatGetRow(Ao, coupled_rows_[k], &nc, &cols, &v));
+      double Ey = 0.0;
+      for (PetscInt j = 0; j < nc; ++j) Ey += PetscRealPart(v[j] * g[cols[j]]);
+      coupled_residual_[k] = -Ey;
+      PetscCall(MatRestoreRow(Ao, coupled_rows_[k], &nc, &cols, &v));
+    }
+    PetscCall(VecRestoreArrayRead(ghosts_, &g));
+  }
+  auto residual = [&](PetscInt row) {  // zero on rows without coupling entries
+    const auto at = std::lower_bound(coupled_rows_.begin(), coupled_rows_.end(), row);
+    return at != coupled_rows_.end() && *at == row ? coupled_residual_[static_cast<size_t>(at - coupled_rows_.begin())]
+                                                   : 0.0;
+  };
   if (condensation_) {  // N^T's rows
     for (size_t k = 0; k < local_.size(); ++k) {
       r_local_[k] = 0.0;
-      for (const auto& [row, w] : reduced_rows_[k]) r_local_[k] += w * PetscRealPart(r[row]);
+      for (const auto& [row, w] : reduced_rows_[k]) r_local_[k] += w * residual(row);
     }
   } else {
-    for (size_t k = 0; k < local_.size(); ++k) r_local_[k] = PetscRealPart(r[local_[k]]);
+    for (size_t k = 0; k < local_.size(); ++k) r_local_[k] = residual(local_[k]);
   }
-  PetscCall(VecRestoreArrayRead(work_, &r));
   PetscMPIInt rank = 0;
   PetscCallMPI(MPI_Comm_rank(comm_, &rank));
   PetscCallMPI(MPI_Allgatherv(r_local_.data(), static_cast<int>(r_local_.size()), MPI_DOUBLE, r_all_.data(),

@@ -13,8 +13,10 @@
 /// exactly: b - A y = -E y vanishes outside I, and A D^-1 P_I w = P_I w + E D^-1 P_I w. S is
 /// as small as the interface (tens of unknowns per cut), assembled and factored redundantly on
 /// every rank; its set-up costs one block solve per interface unknown a rank owns, per
-/// factorisation. Each solve then costs one block application, one product with A, an
-/// allgather of |I| numbers, a dense solve with S and Y = D^-1 P_I times w on each rank.
+/// factorisation. Each solve then costs one block application, the product of the coupling
+/// entries with y's values on the other ranks ((b - A y)_I = -(E y)_I, the blocks' solves being
+/// exact), an allgather of |I| numbers, a dense solve with S and Y = D^-1 P_I times w on each
+/// rank.
 ///
 /// With director beams the blocks solve condensed (DirectorCondensation): the correction then
 /// works in the same reduced coordinates, N^T on the rows and N' on the columns, and the solve
@@ -89,7 +91,7 @@ class CouplingCorrection {
   // the blocks' exact solves of the full system, or their condensed solves
   PetscErrorCode setup_full(KSP ksp, Mat A, const Coupling& coupling);
   PetscErrorCode setup_reduced(Mat A, const Coupling& coupling);
-  PetscErrorCode correct(Mat A, Vec b, Vec x);
+  PetscErrorCode correct(Mat A, Vec x);
   /// The interface's layout over the ranks from this rank's count: counts_, displs_, m_.
   PetscErrorCode lay_out(int mine);
 
@@ -113,7 +115,12 @@ class CouplingCorrection {
   std::vector<std::vector<std::pair<PetscInt, double>>> reduced_rows_;
   Eigen::PartialPivLU<Eigen::MatrixXd> S_;
   std::vector<double> r_local_, r_all_; // work: (b - A y)_I
-  Vec work_ = nullptr;
+  // (b - A y) = -E y on this rank's coupled rows (local numbering, sorted): y's values at the
+  // off-rank columns of A's off-diagonal block, gathered by ghost_scatter_ into ghosts_
+  std::vector<PetscInt> coupled_rows_;
+  std::vector<double> coupled_residual_;
+  VecScatter ghost_scatter_ = nullptr;
+  Vec ghosts_ = nullptr;
 };
 
 }  // namespace slidebeam
