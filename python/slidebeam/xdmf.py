@@ -140,15 +140,25 @@ class Series:
         self.segment = self._resume_segments(kept) if resume else self._remove_segments(keep=set())
         with h5py.File(self.h5_path, "a" if resume else "w") as h5:
             self._mesh = self._write_mesh(h5, points, cells, topology, constants)
-        if self.segment > 0:
-            h5py.File(self.segment_path(self.segment), "w").close()
-        self._writer = _core.RecordWriter(str(self.segment_path(self.segment)), COMPACT_BYTES)
-        self._segment_records = 0
+        self._open_writer()
         self._has_text = bool(kept)  # the .xdmf exists, or the writer has steps to create it with
         if kept:  # the .xdmf as it was up to the restart time, in this structure
             self._create_text(kept)
         else:  # created by the writer with the first steps
             self._writer.set_text_file(str(self.xdmf), 0, _TAIL, _HEAD)
+
+    def _open_writer(self) -> None:
+        """A record writer on the current segment's data file (created empty beyond the first)."""
+        import h5py
+
+        from . import _core
+
+        path = self.segment_path(self.segment)
+        if self.segment > 0:
+            h5py.File(path, "w").close()
+        self._writer = _core.RecordWriter(str(path), COMPACT_BYTES)
+        self._segment_records = 0
+        self._template = None  # the steps name the segment's file
 
     def segment_path(self, k: int) -> Path:
         """The data file of segment k (0: ``<name>.h5``, which holds the mesh too)."""
@@ -207,16 +217,20 @@ class Series:
         self.next_record = max(used, default=-1) + 1
         files = {m for text in kept for m in _RECORD_FILE.findall(text)}
         last = self._remove_segments(keep=files)
+        def later(h5) -> list[str]:
+            return [f"{name}/{key}" for name, group in h5.items() if name != "mesh" and hasattr(group, "keys")
+                    for key in group.keys() if key.isdigit() and int(key) >= self.next_record]
+
         for k in range(last + 1):
             path = self.segment_path(k)
             if not path.is_file():
                 continue
-            with h5py.File(path, "a") as h5:
-                for name, group in h5.items():
-                    if name == "mesh" or not hasattr(group, "keys"):
-                        continue
-                    for key in [key for key in group.keys() if key.isdigit() and int(key) >= self.next_record]:
-                        del group[key]
+            with h5py.File(path, "r") as h5:  # opened for writing only if it must change
+                drop = later(h5)
+            if drop:
+                with h5py.File(path, "a") as h5:
+                    for dataset in drop:
+                        del h5[dataset]
         return last + 1 if files else 0
 
     # -- structure ---------------------------------------------------------------------------
@@ -285,16 +299,8 @@ class Series:
         if error:
             raise OutputFailure(error)
         self.segment += 1
-        path = self.segment_path(self.segment)
-        import h5py
-
-        from . import _core
-
-        h5py.File(path, "w").close()
-        self._writer = _core.RecordWriter(str(path), COMPACT_BYTES)
+        self._open_writer()
         self._writer.set_text_file(str(self.xdmf), self.xdmf.stat().st_size - len(_TAIL), _TAIL)
-        self._segment_records = 0
-        self._template = None
 
     def flush(self, wait: bool, backlog: int = 0) -> None:
         """Make the .xdmf describe the records handed over so far, once their data is on disk:
