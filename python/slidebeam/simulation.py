@@ -182,6 +182,7 @@ class Simulation:
         # the options the model is built with: a serial copy on rank 0 (_alone_on_rank_0) is
         # built with them too, whatever the database holds by then
         self._options: dict[str, str | None] = PETSc.Options().getAll()
+        self._statics_on_rank_0_option = statics_on_rank_0()
         self._model, self.effects = build_model(scene, comm)
         self._solver = _core.StaticSolver(self._model)
         self._t = 0.0
@@ -268,11 +269,8 @@ class Simulation:
         """True if the model is distributed over several ranks and -sb_statics_on_rank_0
         held when the simulation was built (collective)."""
         comm = self._model.x.getComm().tompi4py()
-        if comm.Get_size() == 1:
+        if comm.Get_size() == 1 or not self._statics_on_rank_0_option:
             return False
-        with _options_as(self._options):  # as the simulation was built
-            if not statics_on_rank_0():
-                return False
         return comm.allreduce(1 if self._model.x.getLocalSize() > 0 else 0) > 1
 
     def _settle_alone(self) -> EquilibriumOutcome | None:

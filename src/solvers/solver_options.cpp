@@ -148,8 +148,8 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
                             "", o->schwarz_exact_max_interface, &o->schwarz_exact_max_interface, nullptr));
   PetscCall(PetscOptionsBool("-sb_statics_on_rank_0",
                              "static solves under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
-                             "static analysis there, and the static start of a dynamic run hands its state to every "
-                             "rank (false: on all ranks, MUMPS on the whole system)",
+                             "static analysis there; the static start of a dynamic run and Simulation.solve_static "
+                             "hand their state to every rank (false: on all ranks, MUMPS on the whole system)",
                              "", o->statics_on_rank_0, &o->statics_on_rank_0, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_below",
                             "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",

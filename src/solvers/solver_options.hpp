@@ -70,9 +70,9 @@ struct CoreOptions {
   /// scenes gain from about 800 unknowns, every scene measured from 1832 on.
   PetscInt serial_below = 1500;
   /// static solves of a distributed run solved on rank 0 alone by the serial solver (the
-  /// manifold Newton on the condensed system): `slidebeam run` runs a static analysis there,
-  /// and the static start of a dynamic run hands its state to every rank; false: on all ranks
-  /// (MUMPS on the whole system, 2-4x slower on 2 ranks than on one)
+  /// manifold Newton on the condensed system): `slidebeam run` runs a static analysis there;
+  /// the static start of a dynamic run and Simulation.solve_static hand their state to every
+  /// rank; false: on all ranks (MUMPS on the whole system, 2-4x slower on 2 ranks than on one)
   PetscBool statics_on_rank_0 = PETSC_TRUE;
 };
 

@@ -1,7 +1,10 @@
 # SPDX-License-Identifier: MIT
 """Checks shared by the dynamics and sliding-joint tests: finite differences of a step's
-Jacobian, and a run on all ranks against the same run on one."""
+Jacobian, and a run on all ranks against the same run on one; a dynamic scene file as a
+static analysis."""
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 from mpi4py import MPI
@@ -114,3 +117,12 @@ def distributed_and_serial_records(scene) -> list[tuple]:
         assert abs(a.total_energy - b.total_energy) <= 1e-10 * max(1.0, abs(b.total_energy))
         assert np.abs(np.array(a.tracked) - np.array(b.tracked)).max() < 1e-10
     return list(zip(world, alone))
+
+
+def static_scene_text(path: Path, steps: int) -> str:
+    """The text of the dynamic scene file at path as a static analysis in `steps` load steps:
+    [analysis] type = "static", and the keys only a dynamic analysis has (integrator, start,
+    t_end, dt) dropped."""
+    dynamic_only = ("integrator =", 'start = "', "t_end =", "dt =")
+    text = "\n".join(line for line in path.read_text().splitlines() if not line.startswith(dynamic_only))
+    return text.replace('type = "dynamic"', f'type = "static"\nsteps = {steps}') + "\n"

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import slidebeam
+from checks import static_scene_text
 
 ROOT = Path(__file__).resolve().parents[2]
 G = np.array([0.0, 0.0, -9.81])
@@ -85,11 +86,9 @@ def test_static_runs_report_sliding_joints(tmp_path):
     """A static run's records carry the sliding joints' s, reaction and gap, as dynamic ones do:
     a trolley held on the hanging rope (drawn in its sag: statics from a straight rope is a
     mechanism)."""
-    text = (ROOT / "runs" / "cables" / "hanging_rope.toml").read_text()
     # 8 load steps: the first hangs the trolley on the rope at once, nearly a mechanism. With 4,
     # it took 87 Newton iterations, and the distributed solver's path (MUMPS) ended elsewhere.
-    text = text.replace('type = "dynamic"', 'type = "static"\nsteps = 8').replace('start = "equilibrium"\n', "")
-    text = "\n".join(line for line in text.splitlines() if not line.startswith(("t_end =", "dt =")))
+    text = static_scene_text(ROOT / "runs" / "cables" / "hanging_rope.toml", steps=8)
     text += """
 [[beam]]
 name = "hanger"

@@ -11,6 +11,7 @@ import pytest
 from mpi4py import MPI
 
 import slidebeam
+from checks import static_scene_text
 from test_condensation import petsc_options
 
 L, EI = 10.0, 100.0
@@ -100,10 +101,7 @@ def test_a_distributed_simulation_solves_statics_on_rank_0(root, tmp_path):
     default): rank 0 solves it alone with the serial solver, and every rank gets the serial
     solve's records and state bit for bit; on_step sees the same records on every rank. A
     trolley hung on a rope, a hard first load step (distributed, MUMPS took it elsewhere)."""
-    text = (root / "runs" / "cables" / "zip_line.toml").read_text()
-    dynamic_only = ("integrator =", 'start = "', "t_end =", "dt =")
-    text = "\n".join(line for line in text.splitlines() if not line.startswith(dynamic_only))
-    (tmp_path / "zip_line.toml").write_text(text.replace('type = "dynamic"', 'type = "static"\nsteps = 3'))
+    (tmp_path / "zip_line.toml").write_text(static_scene_text(root / "runs" / "cables" / "zip_line.toml", steps=3))
     scene = slidebeam.load_scene(tmp_path / "zip_line.toml", ["beam.0.spans=24", 'sliding_joint.0.static="free"'])
     world = slidebeam.Simulation(scene, MPI.COMM_WORLD)
     assert world.x.getOwnershipRange()[1] > world.x.getOwnershipRange()[0]  # every rank owns a part
