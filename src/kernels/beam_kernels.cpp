@@ -164,6 +164,122 @@ VecZ weighted_gradient(const StrainTable& T, const Vec6& sigma, const VecZ& z) {
 
 VecZ field_values(const GaussPoint& gp, const VecEl& q) { return apply_P(gp, q); }
 
+namespace {
+// The turning term of a corrected Simo-Reissner point, (c/2) K x K' added to the curvature
+// (docs/theory.md, "The turning term"). K = K(d, d') and K' = K(d, d'') (the curvature form with d''
+// in the derivative's slot: K's derivative along the beam) are quadratic forms, so the term is a
+// product of two: its energy-momentum force uses the product rule's discrete gradient.
+template <class T>
+inline T dot3t(const T* a, const T* b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+// K_i = 1/2 (d_k . e_j - d_j . e_k), (i, j, k) cyclic, e the block of z at `slot` (d' or d'')
+template <class T>
+inline void curvature_form(const T* z, int slot, T* K) {
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    K[i] = 0.5 * (dot3t(z + 3 * (kD1 + k), z + 3 * (slot + j)) - dot3t(z + 3 * (kD1 + j), z + 3 * (slot + k)));
+  }
+}
+// g += sum_i s_i dK_i/dz of curvature_form(z, slot)
+template <class T>
+inline void curvature_form_gradient(const T* s, const T* z, int slot, T* g) {
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    const T h = 0.5 * s[i];
+    for (int c = 0; c < 3; ++c) {
+      g[3 * (kD1 + k) + c] += h * z[3 * (slot + j) + c];
+      g[3 * (slot + j) + c] += h * z[3 * (kD1 + k) + c];
+      g[3 * (kD1 + j) + c] -= h * z[3 * (slot + k) + c];
+      g[3 * (slot + k) + c] -= h * z[3 * (kD1 + j) + c];
+    }
+  }
+}
+template <class T>
+inline void cross3(const T* a, const T* b, T* c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+// g += sum_i s_i d[(c/2) K x K']_i / dz with K and K' taken as kbar, kpbar in the product and their
+// gradients at z: the exact gradient where kbar = K(z), kpbar = K'(z); the product rule's discrete
+// gradient where they are the step's averages and z its midpoint.
+template <class T>
+inline void turning_gradient(const T* s, const T* kbar, const T* kpbar, const T& c, const T* z, T* g) {
+  T a[3], b[3];
+  cross3(kpbar, s, a);  // d(K x K') = dK x K' + K x dK': s . (dK x K') = (K' x s) . dK
+  cross3(s, kbar, b);   //                                   s . (K x dK') = (s x K) . dK'
+  for (int i = 0; i < 3; ++i) {
+    a[i] = 0.5 * c * a[i];
+    b[i] = 0.5 * c * b[i];
+  }
+  curvature_form_gradient(a, z, kD1S, g);
+  curvature_form_gradient(b, z, kD1SS, g);
+}
+bool has_turning_term(const StrainTable& T0, const GaussPoint& gp) { return gp.corrected && &T0 == &kSimoReissner; }
+Eigen::Vector3d curvature_at(const VecZ& z, int slot) {
+  Eigen::Vector3d K;
+  curvature_form(z.data(), slot, K.data());
+  return K;
+}
+// 3 x 30 gradient of curvature_form(z, slot)
+Eigen::Matrix<double, 3, kNz> curvature_jacobian(const VecZ& z, int slot) {
+  Eigen::Matrix<double, 3, kNz> G;
+  for (int i = 0; i < 3; ++i) {
+    double s[3] = {0.0, 0.0, 0.0};
+    s[i] = 1.0;
+    VecZ g = VecZ::Zero();
+    curvature_form_gradient(s, z.data(), slot, g.data());
+    G.row(i) = g.transpose();
+  }
+  return G;
+}
+Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
+  Eigen::Matrix3d S;
+  S << 0, -a(2), a(1), a(2), 0, -a(0), -a(1), a(0), 0;
+  return S;
+}
+// The turning term's rows of d eps / dz (the curvature rows 3-5) with K, K' as given (see
+// turning_gradient): (c/2) (K x G' - K' x G), G and G' the gradients of K and K' at z.
+Eigen::Matrix<double, 3, kNz> turning_jacobian(double c, const Eigen::Vector3d& kbar, const Eigen::Vector3d& kpbar,
+                                               const VecZ& z) {
+  return 0.5 * c * (skew(kbar) * curvature_jacobian(z, kD1SS) - skew(kpbar) * curvature_jacobian(z, kD1S));
+}
+// Kz += the derivative of turning_gradient(s, kbar, kpbar, c, zm) with s held, where kbar, kpbar
+// and zm move with z1 at the rate f (1 for the exact gradient, 1/2 for the step's averages):
+// f (c/2) [sum_i a_i H(K_i) + sum_i b_i H(K'_i) + G(zm)^T (-[s]x) G'(z1) + G'(zm)^T [s]x G(z1)]
+// with a = kpbar x s, b = s x kbar.
+void add_turning_hessian(const Eigen::Vector3d& s, const Eigen::Vector3d& kbar, const Eigen::Vector3d& kpbar, double c,
+                         const VecZ& zm, const VecZ& z1, double f, MatZ& Kz) {
+  const Eigen::Vector3d a = 0.5 * c * f * kpbar.cross(s), b = 0.5 * c * f * s.cross(kbar);
+  // the curvature forms' Hessians: constant, the terms of curvature_form_gradient with z's blocks as unit vectors
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    for (int slot : {kD1S, kD1SS}) {
+      const double h = 0.5 * (slot == kD1S ? a(i) : b(i));
+      for (int cc = 0; cc < 3; ++cc) {
+        Kz(3 * (kD1 + k) + cc, 3 * (slot + j) + cc) += h;
+        Kz(3 * (slot + j) + cc, 3 * (kD1 + k) + cc) += h;
+        Kz(3 * (kD1 + j) + cc, 3 * (slot + k) + cc) -= h;
+        Kz(3 * (slot + k) + cc, 3 * (kD1 + j) + cc) -= h;
+      }
+    }
+  }
+  const Eigen::Matrix3d S = skew(s);
+  const auto Gm = curvature_jacobian(zm, kD1S), Gpm = curvature_jacobian(zm, kD1SS);
+  const auto G1 = curvature_jacobian(z1, kD1S), Gp1 = curvature_jacobian(z1, kD1SS);
+  Kz.noalias() += (0.5 * c * f) * (Gpm.transpose() * S * G1 - Gm.transpose() * S * Gp1);
+}
+}  // namespace
+
+Vec6 point_strains(const StrainTable& T0, const GaussPoint& gp, const VecZ& z) {
+  Vec6 e = strains(point_table(T0, gp), z);
+  if (has_turning_term(T0, gp))
+    e.tail<3>() += 0.5 * gp.correction_weight * curvature_at(z, kD1S).cross(curvature_at(z, kD1SS));
+  return e;
+}
+
+
 
 Vec6 strains(const StrainTable& T, const VecZ& z) {
   Vec6 e;
@@ -173,9 +289,7 @@ Vec6 strains(const StrainTable& T, const VecZ& z) {
 
 double beam_gp_energy(const StrainTable& T0, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                       const VecEl& q) {
-  const StrainTable T = point_table(T0, gp);
-  const VecZ z = apply_P(gp, q);
-  const Vec6 de = strains(T, z) - eps0;
+  const Vec6 de = point_strains(T0, gp, apply_P(gp, q)) - eps0;
   return 0.5 * gp.w * de.dot(C.cwiseProduct(de));
 }
 
@@ -193,14 +307,23 @@ void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C0, const 
   const StrainTable T = point_table(T0, gp);
   const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z = apply_P(gp, q);
-  Vec6 sigma = C.cwiseProduct(strains(T, z) - eps0);
+  Vec6 sigma = C.cwiseProduct(point_strains(T0, gp, z) - eps0);
   if (gamma_sigma) sigma.head<3>() = *gamma_sigma;
-  add_Pt(gp, gp.w, weighted_gradient(T, sigma, z), r);
+  VecZ g = weighted_gradient(T, sigma, z);
+  const bool turns = has_turning_term(T0, gp);
+  const double c = gp.correction_weight;
+  const Eigen::Vector3d k = turns ? curvature_at(z, kD1S) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d kp = turns ? curvature_at(z, kD1SS) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d sigma_k = sigma.tail<3>();
+  if (turns) turning_gradient(sigma_k.data(), k.data(), kp.data(), c, z.data(), g.data());
+  add_Pt(gp, gp.w, g, r);
   if (K) {
     Mat6Z B;
-    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z, B.row(k));
+    for (int i = 0; i < 6; ++i) form_gradient<kNz>(T[i], z, B.row(i));
+    if (turns) B.bottomRows<3>() += turning_jacobian(c, k, kp, z);
     MatZ Kz = weighted_product(gp, B, C, B, 1.0);
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], sigma(k), Kz);
+    for (int i = 0; i < 6; ++i) form_add_hessian<kNz>(T[i], sigma(i), Kz);
+    if (turns) add_turning_hessian(sigma_k, k, kp, c, z, z, 1.0, Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
   }
 }
@@ -212,16 +335,35 @@ void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, con
   const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
   // averaged strain, shifted by xi/2 (eps1 - eps0) towards the end of the step
-  Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * strains(T, z0) + 0.5 * (1.0 + xi) * strains(T, z1) - eps0);
+  Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * point_strains(T0, gp, z0) +
+                              0.5 * (1.0 + xi) * point_strains(T0, gp, z1) - eps0);
   if (gamma_sigma) sigma.head<3>() = *gamma_sigma;
-  add_Pt(gp, gp.w, weighted_gradient(T, sigma, zm), r);
+  VecZ g = weighted_gradient(T, sigma, zm);
+  // the turning term's discrete gradient: the product rule with the step's averages of K and K'
+  const bool turns = has_turning_term(T0, gp);
+  const double c = gp.correction_weight;
+  Eigen::Vector3d k1 = Eigen::Vector3d::Zero(), kp1 = k1, kbar = k1, kpbar = k1;
+  if (turns) {
+    k1 = curvature_at(z1, kD1S);
+    kp1 = curvature_at(z1, kD1SS);
+    kbar = 0.5 * (curvature_at(z0, kD1S) + k1);
+    kpbar = 0.5 * (curvature_at(z0, kD1SS) + kp1);
+  }
+  const Eigen::Vector3d sigma_k = sigma.tail<3>();
+  if (turns) turning_gradient(sigma_k.data(), kbar.data(), kpbar.data(), c, zm.data(), g.data());
+  add_Pt(gp, gp.w, g, r);
   if (K) {
     Mat6Z Bm;
-    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], zm, Bm.row(k));
+    for (int i = 0; i < 6; ++i) form_gradient<kNz>(T[i], zm, Bm.row(i));
     Mat6Z B1;
-    for (int k = 0; k < 6; ++k) form_gradient<kNz>(T[k], z1, B1.row(k));
+    for (int i = 0; i < 6; ++i) form_gradient<kNz>(T[i], z1, B1.row(i));
+    if (turns) {
+      Bm.bottomRows<3>() += turning_jacobian(c, kbar, kpbar, zm);
+      B1.bottomRows<3>() += turning_jacobian(c, k1, kp1, z1);
+    }
     MatZ Kz = weighted_product(gp, Bm, C, B1, 0.5 * (1.0 + xi));
-    for (int k = 0; k < 6; ++k) form_add_hessian<kNz>(T[k], 0.5 * sigma(k), Kz);
+    for (int i = 0; i < 6; ++i) form_add_hessian<kNz>(T[i], 0.5 * sigma(i), Kz);
+    if (turns) add_turning_hessian(sigma_k, kbar, kpbar, c, zm, z1, 0.5, Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
   }
 }
@@ -444,14 +586,30 @@ __attribute__((always_inline)) inline void span_residual(const Stiffness& C, con
     if (Corrected) z1[18 + k] = ddN[0] * qa + ddN[1] * qb + ddN[2] * qc;
   }
   Forms::strains(z1, e1);
-  if (Corrected) DirectorCorrection::strains(z1, v, e1);
+  Lanes k1[3], kp1[3];
+  if (Corrected) {
+    DirectorCorrection::strains(z1, v, e1);
+    curvature_form(z1, kD1S, k1);
+    curvature_form(z1, kD1SS, kp1);
+    Lanes t[3];
+    cross3(k1, kp1, t);
+    for (int i = 0; i < 3; ++i) e1[3 + i] += 0.5 * v * t[i];
+  }
   const double a0 = 0.5 * (1.0 - xi), a1 = 0.5 * (1.0 + xi);
   for (int k = 0; k < 6; ++k) sigma[k] = C(k) * (a0 * load(st.e0[k]) + a1 * e1[k] - load(st.eps0[k]));
   if (gamma_sigma)
     for (int k = 0; k < 3; ++k) sigma[k] = load(gamma_sigma[k]);
   for (int k = 0; k < nz; ++k) zm[k] = 0.5 * (load(st.z0[k]) + z1[k]);
   Forms::gradient(sigma, zm, g);
-  if (Corrected) DirectorCorrection::gradient(sigma, zm, v, g);
+  if (Corrected) {
+    DirectorCorrection::gradient(sigma, zm, v, g);
+    Lanes kbar[3], kpbar[3];
+    for (int i = 0; i < 3; ++i) {
+      kbar[i] = 0.5 * (load(st.k0[i]) + k1[i]);
+      kpbar[i] = 0.5 * (load(st.kp0[i]) + kp1[i]);
+    }
+    turning_gradient(sigma + 3, kbar, kpbar, v, zm, g);
+  }
   const Lanes w = load(st.w);
   for (int a = 0; a < 3; ++a) {
     const Lanes wN = w * N[a], wdN = w * dN[a];
@@ -480,8 +638,15 @@ SpanEmState span_em_state(const StrainTable& T, const GaussPoint* gps, const Vec
     for (int a = 0; a < 3; ++a) st.ddN[a][g] = gp.ddN[a];
     st.correction_weight[g] = gp.correction_weight;
     const VecZ z = apply_P(gp, q0);
-    const Vec6 e = strains(point_table(T, gp), z);
+    const Vec6 e = point_strains(T, gp, z);
     for (int k = 0; k < kNz; ++k) st.z0[k][g] = z(k);
+    if (st.corrected) {
+      const Eigen::Vector3d k0 = curvature_at(z, kD1S), kp0 = curvature_at(z, kD1SS);
+      for (int i = 0; i < 3; ++i) {
+        st.k0[i][g] = k0(i);
+        st.kp0[i][g] = kp0(i);
+      }
+    }
     for (int k = 0; k < 6; ++k) {
       st.e0[k][g] = e(k);
       st.eps0[k][g] = eps0[g](k);

@@ -125,8 +125,14 @@ VecZ field_values(const GaussPoint& gp, const VecEl& q);
 /// everything built on the tables (exact energy-momentum, frame indifference, the exact tangent)
 /// holds unchanged.
 StrainTable point_table(const StrainTable& T, const GaussPoint& gp);
-/// Strains at z (of the table given: pass point_table's for a point's strains).
+/// Strains at z of the table given (without the turning term: point_strains gives a point's).
 Vec6 strains(const StrainTable& T, const VecZ& z);
+/// The strains of a quadrature point at z: those of point_table(T, gp), and at corrected points
+/// of the Simo-Reissner measure the turning term (c/2) K x K' added to the curvature, K and K' the
+/// curvature forms K(d, d') and K(d, d'') (theory.md, "The turning term"). It is a product of two
+/// quadratic forms; the kernels below differentiate it exactly and give it the product rule's
+/// discrete gradient in energy-momentum steps, which keeps those exact.
+Vec6 point_strains(const StrainTable& T, const GaussPoint& gp, const VecZ& z);
 
 /// Gauss-Legendre points and weights on [0,1] for a quadrature rule (3 = full, 2 = reduced).
 int gauss_rule(Quadrature q, std::array<double, 3>& x, std::array<double, 3>& w);
@@ -193,6 +199,7 @@ struct alignas(32) SpanEmState {
   double ddN[3][kSpanLanes], correction_weight[kSpanLanes];  ///< corrected points only (point_table)
   bool corrected;
   double z0[kNz][kSpanLanes];
+  double k0[3][kSpanLanes], kp0[3][kSpanLanes];  ///< K(d, d') and K(d, d'') at q_n (corrected points)
   double e0[6][kSpanLanes];
   double eps0[6][kSpanLanes];
 };

@@ -70,7 +70,7 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
     const kernels::VecEl q = Eigen::Map<const kernels::VecEl>(spec.q_ref.data() + 12 * e);
     for (int g = 0; g < n_gp_; ++g)
       eps0_[e * n_gp_ + g] =
-          kernels::strains(kernels::point_table(strain_table(), gp(e, g)), kernels::field_map(gp(e, g)) * q);
+          kernels::point_strains(strain_table(), gp(e, g), kernels::field_map(gp(e, g)) * q);
   }
 }
 
@@ -115,7 +115,7 @@ void Beam::sample_into(const std::vector<double>& q, const std::vector<double>& 
     const kernels::StrainTable& T = p.table;
     const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * b.span);
     const kernels::VecZ z = kernels::field_values(p.gp, qe);
-    kernels::Vec6 eps = kernels::strains(T, z) - p.eps_ref;
+    kernels::Vec6 eps = kernels::point_strains(strain_table(), p.gp, z) - p.eps_ref;
     if (gamma_at_knots()) {  // the element's own membrane and shear strains: the knots' values interpolated
       const double t = p.gp.t;
       eps.head<3>() = (1.0 - t) * knots[static_cast<size_t>(b.span)] + t * knots[static_cast<size_t>(b.span + 1)];
@@ -168,7 +168,7 @@ const std::vector<Beam::SamplePoint>& Beam::sample_points(int samples_per_span) 
     p.gp = basis_point(n_spans(), length(), p.basis.span, p.s / length(), 0.0, corrected());
     p.table = kernels::point_table(strain_table(), p.gp);
     const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * p.basis.span);
-    p.eps_ref = kernels::strains(p.table, kernels::field_map(p.gp) * q0);
+    p.eps_ref = kernels::point_strains(strain_table(), p.gp, kernels::field_map(p.gp) * q0);
     const auto& axial = p.table[0];
     p.centre_line_axial = axial.n_terms == 1 && axial.terms[0].a == kernels::kPhiS && axial.terms[0].b == kernels::kPhiS;
   }
