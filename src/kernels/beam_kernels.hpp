@@ -6,7 +6,9 @@
 /// quadrature point, z = (phi', d1, d2, d3, d1', d2', d3', d1'', d2'', d3'') in R^30. One table of such terms per
 /// measure therefore gives the strain, its gradient B = d eps/dz (linear in z) and its Hessian
 /// (constant), and so the energy, the internal force and the exact tangent. The same property
-/// makes the averaged-strain energy-momentum scheme exact.
+/// makes the averaged-strain energy-momentum scheme exact. The one exception, the turning term of
+/// the assumed-strain beam's curvature (point_strains), is a cross product of two such forms and
+/// is written out beside the tables.
 ///
 /// Pure functions of local data: no PETSc, no MPI, no heap allocation.
 
