@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "solvers/coupling_correction.hpp"
+#include "solvers/block_solve_path.hpp"
 #include "solvers/schwarz.hpp"
 #include "solvers/solver_options.hpp"
 
@@ -86,23 +87,8 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   MPI_Comm_size(model.comm(), &size);
   const CoreOptions options = core_options(model.comm());
   const PetscBool condense = options.condense_directors;
-  if (schwarz_requested(model.comm(), kStepPrefix)) {
-    SB_CHECK(configure_schwarz(snes_, model, J_));
-    const bool user_sub = user_sets_schwarz_option(kStepPrefix, "-sub_pc_type");
-    schwarz_ = true;
-    if (condense && options.schwarz_overlap == 0 && !user_sub) {  // block Jacobi: each rank's block solved condensed, exactly
-      const std::vector<PetscInt> order = model.elimination_order();
-      block_condensation_ = std::make_unique<DirectorCondensation>(model, order, DirectorCondensation::Mode::Exact);
-      int any = block_condensation_->empty() ? 0 : 1;
-      MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, model.comm());
-      if (!any) {
-        block_condensation_.reset();
-      } else {
-        block_update_ = std::make_unique<DirectorCondensation>(model, order, DirectorCondensation::Mode::Update);
-        block_update_->set_newton_multipliers(true);  // GMRES's exact step carries them
-        SB_CHECK(block_update_->attach_update(snes_));
-      }
-    }
+  if (BlockSolvePath::requested(model.comm(), kStepPrefix)) {
+    blocks_ = std::make_unique<BlockSolvePath>(model, snes_, J_, kStepPrefix);
   } else if (size == 1 && !user_solver) {
     KSP ksp = nullptr;
     PC pc = nullptr;
@@ -417,7 +403,7 @@ void TimeIntegrator::prepare_step(double h) {
     }
   }
   if (condensation_) condensation_->set_force_state(x_, step_eval().theta, scale_);
-  if (block_update_) block_update_->set_force_state(x_, step_eval().theta, scale_);
+  if (blocks_ && blocks_->update()) blocks_->update()->set_force_state(x_, step_eval().theta, scale_);
 }
 
 PetscErrorCode TimeIntegrator::step_forces(Vec x1, Vec F) { return step_forces(x1, F, step_eval()); }
@@ -489,65 +475,11 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
   PetscCall(self->step_jacobian(x, J));
   const int seen = self->pattern_seen_;
   PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
-  if (self->schwarz_) {
-    KSP ksp = nullptr;
-    PetscCall(SNESGetKSP(snes, &ksp));
-    SchwarzSolve solve = SchwarzSolve::Krylov;
-    PetscCall(prepare_schwarz(ksp, self->model_, J, seen != self->pattern_seen_, &solve));
-    // One application on several ranks reports a block's failure on its rank alone; the
-    // post-solves make the step NaN on every rank instead, and Newton fails everywhere
-    // (fail_on_every_rank).
-    const bool distributed = self->model_.dof_map().owners() != 1;
-    PetscCall(SNESSetMaxLinearSolveFailures(snes, solve != SchwarzSolve::Krylov && distributed ? PETSC_MAX_INT : 1));
-    CouplingCorrection* correction = coupling_correction(ksp);
-    if (correction) correction->use_condensation(nullptr);
-    ParallelSolves& count = self->parallel_solves_;
-    ++(solve == SchwarzSolve::Blocks ? count.blocks : solve == SchwarzSolve::Corrected ? count.corrected : count.krylov);
-    if (correction) count.coupled_rows = std::max<long>(count.coupled_rows, correction->coupled_rows());
-    if (self->block_condensation_) {
-      // One application of the blocks' reduced solves is the whole solve where the ranks are
-      // not coupled, and with the coupling correction in reduced coordinates where they are:
-      // the line search's manifold update and least-squares multipliers do the rest, as
-      // serially. GMRES needs the blocks' exact solves, and its step carries Newton's
-      // multipliers. (Set before the blocks are set up: the exact solve's extra data is built
-      // only if used.)
-      const bool reduced = solve == SchwarzSolve::Blocks || solve == SchwarzSolve::Corrected;
-      self->block_condensation_->set_manifold_apply(reduced);
-      self->block_update_->set_newton_multipliers(!reduced);
-      PetscCall(self->condense_schwarz_blocks(J));
-      if (correction && solve == SchwarzSolve::Corrected) correction->use_condensation(self->block_condensation_.get());
-    }
-  }
+  if (self->blocks_) PetscCall(self->blocks_->prepare(J, seen != self->pattern_seen_));
   PetscCall(SNESGetIterationNumber(snes, &self->jac_iter_));
   self->jac_solve_ = self->solve_count_;
   self->jac_c0_ = self->c0_;
   ++self->jac_evals_;
-  PetscFunctionReturn(0);
-}
-
-/// Block Jacobi's block solver becomes the exact condensed solve: set the outer preconditioner up
-/// (which creates the block's KSP, not yet factored), then replace the block's PC, unless the
-/// user named one (-sub_pc_type) or it is in place already.
-PetscErrorCode TimeIntegrator::condense_schwarz_blocks(Mat J) {
-  PetscFunctionBeginUser;
-  KSP ksp = nullptr;
-  PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes_, &ksp));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscBool bjacobi = PETSC_FALSE;
-  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCBJACOBI, &bjacobi));
-  if (!bjacobi) PetscFunctionReturn(0);
-  PetscCall(KSPSetOperators(ksp, J, J));
-  PetscCall(KSPSetUp(ksp));
-  PetscInt n = 0, first = 0;
-  KSP* sub = nullptr;
-  PetscCall(PCBJacobiGetSubKSP(pc, &n, &first, &sub));
-  if (n != 1) PetscFunctionReturn(0);
-  PC subpc = nullptr;
-  PetscCall(KSPGetPC(sub[0], &subpc));
-  PetscBool shell = PETSC_FALSE;
-  PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(subpc), PCSHELL, &shell));
-  if (!shell) PetscCall(block_condensation_->attach_to_block(subpc));
   PetscFunctionReturn(0);
 }
 
@@ -636,7 +568,7 @@ SolveResult TimeIntegrator::step(double h) {
     // After a failure, from the same predictor: first a pivoting LU (if the fast one was in
     // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
     if (attempt > 0) {
-      if (fast_lu_ || schwarz_) {
+      if (fast_lu_ || blocks_) {
         use_pivoting_lu();
       } else if (!tried_full_newton) {
         SB_CHECK(SNESSetLagJacobian(snes_, 1));
@@ -653,7 +585,7 @@ SolveResult TimeIntegrator::step(double h) {
     if (model_.has_sliding_state()) SB_CHECK(VecAXPY(x1_, h, sdot_));  // s: linear extrapolation
     model_.apply_prescribed(x1_);
     if (condensation_) SB_CHECK(condensation_->project(x1_));  // Newton stays on the manifold
-    if (block_update_) SB_CHECK(block_update_->project(x1_));
+    if (blocks_ && blocks_->update()) SB_CHECK(blocks_->update()->project(x1_));
     SB_CHECK(SNESSolve(snes_, nullptr, x1_));
     const int its_before = r.iterations;
     r = solve_result(snes_);
@@ -721,7 +653,7 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   last_failed_ = false;
   stepped_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
-  if (pivoting_lu && (fast_lu_ || schwarz_)) use_pivoting_lu();
+  if (pivoting_lu && (fast_lu_ || blocks_)) use_pivoting_lu();
 }
 
 void TimeIntegrator::use_pivoting_lu() {
@@ -733,22 +665,23 @@ void TimeIntegrator::use_pivoting_lu() {
   MPI_Comm_size(model_.comm(), &size);
   SB_CHECK(PetscInfo(snes_, "Step failed with the non-pivoting LU or the Schwarz preconditioner: a pivoting direct "
                             "LU (SuperLU, MUMPS in parallel) from now on\n"));
+  if (blocks_) {
+    SB_CHECK(blocks_->detach());
+    solves_before_ = blocks_->counts();
+  }
   SB_CHECK(PCReset(pc));
-  if (CouplingCorrection* c = coupling_correction(ksp)) SB_CHECK(c->detach(ksp));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(PCSetType(pc, PCLU));
-  if (condensation_ || block_update_) {  // the full saddle-point system and plain Newton updates from now on
+  if (condensation_) {  // the full saddle-point system and plain Newton updates from now on
     SNESLineSearch ls = nullptr;
     SB_CHECK(SNESGetLineSearch(snes_, &ls));
     SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
     condensation_.reset();
-    block_update_.reset();
   }
   SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
   if (size == 1) SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGND));
   fast_lu_ = false;
-  schwarz_ = false;
-  block_condensation_.reset();
+  blocks_.reset();
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 

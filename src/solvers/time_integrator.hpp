@@ -30,6 +30,7 @@
 /// unknowns per control point instead of 18; -sb_condense_directors false: the full system).
 
 #include "model/model.hpp"
+#include "solvers/block_solve_path.hpp"
 #include "solvers/director_condensation.hpp"
 #include "solvers/newton.hpp"
 
@@ -97,7 +98,7 @@ class TimeIntegrator {
   Vec v_prev() const { return v_prev_; }
   double h_prev() const { return h_prev_; }
   /// True once time steps use the pivoting LU (after a failed step, or when the user chose a solver).
-  bool pivoting_lu() const { return !fast_lu_ && !schwarz_; }
+  bool pivoting_lu() const { return !fast_lu_ && !blocks_; }
   /// Resume from a checkpoint: x, v, a, v_prev and sliding_rate have been loaded into this
   /// integrator's vectors; set the time, the predictor memory and the linear solver state.
   /// segment_steps > 0 continues a segment of equal steps h_prev that started at segment_start.
@@ -113,11 +114,8 @@ class TimeIntegrator {
   /// How the step Jacobians were solved on the Schwarz path (several ranks): how many with one
   /// block application (ranks not coupled), one application plus the coupling correction, and
   /// GMRES; and the most rows of a rank coupled to another rank that any of them had.
-  struct ParallelSolves {
-    long blocks = 0, corrected = 0, krylov = 0;
-    long coupled_rows = 0;
-  };
-  const ParallelSolves& parallel_solves() const { return parallel_solves_; }
+  using ParallelSolves = BlockSolvePath::Counts;
+  ParallelSolves parallel_solves() const { return blocks_ ? blocks_->counts() : solves_before_; }
   const IntegratorParams& params() const { return params_; }
 
   /// Kinetic energy 1/2 v^T M v and momenta of a state, from one product p = M v.
@@ -215,7 +213,7 @@ class TimeIntegrator {
   PetscReal reuse_rate_ = 0.2;
   PetscBool full_newton_after_rebuild_ = PETSC_FALSE;
   int jac_evals_ = 0;
-  ParallelSolves parallel_solves_;
+  ParallelSolves solves_before_;  // the block path's counts when a pivoting LU took over
   long solve_count_ = 0, jac_solve_ = -1;
   PetscInt jac_iter_ = -1;
   double jac_c0_ = 0.0;
@@ -232,13 +230,8 @@ class TimeIntegrator {
   bool use_floor_ = false;
   PetscBool floor_stop_ = PETSC_FALSE;  // -sb_floor_stop
   std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
-  std::unique_ptr<DirectorCondensation> block_condensation_;  // Schwarz: exact condensed block solves
-  // Schwarz: the manifold update of each rank's triads (line search); with ranks not coupled the
-  // block solves are then the reduced solves alone
-  std::unique_ptr<DirectorCondensation> block_update_;
-  PetscErrorCode condense_schwarz_blocks(Mat J);
+  std::unique_ptr<BlockSolvePath> blocks_;  // -sb_schwarz: the parallel block solve
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
-  bool schwarz_ = false;  // -sb_schwarz: GMRES + Schwarz on the model's subdomains
   PetscLogEvent ev_step_ = 0;
 };
 
