@@ -8,6 +8,10 @@ time. Time it only on an otherwise idle machine.
 
     scripts/bench_ranks.py                 # the default shipped scenes, 3 runs each
     scripts/bench_ranks.py --generated     # make_cables.py scenes of 2.6e3 to 2.6e4 unknowns
+
+With --generated the table has the static start's own time too (summary.json's
+static_start.wall_time_s) and a third column: 2 ranks with the static start on rank 0 alone
+(-sb_equilibrium_on_rank_0) instead of on both.
     scripts/bench_ranks.py --repeat 5 runs/cables/zip_line.toml
 """
 from __future__ import annotations
@@ -44,7 +48,8 @@ def generate(work: Path) -> list[tuple[str, list[str]]]:
     return out
 
 
-def run(scene: str, sets: list[str], ranks: int, petsc: list[str], work: Path) -> tuple[float, int]:
+def run(scene: str, sets: list[str], ranks: int, petsc: list[str], work: Path) -> tuple[float, int, float]:
+    """The run's wall time, its unknowns and its static start's wall time (0 without one)."""
     out = work / "out"
     cmd = [str(ROOT / "scripts" / "slidebeam"), "run", str(ROOT / scene), "--out", str(out), "-q",
            "--set", "output.xdmf=false", *[a for s in sets for a in ("--set", s)], *(["--", *petsc] if petsc else [])]
@@ -53,7 +58,25 @@ def run(scene: str, sets: list[str], ranks: int, petsc: list[str], work: Path) -
     env = {**os.environ, "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
     subprocess.run(cmd, check=True, capture_output=True, env=env)
     summary = json.loads((out / "summary.json").read_text())
-    return float(summary["wall_time_s"]), int(summary["unknowns"])
+    start = summary.get("static_start") or {}
+    return float(summary["wall_time_s"]), int(summary["unknowns"]), float(start.get("wall_time_s", 0.0))
+
+
+def generated_table(scenes: list[tuple[str, list[str]]], repeat: int, work: Path) -> None:
+    """Whole run and static start, 1 rank against 2 (start on both, and on rank 0 alone)."""
+    print("| scene | unknowns | 1 rank: run, s (start, s) | 2 ranks: run, s (ratio) | start, s (ratio) "
+          "| 2 ranks, start on rank 0: run, s (ratio) |")
+    print("|---|---|---|---|---|---|")
+    for scene, sets in scenes:
+        med = {}
+        unknowns = 0
+        for label, ranks, petsc in (("1", 1, []), ("2", 2, []), ("2r0", 2, ["-sb_equilibrium_on_rank_0", "true"])):
+            samples = [run(scene, sets, ranks, petsc, work) for _ in range(repeat)]
+            unknowns = samples[0][1]
+            med[label] = (statistics.median(t for t, _, _ in samples), statistics.median(s for _, _, s in samples))
+        (one, one_start), (two, two_start), (r0, _) = med["1"], med["2"], med["2r0"]
+        print(f"| {Path(scene).stem} | {unknowns} | {one:.3g} ({one_start:.3g}) | {two:.3g} ({two / one:.2f}) | "
+              f"{two_start:.3g} ({two_start / one_start:.2f}) | {r0:.3g} ({r0 / one:.2f}) |", flush=True)
 
 
 def main() -> None:
@@ -62,18 +85,22 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--generated", action="store_true", help="generated cable scenes (make_cables.py)")
     args = ap.parse_args()
+    if args.generated:
+        with tempfile.TemporaryDirectory() as tmp:
+            generated_table(generate(Path(tmp)), args.repeat, Path(tmp))
+        return
     print("| scene | unknowns | 1 rank, s | 2 ranks (default), s | ratio | 2 ranks distributed, s | ratio |")
     print("|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        scenes = generate(work) if args.generated else [(s, []) for s in args.scenes] or SCENES
+        scenes = [(s, []) for s in args.scenes] or SCENES
         for scene, sets in scenes:
             times = {}
             unknowns = 0
             for label, ranks, petsc in (("1", 1, []), ("2", 2, []), ("2d", 2, ["-sb_serial_below", "0"])):
                 samples = []
                 for _ in range(args.repeat):
-                    t, unknowns = run(scene, sets, ranks, petsc, work)
+                    t, unknowns, _ = run(scene, sets, ranks, petsc, work)
                     samples.append(t)
                 times[label] = statistics.median(samples)
             one = times["1"]

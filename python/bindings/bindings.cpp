@@ -271,10 +271,13 @@ PYBIND11_MODULE(_core, m) {
   m.attr("SERIAL_BELOW") = CoreOptions{}.serial_below;
   // -sb_statics_on_rank_0's default: the CLI and Simulation.settle decide by it
   m.attr("STATICS_ON_RANK_0") = static_cast<bool>(CoreOptions{}.statics_on_rank_0);
+  m.attr("EQUILIBRIUM_ON_RANK_0") = static_cast<bool>(CoreOptions{}.equilibrium_on_rank_0);
 
   py::class_<EquilibriumResult>(m, "EquilibriumResult")
       .def_readonly("converged", &EquilibriumResult::converged)
       .def_readonly("pseudo_steps", &EquilibriumResult::pseudo_steps)
+      .def_readonly("block_steps", &EquilibriumResult::block_steps,
+                    "continuation steps solved on the parallel block path (a distributed static start)")
       .def_readonly("newton_iterations", &EquilibriumResult::newton_iterations)
       .def_readonly("residual0", &EquilibriumResult::residual0)
       .def_readonly("residual", &EquilibriumResult::residual)

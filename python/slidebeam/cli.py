@@ -503,7 +503,7 @@ def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, 
                         output: XdmfOutput, err: Exception) -> int:
     """The static start found no equilibrium: nothing is stepped; the folder still gets the XDMF
     (the initial state), a history with that state, and a summary saying what happened."""
-    from .results import write_files
+    from .results import static_start_summary, write_files
 
     signum = sim.settled.interrupted
     causes = [] if signum else _likely_causes(scene)
@@ -518,9 +518,7 @@ def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, 
         "stopped": message.split(";")[0], "likely_causes": causes,
         "active_effects": [e.label for e in sim.active_effects], "t_end": scene.analysis.t_end, "t_reached": 0.0,
         "steps": 0, "unknowns": sim.x.getSize(), "ranks": ranks, "wall_time_s": time.perf_counter() - t0,
-        "static_start": {"continuation_steps": sim.settled.pseudo_steps,
-                         "newton_iterations": sim.settled.newton_iterations,
-                         "residual_initial": sim.settled.residual0, "residual": sim.settled.residual},
+        "static_start": static_start_summary(sim),
         "checkpoint": None,
     }
     options_check.report_unused(sim, summary, rank)

@@ -71,12 +71,21 @@ def wait_sleeping(comm: Any) -> None:
 
 
 def statics_on_rank_0() -> bool:
-    """-sb_statics_on_rank_0: static solves of a distributed run on rank 0 alone."""
+    """-sb_statics_on_rank_0: static analyses of a distributed run on rank 0 alone."""
     from petsc4py import PETSc
 
     from . import _core
 
     return bool(PETSc.Options().getBool("sb_statics_on_rank_0", _core.STATICS_ON_RANK_0))
+
+
+def equilibrium_on_rank_0() -> bool:
+    """-sb_equilibrium_on_rank_0: the static start of a distributed dynamic run on rank 0 alone."""
+    from petsc4py import PETSc
+
+    from . import _core
+
+    return bool(PETSc.Options().getBool("sb_equilibrium_on_rank_0", _core.EQUILIBRIUM_ON_RANK_0))
 
 
 def serial_below() -> int:

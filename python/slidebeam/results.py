@@ -192,9 +192,7 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
         "max_constraint_residual": max(r.constraint_residual for r in recs),
     }
     if sim.settled is not None:
-        summary["static_start"] = {"continuation_steps": sim.settled.pseudo_steps,
-                                   "newton_iterations": sim.settled.newton_iterations,
-                                   "residual_initial": sim.settled.residual0, "residual": sim.settled.residual}
+        summary["static_start"] = static_start_summary(sim)
     p = sim.velocity_projection
     if p is not None and initial_velocity:
         summary["initial_velocity"] = {
@@ -208,6 +206,15 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
     if sim.x.getComm().getSize() > 1:
         summary["parallel"] = parallel_summary(sim)
     return summary
+
+
+def static_start_summary(sim: Simulation) -> dict[str, Any]:
+    """summary.json's account of a simulation's static start (settled)."""
+    s = sim.settled
+    assert s is not None
+    return {"continuation_steps": s.pseudo_steps, "block_steps": s.block_steps,
+            "newton_iterations": s.newton_iterations, "residual_initial": s.residual0, "residual": s.residual,
+            "wall_time_s": sim.settle_wall_time}
 
 
 def parallel_summary(sim: Simulation) -> dict[str, Any]:
@@ -224,7 +231,9 @@ def parallel_summary(sim: Simulation) -> dict[str, Any]:
                                 "block application and coupling correction": solves["corrected"],
                                 "GMRES": solves["krylov"]},
         "pivoting_lu": bool(sim.integrator.pivoting_lu),
-        "static_start": None if sim.settled is None else ("rank 0 alone" if sim.settled_on_rank_0 else "all ranks"),
+        "static_start": None if sim.settled is None else (
+            "rank 0 alone" if sim.settled_on_rank_0 else
+            f"all ranks ({sim.settled.block_steps} of {sim.settled.pseudo_steps} continuation steps on the block solve)"),
     }
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import shlex
+import time
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -22,7 +23,7 @@ from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .options_check import is_number
-from .parallel import statics_on_rank_0, wait_sleeping
+from .parallel import equilibrium_on_rank_0, statics_on_rank_0, wait_sleeping
 from .scene import Scene, SceneError
 
 
@@ -40,6 +41,7 @@ class EquilibriumOutcome:
 
     converged: bool
     pseudo_steps: int  # continuation steps
+    block_steps: int  # ... solved on the parallel block path (a distributed static start)
     newton_iterations: int
     residual0: float  # |F| at the start
     residual: float  # |F| at the end
@@ -183,13 +185,15 @@ class Simulation:
         # built with them too, whatever the database holds by then
         self._options: dict[str, str | None] = PETSc.Options().getAll()
         self._statics_on_rank_0_option = statics_on_rank_0()
+        self._equilibrium_on_rank_0_option = equilibrium_on_rank_0()
         self._model, self.effects = build_model(scene, comm)
         self._solver = _core.StaticSolver(self._model)
         self._t = 0.0
         self.use_predictor = True
         self.integrator: _core.TimeIntegrator | None = None
         self.settled: EquilibriumOutcome | None = None  # the static start, once done (settle)
-        self.settled_on_rank_0 = False  # ... solved by rank 0 alone (-sb_statics_on_rank_0)
+        self.settled_on_rank_0 = False  # ... solved by rank 0 alone (-sb_equilibrium_on_rank_0)
+        self.settle_wall_time = 0.0  # ... its wall time, seconds
         self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.load_step_cuts = 0  # load steps of the last solve_static that failed and were halved
@@ -238,16 +242,19 @@ class Simulation:
         (plus the scene's initial velocities). Raises EquilibriumFailure if no equilibrium is
         reached; the state is then the last one of the continuation.
 
-        On several ranks (-sb_statics_on_rank_0, the default) rank 0 solves it alone with
-        the serial solver, on a model of its own, and hands the state to every rank: the
-        distributed static solve (MUMPS on the whole system) cost 2-3x the serial one."""
+        On several ranks it runs on all ranks: its continuation steps on the time steps' block
+        solve, its final Newton solve on MUMPS (``settled.block_steps`` counts the former). With
+        -sb_equilibrium_on_rank_0, rank 0 solves it alone with the serial solver, on a model of
+        its own, bit for bit the serial run's, and hands the state to every rank."""
         assert self.integrator is not None, "settle() starts dynamic runs"
-        self.settled_on_rank_0 = self._statics_on_rank_0()
+        started = time.perf_counter()
+        self.settled_on_rank_0 = self._distributed_and(self._equilibrium_on_rank_0_option)
         result = self._settle_alone() if self.settled_on_rank_0 else None
         if result is None:  # one rank, the option off, or rank 0 cannot hold the whole model
             self.settled_on_rank_0 = False
             result = self._settle_with(self._model)
         self.settled = result
+        self.settle_wall_time = time.perf_counter() - started
         if not result.converged:
             raise EquilibriumFailure(
                 f"the static start found no equilibrium: residual {result.residual:.3e} (from {result.residual0:.3e}) "
@@ -265,11 +272,12 @@ class Simulation:
                           [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in free])
         return EquilibriumOutcome.of(solver.solve(0.0, self.scene.analysis.dt))
 
-    def _statics_on_rank_0(self) -> bool:
-        """True if the model is distributed over several ranks and -sb_statics_on_rank_0
-        held when the simulation was built (collective)."""
+    def _distributed_and(self, option: bool) -> bool:
+        """True if the model is distributed over several ranks and option (-sb_statics_on_rank_0
+        or -sb_equilibrium_on_rank_0 as it was when the simulation was built) holds
+        (collective)."""
         comm = self._model.x.getComm().tompi4py()
-        if comm.Get_size() == 1 or not self._statics_on_rank_0_option:
+        if comm.Get_size() == 1 or not option:
             return False
         return comm.allreduce(1 if self._model.x.getLocalSize() > 0 else 0) > 1
 
@@ -563,7 +571,7 @@ class Simulation:
         ranks once they are all taken: it must not call collective operations of this
         simulation (set the option false for that).
         """
-        if self._statics_on_rank_0():
+        if self._distributed_and(self._statics_on_rank_0_option):
             records = self._solve_static_alone(on_step, max_cuts)
             if records is not None:
                 return records

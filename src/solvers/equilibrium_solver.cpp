@@ -27,11 +27,29 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
   // the singular tangent of a mechanism, where GMRES stalls. (-pc_type and friends, or -sb_eq_pc_type, still apply.)
   manifold_ = std::make_unique<ManifoldNewton>(model, snes_);
   SB_CHECK(SNESSetFromOptions(snes_));
+  if (model.dof_map().owners() > 1 && core_options(model.comm()).equilibrium_blocks &&
+      BlockSolvePath::requested(model.comm(), kEquilibriumPrefix)) {
+    SB_CHECK(SNESCreate(model.comm(), &block_snes_));
+    SB_CHECK(SNESSetOptionsPrefix(block_snes_, kEquilibriumPrefix));
+    SB_CHECK(SNESSetFunction(block_snes_, model.residual_vector(), &EquilibriumSolver::form_function, this));
+    SB_CHECK(SNESSetJacobian(block_snes_, J_, J_, &EquilibriumSolver::form_jacobian, this));
+    SB_CHECK(configure_newton(block_snes_, &test_));
+    // (a step the block path does not solve in 10 iterations goes to the direct solve's
+    // fall-backs, as the manifold Newton's first attempt does)
+    SB_CHECK(SNESSetTolerances(block_snes_, 1e-10, 1e-12, 1e-12, 10, 10000));
+    SB_CHECK(SNESSetConvergenceTest(block_snes_, &EquilibriumSolver::converged, this, nullptr));
+    blocks_ = std::make_unique<BlockSolvePath>(model, block_snes_, J_, kEquilibriumPrefix);
+    // as the manifold Newton: a continuation step's first iterate may turn a triad by tenths of a radian
+    if (blocks_->update()) blocks_->update()->set_exponential_update(core_options(model.comm()).exponential_update);
+    SB_CHECK(SNESSetFromOptions(block_snes_));
+  }
 }
 
 EquilibriumSolver::~EquilibriumSolver() {
   manifold_.reset();
   SNESDestroy(&snes_);
+  SNESDestroy(&block_snes_);
+  blocks_.reset();
   MatDestroy(&J_);
   MatDestroy(&M_);
   VecDestroy(&x_k_);
@@ -110,7 +128,13 @@ PetscErrorCode EquilibriumSolver::form_jacobian(SNES snes, Vec x, Mat J, Mat, vo
   PetscCall(self->model_.set_prescribed_jacobian_rows(J));
   PetscCall(MatZeroRows(J, static_cast<PetscInt>(self->held_.size()), self->held_.data(), 1.0, nullptr, nullptr));
   self->test_.pattern_generation = self->coo_.generation();
-  PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
+  if (snes == self->block_snes_) {
+    const int seen = self->block_pattern_seen_;
+    PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->block_pattern_seen_));
+    PetscCall(self->blocks_->prepare(J, seen != self->block_pattern_seen_));
+  } else {
+    PetscCall(reset_factorization_on_pattern_change(snes, self->coo_.generation(), &self->pattern_seen_));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -142,6 +166,13 @@ PetscErrorCode EquilibriumSolver::static_residual_norm(Vec x, double* norm) {
   PetscFunctionReturn(0);
 }
 
+bool EquilibriumSolver::block_solve(Vec x, int* iterations) {
+  SB_CHECK(SNESSolve(block_snes_, nullptr, x));
+  const SolveResult s = solve_result(block_snes_);
+  *iterations += s.iterations;
+  return s.converged() && std::isfinite(s.residual_norm);
+}
+
 EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int max_steps) {
   EquilibriumResult res;
   t_ = t;
@@ -155,10 +186,19 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   res.residual0 = r;
   const double target = std::max(rtol * r, 1e-10);
   double h = h0;
+  SNES last_snes = snes_;  // the solver of the last Newton solve
   auto newton = [&](double c) {
     c_ = c;
+    last_snes = snes_;
     SB_CHECK(manifold_->project(x));  // x_k on the manifold too: the pull c M (x - x_k) vanishes at x = x_k
     SB_CHECK(VecCopy(x, x_k_));
+    if (c > 0.0 && blocks_) {  // distributed: the block path first, then the direct solve from the same start
+      last_snes = block_snes_;
+      if (block_solve(x, &res.newton_iterations)) return true;
+      last_snes = snes_;
+      SB_CHECK(PetscInfo(snes_, "continuation step failed on the block solve: once more on the direct solve\n"));
+      SB_CHECK(VecCopy(x_k_, x));
+    }
     // The polish (c = 0) meets the tangent of a mechanism, singular or nearly so: a pivoting LU.
     const SolveResult s = manifold_->solve(x, c == 0.0);
     res.newton_iterations += s.iterations;
@@ -177,6 +217,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
     }
     cuts = 0;
     ++res.pseudo_steps;
+    if (last_snes == block_snes_) ++res.block_steps;
     double r_new = 0.0, dx = 0.0, xn = 0.0;
     SB_CHECK(static_residual_norm(x, &r_new));
     // how far the coordinates moved (multipliers are as noisy as the residual is small)
@@ -187,7 +228,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
     SB_CHECK(VecNorm(work_, NORM_INFINITY, &xn));
     // The pseudo-step grows at least 2x after an easy solve, faster when the residual falls
     // (switched evolution relaxation), at most 10x; a hard solve keeps it.
-    const SolveResult last = solve_result(snes_);
+    const SolveResult last = solve_result(last_snes);
     const double ser = std::sqrt(r / std::max(r_new, 1e-300));
     h *= last.iterations <= 6 ? std::clamp(ser, 2.0, 10.0) : std::clamp(ser, 1.0, 2.0);
     const bool stagnant = r_new >= 0.5 * r;

@@ -15,8 +15,16 @@
 /// tolerance). Sliders can be held (s prescribed at its current value) during the solve.
 /// Every Newton solve, the continuation's and the polish, is Newton on the director constraint
 /// manifold (ManifoldNewton), as in the time steps.
+///
+/// Distributed, a continuation step's matrix K + M/h^2 is regular on every rank's block as a time
+/// step's is, so its Newton solve takes the time steps' parallel path (BlockSolvePath: condensed
+/// exact blocks, the coupling correction where ranks are coupled, one application per Newton
+/// step) on a SNES of its own; a step that fails there is tried again on the direct solve
+/// (MUMPS) before the pseudo-step is cut. The polish, K alone (a rank's stretch of rope floats),
+/// is MUMPS's. -sb_equilibrium_blocks false: every solve on MUMPS.
 
 #include "model/model.hpp"
+#include "solvers/block_solve_path.hpp"
 #include "solvers/manifold_newton.hpp"
 #include "solvers/newton.hpp"
 
@@ -29,6 +37,7 @@ namespace slidebeam {
 struct EquilibriumResult {
   bool converged = false;
   int pseudo_steps = 0;       ///< continuation steps taken (accepted)
+  int block_steps = 0;        ///< ... of which solved on the parallel block path (distributed)
   int newton_iterations = 0;  ///< all Newton iterations, polish included
   double residual0 = 0.0;     ///< ||F|| of the start state
   double residual = 0.0;      ///< ||F|| of the final state
@@ -68,6 +77,8 @@ class EquilibriumSolver {
   Model& model_;
   RoundoffTest test_;
   SNES snes_ = nullptr;
+  SNES block_snes_ = nullptr;  // distributed continuation steps (BlockSolvePath), or null
+  std::unique_ptr<BlockSolvePath> blocks_;
   Mat J_ = nullptr, M_ = nullptr;
   CooAssembly coo_;
   Vec x_k_ = nullptr, work_ = nullptr;
@@ -82,8 +93,11 @@ class EquilibriumSolver {
   std::vector<Bound> bounds_;
   double t_ = 0.0;
   double c_ = 0.0;  // 1 / h^2 (0: plain statics)
-  int pattern_seen_ = 0;
+  int pattern_seen_ = 0, block_pattern_seen_ = 0;
   std::unique_ptr<ManifoldNewton> manifold_;
+  /// Newton on the continuation step from x on the block path; false if it failed (x then
+  /// undefined).
+  bool block_solve(Vec x, int* iterations);
 };
 
 }  // namespace slidebeam

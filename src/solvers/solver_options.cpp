@@ -147,10 +147,19 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
                             "another rank (its set-up solves once per interface unknown)",
                             "", o->schwarz_exact_max_interface, &o->schwarz_exact_max_interface, nullptr));
   PetscCall(PetscOptionsBool("-sb_statics_on_rank_0",
-                             "static solves under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
-                             "static analysis there; the static start of a dynamic run and Simulation.solve_static "
-                             "hand their state to every rank (false: on all ranks, MUMPS on the whole system)",
+                             "static analyses under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
+                             "static analysis there; Simulation.solve_static hands its state to every rank (false: "
+                             "on all ranks, MUMPS on the whole system)",
                              "", o->statics_on_rank_0, &o->statics_on_rank_0, nullptr));
+  PetscCall(PetscOptionsBool("-sb_equilibrium_on_rank_0",
+                             "the static start of a distributed dynamic run on rank 0 alone by the serial solver, "
+                             "bit for bit the serial run's (false: on all ranks, see -sb_equilibrium_blocks)",
+                             "", o->equilibrium_on_rank_0, &o->equilibrium_on_rank_0, nullptr));
+  PetscCall(PetscOptionsBool("-sb_equilibrium_blocks",
+                             "a distributed static start: its continuation steps on the time steps' block solve "
+                             "(condensed exact blocks, the coupling correction), its polish on MUMPS (false: "
+                             "MUMPS throughout)",
+                             "", o->equilibrium_blocks, &o->equilibrium_blocks, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_below",
                             "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
                             "", o->serial_below, &o->serial_below, nullptr));

@@ -69,11 +69,18 @@ struct CoreOptions {
   /// costs 1.9x the serial one at 166 unknowns, 1.8x on the 64-span pendulum (1188); sliding
   /// scenes gain from about 800 unknowns, every scene measured from 1832 on.
   PetscInt serial_below = 1500;
-  /// static solves of a distributed run solved on rank 0 alone by the serial solver (the
+  /// static analyses of a distributed run solved on rank 0 alone by the serial solver (the
   /// manifold Newton on the condensed system): `slidebeam run` runs a static analysis there;
-  /// the static start of a dynamic run and Simulation.solve_static hand their state to every
-  /// rank; false: on all ranks (MUMPS on the whole system, 2-4x slower on 2 ranks than on one)
+  /// Simulation.solve_static hands its state to every rank; false: on all ranks (MUMPS on the
+  /// whole system, 2-4x slower on 2 ranks than on one: a rank's block floats without mass)
   PetscBool statics_on_rank_0 = PETSC_TRUE;
+  /// the static start of a distributed dynamic run on rank 0 alone by the serial solver, bit for
+  /// bit the serial run's; false (default): on all ranks, 1.5-2x faster on 2 ranks than on one
+  /// (docs/performance.md)
+  PetscBool equilibrium_on_rank_0 = PETSC_FALSE;
+  /// a distributed static start solves its continuation steps on the time steps' block path
+  /// (BlockSolvePath); false: on MUMPS like its polish
+  PetscBool equilibrium_blocks = PETSC_TRUE;
 };
 
 /// Read the -sb_ options (collective on comm).

@@ -177,35 +177,43 @@ def test_equilibrium_start_keys_are_checked(tmp_path):
         slidebeam.load_scene(bad)
 
 
-@pytest.mark.parametrize("on_rank_0", ["true", "false"])
-def test_static_start_is_the_same_on_all_ranks_and_on_one(on_rank_0):
-    """Meaningful under mpirun. By default rank 0 solves the static start alone with the serial
-    solver: the same continuation, Newton iterations and residual as the serial run, bit for
-    bit. Distributed (-sb_statics_on_rank_0 false: MUMPS on the whole system), the
-    equilibrium equals the serial one to the level its residual floor defines it (1e-8 of the
-    sag)."""
+@pytest.mark.parametrize("path", ["blocks", "mumps", "rank 0"])
+def test_static_start_is_the_same_on_all_ranks_and_on_one(path):
+    """Meaningful under mpirun. By default the static start runs on all ranks, its continuation
+    steps on the time steps' block solve (every one of them here) and its polish on MUMPS; with
+    -sb_equilibrium_blocks false all on MUMPS. Either way the equilibrium equals the serial one
+    to the level its residual floor defines it (1e-8 of the sag). With -sb_equilibrium_on_rank_0
+    rank 0 solves it alone with the serial solver: the same continuation, Newton iterations and
+    residual as the serial run, bit for bit."""
     import slidebeam
     from test_condensation import petsc_options
 
     scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.002"])
-    with petsc_options(sb_statics_on_rank_0=on_rank_0):
+    options = {"rank 0": {"sb_equilibrium_on_rank_0": "true"}, "mumps": {"sb_equilibrium_blocks": "false"},
+               "blocks": {}}[path]
+    with petsc_options(**options):
         world_sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
         world = world_sim.run_dynamic().records
     alone_sim = slidebeam.Simulation(scene, MPI.COMM_SELF)
     alone = alone_sim.run_dynamic().records
-    if on_rank_0 == "true":
+    distributed = MPI.COMM_WORLD.Get_size() > 1
+    assert world_sim.settled_on_rank_0 == (path == "rank 0" and distributed)
+    if path == "rank 0":
         assert world_sim.settled == alone_sim.settled
     else:
         assert world_sim.settled.converged
+        blocks = world_sim.settled.block_steps
+        assert blocks == (world_sim.settled.pseudo_steps if path == "blocks" and distributed else 0), blocks
     for a, b in zip(world, alone):
         for p, q in zip(a.tracked, b.tracked):
-            assert max(abs(u - v) for u, v in zip(p, q)) < (1e-10 if on_rank_0 == "true" else 1e-8)
+            assert max(abs(u - v) for u, v in zip(p, q)) < (1e-10 if path == "rank 0" else 1e-8)
 
 
 @pytest.mark.skipif(MPI.COMM_WORLD.Get_size() != 2, reason="two ranks: mpirun -n 2")
 def test_static_start_runs_distributed_when_rank_0_cannot_hold_the_model(monkeypatch):
     """Rank 0's serial copy of the model is refused by the memory check (here: made to refuse
-    any model on one rank): the static start runs on all ranks instead, and says so."""
+    any model on one rank): the static start asked to run there (-sb_equilibrium_on_rank_0) runs
+    on all ranks instead, and says so."""
     import slidebeam
     import slidebeam.model
     from slidebeam.scene import SceneError
@@ -217,8 +225,11 @@ def test_static_start_runs_distributed_when_rank_0_cannot_hold_the_model(monkeyp
             raise SceneError("needs more memory than this node has", scene.file, "[[beam]]", "spans")
         return check(scene, comm)
 
+    from test_condensation import petsc_options
+
     scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.002"])
-    sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+    with petsc_options(sb_equilibrium_on_rank_0="true"):
+        sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
     monkeypatch.setattr(slidebeam.model, "check_memory", refuse_alone)
     sim.settle()
     assert sim.settled.converged and not sim.settled_on_rank_0
