@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 namespace slidebeam::kernels {
 
@@ -222,15 +223,23 @@ Eigen::Vector3d curvature_at(const VecZ& z, int slot) {
   curvature_form(z.data(), slot, K.data());
   return K;
 }
-// 3 x 30 gradient of curvature_form(z, slot)
-Eigen::Matrix<double, 3, kNz> curvature_jacobian(const VecZ& z, int slot) {
-  Eigen::Matrix<double, 3, kNz> G;
+// The gradient of curvature_form(z, slot), by its two non-zero parts: d (columns of z's director
+// blocks d1..d3) and e (columns of the blocks at slot). Row i: -1/2 e_k and 1/2 e_j in director
+// blocks j and k, 1/2 d_k and -1/2 d_j in slot blocks j and k.
+using Mat39 = Eigen::Matrix<double, 3, 9>;
+struct CurvatureGradient {
+  Mat39 d, e;
+};
+CurvatureGradient curvature_gradient(const VecZ& z, int slot) {
+  CurvatureGradient G;
+  G.d.setZero();
+  G.e.setZero();
   for (int i = 0; i < 3; ++i) {
-    double s[3] = {0.0, 0.0, 0.0};
-    s[i] = 1.0;
-    VecZ g = VecZ::Zero();
-    curvature_form_gradient(s, z.data(), slot, g.data());
-    G.row(i) = g.transpose();
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    G.d.block<1, 3>(i, 3 * j) = -0.5 * z.segment<3>(3 * (slot + k)).transpose();
+    G.d.block<1, 3>(i, 3 * k) = 0.5 * z.segment<3>(3 * (slot + j)).transpose();
+    G.e.block<1, 3>(i, 3 * j) = 0.5 * z.segment<3>(3 * (kD1 + k)).transpose();
+    G.e.block<1, 3>(i, 3 * k) = -0.5 * z.segment<3>(3 * (kD1 + j)).transpose();
   }
   return G;
 }
@@ -239,19 +248,28 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
   S << 0, -a(2), a(1), a(2), 0, -a(0), -a(1), a(0), 0;
   return S;
 }
-// The turning term's rows of d eps / dz (the curvature rows 3-5) with K, K' as given (see
-// turning_gradient): (c/2) (K x G' - K' x G), G and G' the gradients of K and K' at z.
-Eigen::Matrix<double, 3, kNz> turning_jacobian(double c, const Eigen::Vector3d& kbar, const Eigen::Vector3d& kpbar,
-                                               const VecZ& z) {
-  return 0.5 * c * (skew(kbar) * curvature_jacobian(z, kD1SS) - skew(kpbar) * curvature_jacobian(z, kD1S));
+// The gradients of K = K(d, d') and K' = K(d, d'') at a z.
+struct TurningGradients {
+  CurvatureGradient k, kp;
+  explicit TurningGradients(const VecZ& z) : k(curvature_gradient(z, kD1S)), kp(curvature_gradient(z, kD1SS)) {}
+};
+// B's curvature rows += those of the turning term with K, K' as given (see turning_gradient) and
+// their gradients G at z: (c/2) (K x G' - K' x G).
+void add_turning_rows(double c, const Eigen::Vector3d& kbar, const Eigen::Vector3d& kpbar, const TurningGradients& G,
+                      Mat6Z& B) {
+  const Eigen::Matrix3d A = 0.5 * c * skew(kbar), P = 0.5 * c * skew(kpbar);
+  B.block<3, 9>(3, 3 * kD1) += A * G.kp.d - P * G.k.d;
+  B.block<3, 9>(3, 3 * kD1S) -= P * G.k.e;
+  B.block<3, 9>(3, 3 * kD1SS) += A * G.kp.e;
 }
 // Kz += the derivative of turning_gradient(s, kbar, kpbar, c, zm) with s held, where kbar, kpbar
 // and zm move with z1 at the rate f (1 for the exact gradient, 1/2 for the step's averages):
 // f (c/2) [sum_i a_i H(K_i) + sum_i b_i H(K'_i) + G(zm)^T (-[s]x) G'(z1) + G'(zm)^T [s]x G(z1)]
-// with a = kpbar x s, b = s x kbar.
+// with a = kpbar x s, b = s x kbar; Gm at zm, G1 at z1.
 void add_turning_hessian(const Eigen::Vector3d& s, const Eigen::Vector3d& kbar, const Eigen::Vector3d& kpbar, double c,
-                         const VecZ& zm, const VecZ& z1, double f, MatZ& Kz) {
-  const Eigen::Vector3d a = 0.5 * c * f * kpbar.cross(s), b = 0.5 * c * f * s.cross(kbar);
+                         const TurningGradients& Gm, const TurningGradients& G1, double f, MatZ& Kz) {
+  const double w = 0.5 * c * f;
+  const Eigen::Vector3d a = w * kpbar.cross(s), b = w * s.cross(kbar);
   // the curvature forms' Hessians: constant, the terms of curvature_form_gradient with z's blocks as unit vectors
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
@@ -265,18 +283,38 @@ void add_turning_hessian(const Eigen::Vector3d& s, const Eigen::Vector3d& kbar, 
       }
     }
   }
-  const Eigen::Matrix3d S = skew(s);
-  const auto Gm = curvature_jacobian(zm, kD1S), Gpm = curvature_jacobian(zm, kD1SS);
-  const auto G1 = curvature_jacobian(z1, kD1S), Gp1 = curvature_jacobian(z1, kD1SS);
-  Kz.noalias() += (0.5 * c * f) * (Gpm.transpose() * S * G1 - Gm.transpose() * S * Gp1);
+  // G'(zm)^T S G(z1) - G(zm)^T S G'(z1), block by block: G lives in the director and d' columns,
+  // G' in the director and d'' columns
+  // (one 27 x 6 by 6 x 27 product over the director, d' and d'' columns: G' has no d' part, G no
+  // d'' part)
+  const Eigen::Matrix3d S = w * skew(s);
+  Eigen::Matrix<double, 27, 6> L = Eigen::Matrix<double, 27, 6>::Zero();
+  Eigen::Matrix<double, 6, 27> R = Eigen::Matrix<double, 6, 27>::Zero();
+  L.block<9, 3>(0, 0) = Gm.kp.d.transpose();
+  L.block<9, 3>(18, 0) = Gm.kp.e.transpose();
+  L.block<9, 3>(0, 3) = -Gm.k.d.transpose();
+  L.block<9, 3>(9, 3) = -Gm.k.e.transpose();
+  R.block<3, 9>(0, 0) = S * G1.k.d;
+  R.block<3, 9>(0, 9) = S * G1.k.e;
+  R.block<3, 9>(3, 0) = S * G1.kp.d;
+  R.block<3, 9>(3, 18) = S * G1.kp.e;
+  Kz.block<27, 27>(3 * kD1, 3 * kD1).noalias() += L * R;
+}
+// K and K' at a z
+struct Curvatures {
+  Eigen::Vector3d k = Eigen::Vector3d::Zero(), kp = Eigen::Vector3d::Zero();
+};
+Curvatures curvatures_at(const VecZ& z) { return {curvature_at(z, kD1S), curvature_at(z, kD1SS)}; }
+// strains e of the point table plus the turning term
+Vec6 with_turning(Vec6 e, double c, const Curvatures& K) {
+  e.tail<3>() += 0.5 * c * K.k.cross(K.kp);
+  return e;
 }
 }  // namespace
 
 Vec6 point_strains(const StrainTable& T0, const GaussPoint& gp, const VecZ& z) {
-  Vec6 e = strains(point_table(T0, gp), z);
-  if (has_turning_term(T0, gp))
-    e.tail<3>() += 0.5 * gp.correction_weight * curvature_at(z, kD1S).cross(curvature_at(z, kD1SS));
-  return e;
+  const Vec6 e = strains(point_table(T0, gp), z);
+  return has_turning_term(T0, gp) ? with_turning(e, gp.correction_weight, curvatures_at(z)) : e;
 }
 
 
@@ -289,7 +327,7 @@ Vec6 strains(const StrainTable& T, const VecZ& z) {
 
 double beam_gp_energy(const StrainTable& T0, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
                       const VecEl& q) {
-  const Vec6 de = point_strains(T0, gp, apply_P(gp, q)) - eps0;
+  const Vec6 de = point_strains(T0, gp, apply_P(gp, q)) - eps0;  // (energies are not in Newton's loop)
   return 0.5 * gp.w * de.dot(C.cwiseProduct(de));
 }
 
@@ -307,23 +345,24 @@ void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C0, const 
   const StrainTable T = point_table(T0, gp);
   const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z = apply_P(gp, q);
-  Vec6 sigma = C.cwiseProduct(point_strains(T0, gp, z) - eps0);
-  if (gamma_sigma) sigma.head<3>() = *gamma_sigma;
-  VecZ g = weighted_gradient(T, sigma, z);
   const bool turns = has_turning_term(T0, gp);
   const double c = gp.correction_weight;
-  const Eigen::Vector3d k = turns ? curvature_at(z, kD1S) : Eigen::Vector3d::Zero();
-  const Eigen::Vector3d kp = turns ? curvature_at(z, kD1SS) : Eigen::Vector3d::Zero();
+  const Curvatures K0 = turns ? curvatures_at(z) : Curvatures{};
+  const Eigen::Vector3d &k = K0.k, &kp = K0.kp;
+  Vec6 sigma = C.cwiseProduct((turns ? with_turning(strains(T, z), c, K0) : strains(T, z)) - eps0);
+  if (gamma_sigma) sigma.head<3>() = *gamma_sigma;
+  VecZ g = weighted_gradient(T, sigma, z);
   const Eigen::Vector3d sigma_k = sigma.tail<3>();
   if (turns) turning_gradient(sigma_k.data(), k.data(), kp.data(), c, z.data(), g.data());
   add_Pt(gp, gp.w, g, r);
   if (K) {
     Mat6Z B;
     for (int i = 0; i < 6; ++i) form_gradient<kNz>(T[i], z, B.row(i));
-    if (turns) B.bottomRows<3>() += turning_jacobian(c, k, kp, z);
+    std::optional<TurningGradients> G;
+    if (turns) add_turning_rows(c, k, kp, G.emplace(z), B);
     MatZ Kz = weighted_product(gp, B, C, B, 1.0);
     for (int i = 0; i < 6; ++i) form_add_hessian<kNz>(T[i], sigma(i), Kz);
-    if (turns) add_turning_hessian(sigma_k, k, kp, c, z, z, 1.0, Kz);
+    if (turns) add_turning_hessian(sigma_k, k, kp, c, *G, *G, 1.0, Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
   }
 }
@@ -334,21 +373,21 @@ void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, con
   const StrainTable T = point_table(T0, gp);
   const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
+  const bool turns = has_turning_term(T0, gp);
+  const double c = gp.correction_weight;
+  const Curvatures K0 = turns ? curvatures_at(z0) : Curvatures{}, K1 = turns ? curvatures_at(z1) : Curvatures{};
+  Vec6 e0 = strains(T, z0), e1 = strains(T, z1);
+  if (turns) {
+    e0 = with_turning(e0, c, K0);
+    e1 = with_turning(e1, c, K1);
+  }
   // averaged strain, shifted by xi/2 (eps1 - eps0) towards the end of the step
-  Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * point_strains(T0, gp, z0) +
-                              0.5 * (1.0 + xi) * point_strains(T0, gp, z1) - eps0);
+  Vec6 sigma = C.cwiseProduct(0.5 * (1.0 - xi) * e0 + 0.5 * (1.0 + xi) * e1 - eps0);
   if (gamma_sigma) sigma.head<3>() = *gamma_sigma;
   VecZ g = weighted_gradient(T, sigma, zm);
   // the turning term's discrete gradient: the product rule with the step's averages of K and K'
-  const bool turns = has_turning_term(T0, gp);
-  const double c = gp.correction_weight;
-  Eigen::Vector3d k1 = Eigen::Vector3d::Zero(), kp1 = k1, kbar = k1, kpbar = k1;
-  if (turns) {
-    k1 = curvature_at(z1, kD1S);
-    kp1 = curvature_at(z1, kD1SS);
-    kbar = 0.5 * (curvature_at(z0, kD1S) + k1);
-    kpbar = 0.5 * (curvature_at(z0, kD1SS) + kp1);
-  }
+  const Eigen::Vector3d &k1 = K1.k, &kp1 = K1.kp;
+  const Eigen::Vector3d kbar = 0.5 * (K0.k + k1), kpbar = 0.5 * (K0.kp + kp1);
   const Eigen::Vector3d sigma_k = sigma.tail<3>();
   if (turns) turning_gradient(sigma_k.data(), kbar.data(), kpbar.data(), c, zm.data(), g.data());
   add_Pt(gp, gp.w, g, r);
@@ -357,13 +396,14 @@ void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, con
     for (int i = 0; i < 6; ++i) form_gradient<kNz>(T[i], zm, Bm.row(i));
     Mat6Z B1;
     for (int i = 0; i < 6; ++i) form_gradient<kNz>(T[i], z1, B1.row(i));
+    std::optional<TurningGradients> Gm, G1;
     if (turns) {
-      Bm.bottomRows<3>() += turning_jacobian(c, kbar, kpbar, zm);
-      B1.bottomRows<3>() += turning_jacobian(c, k1, kp1, z1);
+      add_turning_rows(c, kbar, kpbar, Gm.emplace(zm), Bm);
+      add_turning_rows(c, k1, kp1, G1.emplace(z1), B1);
     }
     MatZ Kz = weighted_product(gp, Bm, C, B1, 0.5 * (1.0 + xi));
     for (int i = 0; i < 6; ++i) form_add_hessian<kNz>(T[i], 0.5 * sigma(i), Kz);
-    if (turns) add_turning_hessian(sigma_k, kbar, kpbar, c, zm, z1, 0.5, Kz);
+    if (turns) add_turning_hessian(sigma_k, kbar, kpbar, c, *Gm, *G1, 0.5, Kz);
     add_Pt_K_P(gp, gp.w, Kz, *K);
   }
 }
