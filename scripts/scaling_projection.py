@@ -37,8 +37,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-# Measured on this machine (scripts/bench_scaling.py, one rank, 10^3..10^5 unknowns): 2.6-3.2 us
-# per step per unknown at 3 Newton iterations per step.
+# Measured on this machine (scripts/bench_scaling.py, one rank, 10^3..10^5 unknowns): 2.7-3.7 us
+# per step per unknown (2.8-2.9 from 1.4e4 unknowns on) at 3 Newton iterations per step.
 SERIAL_US_PER_UNKNOWN_ITERATION = 3.0 / 3
 CONDENSED_PER_CUT = 12  # 2 control points x 6 condensed unknowns
 UNKNOWNS_PER_SPAN = 18
