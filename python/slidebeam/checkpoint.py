@@ -19,7 +19,7 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 from .parallel import run_comm
 
@@ -40,8 +40,11 @@ def _vectors(sim: "Simulation") -> dict:
     return {name: getattr(integ, name) for name in VECTORS}
 
 
-def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
-    """Write the run's state to path (collective; rank 0 writes the attributes)."""
+def write_checkpoint(sim: "Simulation", state: "RunState", path: Path,
+                     before_commit: Callable[[], None] | None = None) -> None:
+    """Write the run's state to path (collective; rank 0 writes the attributes). The file is
+    written under a temporary name and renamed at the end; before_commit (collective), if given,
+    runs just before the rename, and the rename happens even if it raises."""
     from petsc4py import PETSc
 
     comm = run_comm()
@@ -85,8 +88,13 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path) -> None:
             g.attrs["scene_file"] = sim.scene.file
             g.attrs["overrides"] = json.dumps(list(sim.scene.overrides))
             g.attrs["scene_data"] = json.dumps(sim.scene.data, default=str)
-        os.replace(tmp, path)
-    comm.Barrier()
+    try:
+        if before_commit is not None:
+            before_commit()
+    finally:
+        if comm.Get_rank() == 0:
+            os.replace(tmp, path)
+        comm.Barrier()
     # A restart starts with a fresh Jacobian; so does the run that goes on, so that both take the
     # same Newton iterates (with Jacobian reuse, old Jacobians would otherwise make them differ).
     integ.forget_jacobian()

@@ -459,9 +459,11 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"Newton iterations (|F| {eq.residual0:.3e} -> {eq.residual:.3e})")
     outcome = sim.run_dynamic(progress, state, save)
     with output_phase():
-        output.flush(wait=False)  # the series' writers finish while the checkpoint is written
-        write_checkpoint(sim, outcome.state, checkpoint)  # the last good state, whatever ended the run
-        output.close()
+        # The last good state, whatever ended the run. The series' writers finish while the
+        # checkpoint is written; it is committed once they have: a run killed before that restarts
+        # from the previous checkpoint, which rewrites the records after it.
+        output.flush(wait=False)
+        write_checkpoint(sim, outcome.state, checkpoint, before_commit=output.close)
     wall = time.perf_counter() - t0
     summary = dynamic_summary(sim, outcome, wall, initial_velocity=state is None)
     summary["checkpoint"] = str(checkpoint)

@@ -153,3 +153,27 @@ def test_a_checkpoint_keeps_the_records_exactly_and_older_checkpoints_still_read
         g.attrs["records"] = json.dumps(old)
         g.attrs["format"] = 1
     assert read_checkpoint(sim, path).records == outcome.state.records
+
+
+def test_a_checkpoint_is_committed_after_its_before_commit_step(root, tmp_path):
+    """write_checkpoint renames its file into place only after before_commit has run, and even if
+    it fails. At the end of a run the CLI closes the XDMF output there: a run killed while its
+    writers finish keeps the previous checkpoint, whose restart writes the records after it
+    again, instead of a final checkpoint beside a damaged last .h5."""
+    import slidebeam
+    from slidebeam.checkpoint import read_checkpoint, write_checkpoint
+
+    scene = slidebeam.load_scene(root / "runs" / "seed" / "free_fall_1+4.toml", ["analysis.t_end=0.005"])
+    sim = slidebeam.Simulation(scene)
+    outcome = sim.run_dynamic()
+    path = tmp_path / "checkpoint.h5"
+    seen = []
+
+    def full_disk() -> None:
+        seen.append(path.exists())
+        raise OSError("No space left on device")
+
+    with pytest.raises(OSError, match="No space"):
+        write_checkpoint(sim, outcome.state, path, before_commit=full_disk)
+    assert seen == [False]
+    assert read_checkpoint(sim, path).records[-1].t == outcome.state.records[-1].t
