@@ -68,6 +68,19 @@ Vec6 test_eps0() {
   eps0 << 0.5, 0.01, -0.02, 0.03, 0.01, -0.01;
   return eps0;
 }
+// Basis data at parameter xi of span e of n uniform spans of a beam of length L, with the
+// director correction's weight (not yet marked corrected).
+GaussPoint point_on_span(int n, int e, double xi, double L) {
+  const auto bs = bspline::basis_on_span(n, e, xi);
+  GaussPoint gp{};
+  for (int a = 0; a < 3; ++a) {
+    gp.N[a] = bs.N[a];
+    gp.dN[a] = bs.dN[a] / L;
+    gp.ddN[a] = bs.ddN[a] / (L * L);
+  }
+  gp.correction_weight = L * L * bspline::director_correction_weight(n, e, xi);
+  return gp;
+}
 }  // namespace
 
 class KernelFD : public ::testing::TestWithParam<std::tuple<StrainMeasure, Quadrature>> {};
@@ -319,14 +332,7 @@ TEST(Kernels, DirectorCorrectionRestoresTheCurvatureOfInterpolatedDirectors) {
     double plain = 0.0, corrected = 0.0, mean_k = 0.0;  // span means of the curvature about d3
     for (int g = 0; g < ng; ++g) {
       const double xi = (e + x[g]) / n;
-      const auto bs = bspline::basis_on_span(n, e, xi);
-      GaussPoint gp{};
-      for (int a = 0; a < 3; ++a) {
-        gp.N[a] = bs.N[a];
-        gp.dN[a] = bs.dN[a] / L;
-        gp.ddN[a] = bs.ddN[a] / (L * L);
-      }
-      gp.correction_weight = L * L * bspline::director_correction_weight(n, e, xi);
+      GaussPoint gp = point_on_span(n, e, xi, L);
       plain += w[g] * strains(strain_table(StrainMeasure::SimoReissner), field_map(gp) * q)(5);
       gp.corrected = true;
       corrected += w[g] * strains(point_table(strain_table(StrainMeasure::SimoReissner), gp), field_map(gp) * q)(5);
@@ -384,14 +390,7 @@ TEST(Kernels, TurningTermRestoresTheCurvatureWhereTheBendingPlaneTurns) {
     Eigen::Vector3d without = -exact, with = -exact, turning = Eigen::Vector3d::Zero();
     for (int g = 0; g < ng; ++g) {
       const double xi = (e + x[g]) / n;
-      const auto bs = bspline::basis_on_span(n, e, xi);
-      GaussPoint gp{};
-      for (int a = 0; a < 3; ++a) {
-        gp.N[a] = bs.N[a];
-        gp.dN[a] = bs.dN[a] / L;
-        gp.ddN[a] = bs.ddN[a] / (L * L);
-      }
-      gp.correction_weight = L * L * bspline::director_correction_weight(n, e, xi);
+      GaussPoint gp = point_on_span(n, e, xi, L);
       gp.corrected = true;
       const VecZ z = field_map(gp) * q;
       const Vec6 e_with = point_strains(T, gp, z), e_without = strains(point_table(T, gp), z);
