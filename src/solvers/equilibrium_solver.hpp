@@ -10,9 +10,9 @@
 ///
 /// whose matrix K + M/h^2 is regular wherever a dynamic step's is, and lets h grow by the ratio
 /// of successive residuals (switched evolution relaxation) until the term vanishes: the limit is
-/// a root of F. A final plain Newton solve polishes the state when its tangent is regular
-/// (a mechanism in equilibrium keeps the continued state, whose residual is already at the
-/// tolerance). Sliders can be held (s prescribed at its current value) during the solve.
+/// a root of F: the continuation ends at the tolerance or at the residual's roundoff floor. Only
+/// where it stalls close to equilibrium does a plain Newton solve (the polish, on a pivoting LU
+/// of the whole system) try to finish it. Sliders can be held (s prescribed at its current value) during the solve.
 /// Every Newton solve, the continuation's and the polish, is Newton on the director constraint
 /// manifold (ManifoldNewton), as in the time steps.
 ///
@@ -20,7 +20,7 @@
 /// step's is, so its Newton solve takes the time steps' parallel path (BlockSolvePath: condensed
 /// exact blocks, the coupling correction where ranks are coupled, one application per Newton
 /// step) on a SNES of its own; a step that fails there is tried again on the direct solve
-/// (MUMPS) before the pseudo-step is cut. The polish, K alone (a rank's stretch of rope floats),
+/// (MUMPS) before the pseudo-step is cut. A polish, K alone (a rank's stretch of rope floats),
 /// is MUMPS's. -sb_equilibrium_blocks false: every solve on MUMPS.
 
 #include "model/model.hpp"
@@ -41,7 +41,7 @@ struct EquilibriumResult {
   int newton_iterations = 0;  ///< all Newton iterations, polish included
   double residual0 = 0.0;     ///< ||F|| of the start state
   double residual = 0.0;      ///< ||F|| of the final state
-  bool polished = false;      ///< the final plain Newton solve converged
+  bool polished = false;      ///< a plain Newton solve finished what the continuation could not
   bool at_roundoff = false;   ///< stopped at the residual's roundoff floor, the state at rest
   int interrupted = 0;        ///< the signal (SIGINT, SIGTERM) that stopped the continuation, or 0
 };
