@@ -243,9 +243,10 @@ class Simulation:
         reached; the state is then the last one of the continuation.
 
         On several ranks it runs on all ranks: its continuation steps on the time steps' block
-        solve, its final Newton solve on MUMPS (``settled.block_steps`` counts the former). With
-        -sb_equilibrium_on_rank_0, rank 0 solves it alone with the serial solver, on a model of
-        its own, bit for bit the serial run's, and hands the state to every rank."""
+        solve (``settled.block_steps`` counts them; a plain Newton polish, where a stalled
+        continuation needs one, on MUMPS). With -sb_equilibrium_on_rank_0, rank 0 solves it
+        alone with the serial solver, on a model of its own, bit for bit the serial run's, and
+        hands the state to every rank."""
         assert self.integrator is not None, "settle() starts dynamic runs"
         started = time.perf_counter()
         self.settled_on_rank_0 = self._distributed_and(self._equilibrium_on_rank_0_option)

@@ -157,8 +157,8 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
                              "", o->equilibrium_on_rank_0, &o->equilibrium_on_rank_0, nullptr));
   PetscCall(PetscOptionsBool("-sb_equilibrium_blocks",
                              "a distributed static start: its continuation steps on the time steps' block solve "
-                             "(condensed exact blocks, the coupling correction), its polish on MUMPS (false: "
-                             "MUMPS throughout)",
+                             "(condensed exact blocks, the coupling correction), a plain Newton polish where one is "
+                             "needed on MUMPS (false: MUMPS throughout)",
                              "", o->equilibrium_blocks, &o->equilibrium_blocks, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_below",
                             "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",

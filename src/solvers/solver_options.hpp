@@ -75,7 +75,7 @@ struct CoreOptions {
   /// whole system, 2-4x slower on 2 ranks than on one: a rank's block floats without mass)
   PetscBool statics_on_rank_0 = PETSC_TRUE;
   /// the static start of a distributed dynamic run on rank 0 alone by the serial solver, bit for
-  /// bit the serial run's; false (default): on all ranks, 1.5-2x faster on 2 ranks than on one
+  /// bit the serial run's; false (default): on all ranks, 1.5-1.9x faster on 2 ranks than on one
   /// (docs/performance.md)
   PetscBool equilibrium_on_rank_0 = PETSC_FALSE;
   /// a distributed static start solves its continuation steps on the time steps' block path

@@ -180,7 +180,7 @@ def test_equilibrium_start_keys_are_checked(tmp_path):
 @pytest.mark.parametrize("path", ["blocks", "mumps", "rank 0"])
 def test_static_start_is_the_same_on_all_ranks_and_on_one(path):
     """Meaningful under mpirun. By default the static start runs on all ranks, its continuation
-    steps on the time steps' block solve (every one of them here) and its polish on MUMPS; with
+    steps on the time steps' block solve (every one of them here; a polish would be MUMPS's); with
     -sb_equilibrium_blocks false all on MUMPS. Either way the equilibrium equals the serial one
     to the level its residual floor defines it (1e-8 of the sag). With -sb_equilibrium_on_rank_0
     rank 0 solves it alone with the serial solver: the same continuation, Newton iterations and
