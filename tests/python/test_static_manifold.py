@@ -127,6 +127,25 @@ def test_equilibrium_start_on_the_manifold(scene_file, bound):
     assert np.abs(q["true"] - q["false"]).max() <= 1e-8 * max(1.0, np.abs(q["false"]).max())
 
 
+def test_a_stalled_continuation_is_finished_by_plain_newton():
+    """The static start's continuation runs to the tolerance by itself (the hanging rope: 13
+    steps, no plain Newton polish). Stopped close to equilibrium (here after 11 steps, |F| at 4e-7
+    of its start), a plain Newton solve on the pivoting LU finishes it: converged, polished, the
+    same equilibrium to 1e-8."""
+    from slidebeam import _core
+
+    scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "hanging_rope.toml", ["output.xdmf=false"])
+    full_sim = slidebeam.Simulation(scene)
+    full = full_sim.settle()
+    assert full.converged and not full.polished and full.pseudo_steps > 11
+    sim = slidebeam.Simulation(scene)
+    cut = _core.EquilibriumSolver(sim._model).solve(0.0, scene.analysis.dt, 1e-10, 11)
+    assert cut.pseudo_steps == 11 and cut.polished and cut.converged, (cut.pseudo_steps, cut.polished)
+    assert cut.residual <= 1e-8 * cut.residual0  # the roundoff floor (the full continuation ends at 1.3e-9)
+    q, q_full = sim.control_points(0, sim._model.x), full_sim.control_points(0)
+    assert np.abs(q - q_full).max() <= 1e-8 * np.abs(q_full).max()
+
+
 def test_the_predictor_turns_directors_on_by_their_last_rotation():
     """Model.extrapolate: a triad turned by R from x_prev to x_last is turned by R^alpha again
     (exactly, where the linear extrapolation projected back fell short by O(angle^3)); every
