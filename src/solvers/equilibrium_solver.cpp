@@ -23,11 +23,14 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
   SB_CHECK(configure_newton(snes_, &test_));
   SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-12, 1e-12, 25, 10000));
   SB_CHECK(SNESSetConvergenceTest(snes_, &EquilibriumSolver::converged, this, nullptr));
-  // Direct LU whatever -sb_schwarz says: near equilibrium the continuation's matrix approaches
-  // the singular tangent of a mechanism, where GMRES stalls. (-pc_type and friends, or -sb_eq_pc_type, still apply.)
+  // This SNES: direct LU whatever -sb_schwarz says, since near equilibrium the continuation's
+  // matrix approaches the singular tangent of a mechanism, where GMRES stalls (-pc_type and
+  // friends, or -sb_eq_pc_type, still apply). Distributed continuation steps try the exact block
+  // solve on a SNES of their own first (block_snes_).
   manifold_ = std::make_unique<ManifoldNewton>(model, snes_);
   SB_CHECK(SNESSetFromOptions(snes_));
-  if (model.dof_map().owners() > 1 && core_options(model.comm()).equilibrium_blocks &&
+  const CoreOptions options = core_options(model.comm());
+  if (model.dof_map().owners() > 1 && options.equilibrium_blocks &&
       BlockSolvePath::requested(model.comm(), kEquilibriumPrefix)) {
     SB_CHECK(SNESCreate(model.comm(), &block_snes_));
     SB_CHECK(SNESSetOptionsPrefix(block_snes_, kEquilibriumPrefix));
@@ -40,7 +43,7 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
     SB_CHECK(SNESSetConvergenceTest(block_snes_, &EquilibriumSolver::converged, this, nullptr));
     blocks_ = std::make_unique<BlockSolvePath>(model, block_snes_, J_, kEquilibriumPrefix);
     // as the manifold Newton: a continuation step's first iterate may turn a triad by tenths of a radian
-    if (blocks_->update()) blocks_->update()->set_exponential_update(core_options(model.comm()).exponential_update);
+    if (blocks_->update()) blocks_->update()->set_exponential_update(options.exponential_update);
     SB_CHECK(SNESSetFromOptions(block_snes_));
   }
 }
@@ -249,8 +252,8 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   // it may find an unstable equilibrium (a hanger pointing up). It is the last resort, not the
   // finish: the continuation closes the gap in 2-3 more steps at up to 10x the pseudo-step each,
   // on the condensed (or block) solve, where the plain tangent needs the pivoting LU of the whole
-  // saddle-point system (SuperLU, MUMPS on several ranks), which took half of a rope's static
-  // start (docs/performance.md).
+  // saddle-point system (SuperLU, MUMPS on several ranks), several times as costly on a rope
+  // (docs/performance.md, "The equilibrium start on several ranks").
   if (res.interrupted == 0 && !(r <= target || res.at_roundoff) && r <= 1e-4 * res.residual0) {
     SB_CHECK(VecCopy(x, x_start));
     if (newton(0.0) && within_bounds(x)) {
