@@ -3,9 +3,7 @@
 
 #include <algorithm>
 
-#include "solvers/coupling_correction.hpp"
 #include "solvers/block_solve_path.hpp"
-#include "solvers/schwarz.hpp"
 #include "solvers/solver_options.hpp"
 
 #include "util/petsc_check.hpp"
