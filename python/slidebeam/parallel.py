@@ -70,22 +70,23 @@ def wait_sleeping(comm: Any) -> None:
         time.sleep(0.01)
 
 
-def statics_on_rank_0() -> bool:
-    """-sb_statics_on_rank_0: static analyses of a distributed run on rank 0 alone."""
+def _core_bool(name: str) -> bool:
+    """The bool option -sb_<name>, or its default in the core (_core.<NAME>)."""
     from petsc4py import PETSc
 
     from . import _core
 
-    return bool(PETSc.Options().getBool("sb_statics_on_rank_0", _core.STATICS_ON_RANK_0))
+    return bool(PETSc.Options().getBool(f"sb_{name}", getattr(_core, name.upper())))
+
+
+def statics_on_rank_0() -> bool:
+    """-sb_statics_on_rank_0: static analyses of a distributed run on rank 0 alone."""
+    return _core_bool("statics_on_rank_0")
 
 
 def equilibrium_on_rank_0() -> bool:
     """-sb_equilibrium_on_rank_0: the static start of a distributed dynamic run on rank 0 alone."""
-    from petsc4py import PETSc
-
-    from . import _core
-
-    return bool(PETSc.Options().getBool("sb_equilibrium_on_rank_0", _core.EQUILIBRIUM_ON_RANK_0))
+    return _core_bool("equilibrium_on_rank_0")
 
 
 def serial_below() -> int:

@@ -170,8 +170,10 @@ namespace {
 // (docs/theory.md, "The turning term"). K = K(d, d') and K' = K(d, d'') (the curvature form with d''
 // in the derivative's slot: K's derivative along the beam) are quadratic forms, so the term is a
 // product of two: its energy-momentum force uses the product rule's discrete gradient.
+// a . b of two 3-blocks, for any arithmetic type: doubles, or SIMD lanes that hold several
+// quadrature points (the span kernels below)
 template <class T>
-inline T dot3t(const T* a, const T* b) {
+inline T dot3(const T* a, const T* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 // K_i = 1/2 (d_k . e_j - d_j . e_k), (i, j, k) cyclic, e the block of z at `slot` (d' or d'')
@@ -179,7 +181,7 @@ template <class T>
 inline void curvature_form(const T* z, int slot, T* K) {
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    K[i] = 0.5 * (dot3t(z + 3 * (kD1 + k), z + 3 * (slot + j)) - dot3t(z + 3 * (kD1 + j), z + 3 * (slot + k)));
+    K[i] = 0.5 * (dot3(z + 3 * (kD1 + k), z + 3 * (slot + j)) - dot3(z + 3 * (kD1 + j), z + 3 * (slot + k)));
   }
 }
 // g += sum_i s_i dK_i/dz of curvature_form(z, slot)
@@ -316,8 +318,6 @@ Vec6 point_strains(const StrainTable& T0, const GaussPoint& gp, const VecZ& z) {
   const Vec6 e = strains(point_table(T0, gp), z);
   return has_turning_term(T0, gp) ? with_turning(e, gp.correction_weight, curvatures_at(z)) : e;
 }
-
-
 
 Vec6 strains(const StrainTable& T, const VecZ& z) {
   Vec6 e;
@@ -488,10 +488,6 @@ namespace {
 // The two measures' strains and weighted gradients g = sum_k sigma_k d eps_k / dz written out
 // (the tables above, term by term), for any arithmetic type: doubles, or SIMD lanes that hold
 // several quadrature points. z blocks: 0 phi', 1-3 d1..d3, 4-6 d1'..d3'.
-template <class T>
-inline T dot3(const T* a, const T* b) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 struct SimoReissnerForms {
   template <class T>
   static void strains(const T* z, T* e) {

@@ -16,13 +16,7 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
   SB_CHECK(MatDuplicate(model.jacobian(), MAT_DO_NOT_COPY_VALUES, &J_));
   SB_CHECK(VecDuplicate(model.x(), &x_k_));
   SB_CHECK(VecDuplicate(model.x(), &work_));
-  SB_CHECK(SNESCreate(model.comm(), &snes_));
-  SB_CHECK(set_solver_prefix(snes_, kEquilibriumPrefix));  // -sb_eq_snes_rtol, or plain -snes_rtol
-  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &EquilibriumSolver::form_function, this));
-  SB_CHECK(SNESSetJacobian(snes_, J_, J_, &EquilibriumSolver::form_jacobian, this));
-  SB_CHECK(configure_newton(snes_, &test_));
-  SB_CHECK(SNESSetTolerances(snes_, 1e-10, 1e-12, 1e-12, 25, 10000));
-  SB_CHECK(SNESSetConvergenceTest(snes_, &EquilibriumSolver::converged, this, nullptr));
+  snes_ = newton_snes(25);
   // This SNES: direct LU whatever -sb_schwarz says, since near equilibrium the continuation's
   // matrix approaches the singular tangent of a mechanism, where GMRES stalls (-pc_type and
   // friends, or -sb_eq_pc_type, still apply). Distributed continuation steps try the exact block
@@ -32,20 +26,26 @@ EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
   const CoreOptions options = core_options(model.comm());
   if (model.dof_map().owners() > 1 && options.equilibrium_blocks &&
       BlockSolvePath::requested(model.comm(), kEquilibriumPrefix)) {
-    SB_CHECK(SNESCreate(model.comm(), &block_snes_));
-    SB_CHECK(SNESSetOptionsPrefix(block_snes_, kEquilibriumPrefix));
-    SB_CHECK(SNESSetFunction(block_snes_, model.residual_vector(), &EquilibriumSolver::form_function, this));
-    SB_CHECK(SNESSetJacobian(block_snes_, J_, J_, &EquilibriumSolver::form_jacobian, this));
-    SB_CHECK(configure_newton(block_snes_, &test_));
     // (a step the block path does not solve in 10 iterations goes to the direct solve's
     // fall-backs, as the manifold Newton's first attempt does)
-    SB_CHECK(SNESSetTolerances(block_snes_, 1e-10, 1e-12, 1e-12, 10, 10000));
-    SB_CHECK(SNESSetConvergenceTest(block_snes_, &EquilibriumSolver::converged, this, nullptr));
+    block_snes_ = newton_snes(10);
     blocks_ = std::make_unique<BlockSolvePath>(model, block_snes_, J_, kEquilibriumPrefix);
     // as the manifold Newton: a continuation step's first iterate may turn a triad by tenths of a radian
     if (blocks_->update()) blocks_->update()->set_exponential_update(options.exponential_update);
     SB_CHECK(SNESSetFromOptions(block_snes_));
   }
+}
+
+SNES EquilibriumSolver::newton_snes(PetscInt max_it) {
+  SNES snes = nullptr;
+  SB_CHECK(SNESCreate(model_.comm(), &snes));
+  SB_CHECK(set_solver_prefix(snes, kEquilibriumPrefix));  // -sb_eq_snes_rtol, or plain -snes_rtol
+  SB_CHECK(SNESSetFunction(snes, model_.residual_vector(), &EquilibriumSolver::form_function, this));
+  SB_CHECK(SNESSetJacobian(snes, J_, J_, &EquilibriumSolver::form_jacobian, this));
+  SB_CHECK(configure_newton(snes, &test_));
+  SB_CHECK(SNESSetTolerances(snes, 1e-10, 1e-12, 1e-12, max_it, 10000));
+  SB_CHECK(SNESSetConvergenceTest(snes, &EquilibriumSolver::converged, this, nullptr));
+  return snes;
 }
 
 EquilibriumSolver::~EquilibriumSolver() {

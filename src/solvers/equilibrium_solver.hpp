@@ -73,6 +73,9 @@ class EquilibriumSolver {
   static PetscErrorCode converged(SNES, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                   SNESConvergedReason* reason, void* ctx);
   PetscErrorCode static_residual_norm(Vec x, double* norm);
+  /// A Newton SNES (prefix sb_eq_) on F + c M (x - x_k) and its Jacobian J_, with this solver's
+  /// convergence test, at most max_it iterations; before SNESSetFromOptions.
+  SNES newton_snes(PetscInt max_it);
 
   Model& model_;
   RoundoffTest test_;
