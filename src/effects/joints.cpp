@@ -56,7 +56,8 @@ class RigidJoint final : public Effect {
   std::string label() const override { return label_; }
   PetscInt n_extra() const override { return 6; }
 
-  void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(cp(m, a_, ca_)); }
+  // evaluated where its multipliers live
+  void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(anchor()); }
   bool has_reaction() const override { return true; }
   bool reaction_reads_own() const override { return true; }
   /// The force and moment on beam A's end: minus the joint's own constraint forces there.
@@ -77,6 +78,10 @@ class RigidJoint final : public Effect {
     out.has_moment = true;
   }
   PetscInt elimination_anchor(const Model& m) const override { return cp(m, a_, ca_); }
+  void anchor_choices(const Model& m, std::vector<PetscInt>& cps) const override {
+    cps.push_back(cp(m, a_, ca_));
+    cps.push_back(cp(m, b_, cb_));
+  }
   void reference_couplings(const Model& m, std::vector<std::pair<PetscInt, PetscInt>>& pairs) const override {
     pairs.emplace_back(cp(m, a_, ca_), cp(m, b_, cb_));
   }

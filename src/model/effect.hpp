@@ -295,12 +295,23 @@ class Effect {
   /// eliminated after it. Choose a point the extras couple to, so that the multipliers find their
   /// pivot in the coordinates before them and their fill stays local.
   virtual PetscInt elimination_anchor(const Model&) const { return -1; }
+  /// The points that could hold the extras, the preferred first (default: elimination_anchor).
+  /// An effect with a choice (a rigid joint: either end) gets a point no other effect's extras
+  /// use where there is one (Model::finalize): a point's 6 degrees of freedom give pivots to one
+  /// set of 6 constraints, so three joints anchored at one point of a net's crossing would make
+  /// two of them singular.
+  virtual void anchor_choices(const Model& m, std::vector<PetscInt>& cps) const {
+    const PetscInt a = elimination_anchor(m);
+    if (a >= 0) cps.push_back(a);
+  }
+  /// The point chosen to hold the extras (-1: none, or not finalized yet).
+  PetscInt anchor() const { return anchor_; }
+  void set_anchor(PetscInt cp) { anchor_ = cp; }
   /// The control points whose coordinates give the extras their pivots, the anchor among them
   /// (a slider point's stencil): the split over ranks keeps them on one rank, since a rank's
   /// block with the extras but not those points would be singular.
-  virtual void anchor_points(const Model& m, std::vector<PetscInt>& cps) const {
-    const PetscInt a = elimination_anchor(m);
-    if (a >= 0) cps.push_back(a);
+  virtual void anchor_points(const Model&, std::vector<PetscInt>& cps) const {
+    if (anchor_ >= 0) cps.push_back(anchor_);
   }
   /// Pairs of control points this effect couples in the reference configuration (a rigid
   /// joint's two points; a sliding joint's slider point and the carrier point nearest to it). The
@@ -361,6 +372,7 @@ class Effect {
 
  private:
   PetscInt extra_offset_ = -1;
+  PetscInt anchor_ = -1;
 };
 
 using EffectFactory = std::function<std::unique_ptr<Effect>(const Model&, const EffectParams&)>;

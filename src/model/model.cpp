@@ -9,10 +9,15 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <stdexcept>
 
 namespace slidebeam {
+
+namespace {
+const char* const kLoopOrdering = MATORDERINGQMD;
+}  // namespace
 
 namespace {
 PetscClassId slidebeam_classid() {
@@ -83,10 +88,11 @@ void Model::finalize() {
   std::vector<int> attached(coordinates.size(), 0);
   std::vector<PetscInt> anchor(effects_.size(), -1), slot_position(effects_.size(), 0);
   PetscInt n_tail = 0;
+  resolve_anchors();
   for (size_t k = 0; k < effects_.size(); ++k) {
     const PetscInt n = effects_[k]->n_extra();
     if (n == 0) continue;
-    const PetscInt a = effects_[k]->elimination_anchor(*this);
+    const PetscInt a = effects_[k]->anchor();
     if (a >= 0 && a < n_cp_total_) {
       anchor[k] = a;
       slot_position[k] = attached[static_cast<size_t>(a)];
@@ -650,6 +656,46 @@ std::vector<PetscInt> Model::director_triads() const {
   return cps;
 }
 
+void Model::resolve_anchors() {
+  // Effects with one choice keep it; those with several (rigid joints) are matched to distinct
+  // points not otherwise taken (augmenting paths, effects in scene order): a star of joints at
+  // a crossing is anchored one joint per end. Where no such matching exists, the first choice.
+  std::vector<std::vector<PetscInt>> choices(effects_.size());
+  std::vector<PetscInt> holder(static_cast<size_t>(n_cp_total_), -1);  // point -> matched effect
+  std::vector<char> taken(static_cast<size_t>(n_cp_total_), 0);        // ... or a single-choice effect's
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    if (effects_[k]->n_extra() == 0) continue;
+    effects_[k]->anchor_choices(*this, choices[k]);
+    auto& c = choices[k];
+    c.erase(std::remove_if(c.begin(), c.end(), [&](PetscInt p) { return p < 0 || p >= n_cp_total_; }), c.end());
+    if (c.size() == 1) taken[static_cast<size_t>(c[0])] = 1;
+  }
+  std::vector<char> visited(static_cast<size_t>(n_cp_total_), 0);
+  const std::function<bool(size_t)> augment = [&](size_t k) {
+    for (PetscInt p : choices[k]) {
+      const auto i = static_cast<size_t>(p);
+      if (taken[i] || visited[i]) continue;
+      visited[i] = 1;
+      if (holder[i] < 0 || augment(static_cast<size_t>(holder[i]))) {
+        holder[i] = static_cast<PetscInt>(k);
+        return true;
+      }
+    }
+    return false;
+  };
+  std::vector<PetscInt> anchor(effects_.size(), -1);
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    if (choices[k].empty()) continue;
+    anchor[k] = choices[k][0];
+    if (choices[k].size() < 2) continue;
+    std::fill(visited.begin(), visited.end(), 0);
+    augment(k);
+  }
+  for (PetscInt p = 0; p < n_cp_total_; ++p)
+    if (holder[static_cast<size_t>(p)] >= 0) anchor[static_cast<size_t>(holder[static_cast<size_t>(p)])] = p;
+  for (size_t k = 0; k < effects_.size(); ++k) effects_[k]->set_anchor(anchor[k]);
+}
+
 std::vector<PetscInt> Model::numbering_order() const {
   std::vector<std::pair<PetscInt, PetscInt>> links;
   for (const auto& e : effects_) e->reference_couplings(*this, links);
@@ -725,6 +771,101 @@ std::vector<char> Model::joined_positions(const std::vector<PetscInt>& order) co
   return joined;
 }
 
+int Model::beam_of_cp(PetscInt cp) const {
+  const auto after = std::upper_bound(beams_.begin(), beams_.end(), cp,
+                                      [](PetscInt c, const Beam& b) { return c < b.first_cp(); });
+  return static_cast<int>(after - beams_.begin()) - 1;
+}
+
+std::vector<std::vector<PetscInt>> Model::loop_structure_orders() const {
+  // Links that hold for the whole run (rigid joints; not a sliding joint's, which moves and is
+  // ordered by elimination_precedence instead).
+  std::vector<std::pair<PetscInt, PetscInt>> links, mine;
+  std::vector<std::pair<int, int>> precedence;
+  for (const auto& e : effects_) {
+    precedence.clear();
+    e->elimination_precedence(precedence);
+    if (!precedence.empty()) continue;
+    mine.clear();
+    e->reference_couplings(*this, mine);
+    for (const auto& [a, b] : mine)
+      if (beam_of_cp(a) != beam_of_cp(b)) links.emplace_back(a, b);
+  }
+  // Structures: beams joined by the links (union-find); a structure with more links than it
+  // needs to be connected has a loop.
+  const auto nb = beams_.size();
+  std::vector<size_t> parent(nb);
+  for (size_t b = 0; b < nb; ++b) parent[b] = b;
+  const std::function<size_t(size_t)> root = [&](size_t b) { return parent[b] == b ? b : parent[b] = root(parent[b]); };
+  std::vector<long> surplus(nb, 0);  // per root: links minus the links a tree of its beams needs
+  for (const auto& [a, b] : links) {
+    const size_t ra = root(static_cast<size_t>(beam_of_cp(a))), rb = root(static_cast<size_t>(beam_of_cp(b)));
+    if (ra == rb) {
+      ++surplus[ra];
+    } else {
+      parent[rb] = ra;
+      surplus[ra] += surplus[rb];
+    }
+  }
+  std::vector<std::vector<PetscInt>> out;
+  std::vector<int> slot(nb, -1);
+  for (size_t b = 0; b < nb; ++b) {
+    const size_t r = root(b);
+    if (surplus[r] == 0) continue;
+    if (slot[r] < 0) {
+      slot[r] = static_cast<int>(out.size());
+      out.emplace_back();
+    }
+    const Beam& beam = beams_[b];
+    for (int c = 0; c < beam.n_cp(); ++c) out[static_cast<size_t>(slot[r])].push_back(beam.first_cp() + c);
+  }
+  // Each loop structure's points in nested-dissection order of their graph: the points a span
+  // couples (three consecutive points of a director beam, two nodes of an ANCF cable) and the links.
+  for (auto& points : out) {
+    const auto n = static_cast<PetscInt>(points.size());
+    std::map<PetscInt, PetscInt> index;
+    for (PetscInt i = 0; i < n; ++i) index[points[static_cast<size_t>(i)]] = i;
+    std::vector<std::vector<PetscInt>> adjacent(static_cast<size_t>(n));
+    for (PetscInt i = 0; i < n; ++i) {
+      const PetscInt cp = points[static_cast<size_t>(i)];
+      const Beam& beam = beams_[static_cast<size_t>(beam_of_cp(cp))];
+      const int reach = beam.is_ancf() ? 1 : 2;
+      for (int d = -reach; d <= reach; ++d) {
+        const PetscInt c = cp - beam.first_cp() + d;
+        if (c >= 0 && c < beam.n_cp()) adjacent[static_cast<size_t>(i)].push_back(i + d);
+      }
+    }
+    for (const auto& [a, b] : links) {
+      const auto ia = index.find(a), ib = index.find(b);
+      if (ia == index.end() || ib == index.end()) continue;
+      adjacent[static_cast<size_t>(ia->second)].push_back(ib->second);
+      adjacent[static_cast<size_t>(ib->second)].push_back(ia->second);
+    }
+    std::vector<PetscInt> row_start{0}, cols;
+    for (auto& next : adjacent) {
+      std::sort(next.begin(), next.end());
+      next.erase(std::unique(next.begin(), next.end()), next.end());
+      cols.insert(cols.end(), next.begin(), next.end());
+      row_start.push_back(static_cast<PetscInt>(cols.size()));
+    }
+    std::vector<PetscScalar> ones(cols.size(), 1.0);
+    Mat graph = nullptr;
+    IS rows = nullptr, columns = nullptr;
+    SB_CHECK(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, n, n, row_start.data(), cols.data(), ones.data(), &graph));
+    SB_CHECK(MatGetOrdering(graph, kLoopOrdering, &rows, &columns));
+    const PetscInt* perm = nullptr;
+    SB_CHECK(ISGetIndices(rows, &perm));
+    std::vector<PetscInt> ordered(static_cast<size_t>(n));
+    for (PetscInt i = 0; i < n; ++i) ordered[static_cast<size_t>(i)] = points[static_cast<size_t>(perm[i])];
+    SB_CHECK(ISRestoreIndices(rows, &perm));
+    SB_CHECK(ISDestroy(&rows));
+    SB_CHECK(ISDestroy(&columns));
+    SB_CHECK(MatDestroy(&graph));
+    points = std::move(ordered);
+  }
+  return out;
+}
+
 std::vector<PetscInt> Model::elimination_order() const {
   // Beam order: a topological order of the precedence pairs (stable: scene order otherwise);
   // pairs that form a cycle (beams sliding on each other) are dropped.
@@ -754,16 +895,29 @@ std::vector<PetscInt> Model::elimination_order() const {
     beam_order.push_back(next);
     for (int then : after[static_cast<size_t>(next)]) --indegree[static_cast<size_t>(then)];
   }
-  // Each slot (a control point's block and the extras anchored at it), then the extras
-  // without an anchor.
+  // Beams joined into loops (a net) are eliminated together, their points in a fill-reducing
+  // order (loop_structure_orders); the others beam by beam. Each slot: a control point's block
+  // and the extras anchored at it; then the extras without an anchor.
+  const std::vector<std::vector<PetscInt>> loops = loop_structure_orders();
+  std::vector<int> loop_of(static_cast<size_t>(nb), -1);
+  for (size_t l = 0; l < loops.size(); ++l)
+    for (PetscInt cp : loops[l]) loop_of[static_cast<size_t>(beam_of_cp(cp))] = static_cast<int>(l);
   std::vector<PetscInt> order;
   order.reserve(static_cast<size_t>(map_.global_size()));
+  const auto add_slot = [&](PetscInt cp) {
+    for (PetscInt i = 0; i < map_.slot_size(cp); ++i) order.push_back(map_.q(cp, 0) + i);
+  };
+  std::vector<char> loop_done(loops.size(), 0);
   for (int b : beam_order) {
-    const Beam& beam = beams_[static_cast<size_t>(b)];
-    for (int c = 0; c < beam.n_cp(); ++c) {
-      const PetscInt cp = beam.first_cp() + c;
-      for (PetscInt i = 0; i < map_.slot_size(cp); ++i) order.push_back(map_.q(cp, 0) + i);
+    const int l = loop_of[static_cast<size_t>(b)];
+    if (l >= 0) {
+      if (!loop_done[static_cast<size_t>(l)])
+        for (PetscInt cp : loops[static_cast<size_t>(l)]) add_slot(cp);
+      loop_done[static_cast<size_t>(l)] = 1;
+      continue;
     }
+    const Beam& beam = beams_[static_cast<size_t>(b)];
+    for (int c = 0; c < beam.n_cp(); ++c) add_slot(beam.first_cp() + c);
   }
   for (PetscInt i = map_.extra(0); i < map_.global_size(); ++i) order.push_back(i);
   return order;

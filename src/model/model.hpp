@@ -154,6 +154,13 @@ class Model {
   /// contiguous parts then cuts each structure across few points. Empty when no effect couples
   /// two points (index order). Depends on the scene alone, not on the number of ranks.
   std::vector<PetscInt> numbering_order() const;
+  /// The beam holding control point cp.
+  int beam_of_cp(PetscInt cp) const;
+  /// The structures whose beams are joined into loops (a net), each as its control points in a
+  /// fill-reducing (nested-dissection) order of their graph, for elimination_order.
+  std::vector<std::vector<PetscInt>> loop_structure_orders() const;
+  /// Choose each effect's anchor among its Effect::anchor_choices (Effect::set_anchor).
+  void resolve_anchors();
   /// Per position of a numbering order (empty: index order): 1 where no rank boundary may fall
   /// right before it, between the first and last of an effect's anchor points
   /// (Effect::anchor_points), so that its extras find their pivots on their own rank.
