@@ -7,7 +7,7 @@ system. Prints a Markdown table: wall time of the time steps (median of --repeat
 runs), KSP iterations per solve (max / mean), rejected steps and what the run ended with. Time
 it only on an otherwise idle machine.
 
-    scripts/bench_coupled.py                 # the default scenes, 3 runs each (about 2 minutes)
+    scripts/bench_coupled.py                 # the default scenes, 3 runs each (about 5 minutes)
     scripts/bench_coupled.py --repeat 5
 """
 from __future__ import annotations
@@ -24,7 +24,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SOLVERS = {
     "GMRES": ["-sb_schwarz_exact", "false"],
-    # the correction whatever the interface (the default takes GMRES beyond 256 coupled rows)
+    # the correction whatever the interface (the default takes GMRES beyond 1024 coupled rows)
     "exact (default)": ["-sb_schwarz_exact_max_interface", "100000"],
     # threshold pivoting 0.5: with MUMPS's default the saddle-point systems of these scenes break down
     "MUMPS": ["-sb_ts_pc_type", "lu", "-sb_ts_pc_factor_mat_solver_type", "mumps", "-sb_ts_mat_mumps_cntl_1", "0.5",
@@ -41,6 +41,8 @@ def scenes(work: Path) -> list[tuple[str, Path, list[str]]]:
 
     rope = cables("rope", "--carriers", "1", "--spans", "2000", "--hangers", "1")
     hung = cables("hung", "--carriers", "1", "--spans", "400", "--hangers", "40")
+    net = cables("net", "--net", "10", "--spans", "4")
+    fine_net = cables("fine_net", "--net", "10", "--spans", "16")
     return [
         ("slider_skips_spans (rail cut once), dt = 1e-2, 0.3 s", ROOT / "runs" / "hard" / "slider_skips_spans.toml",
          ["analysis.t_end=0.3"]),
@@ -50,6 +52,10 @@ def scenes(work: Path) -> list[tuple[str, Path, list[str]]]:
         ("the same rope, dt = 1e-2, 10 steps", rope, ["analysis.t_end=0.1", "analysis.dt=1e-2"]),
         ("400-span rope, 40 hangers (cut once), dt = 1e-3, 10 steps", hung,
          ["analysis.t_end=0.01", "analysis.dt=1e-3"]),
+        ("10 x 10 net, 4 spans per stretch (cut across), dt = 1e-3, 20 steps", net,
+         ["analysis.t_end=0.02", "analysis.dt=1e-3"]),
+        ("10 x 10 net, 16 spans per stretch, dt = 1e-3, 20 steps", fine_net,
+         ["analysis.t_end=0.02", "analysis.dt=1e-3"]),
     ]
 
 

@@ -7,7 +7,7 @@ serially, on 2 ranks with the default -sb_serial_below (small models owned by ra
 time. Time it only on an otherwise idle machine.
 
     scripts/bench_ranks.py                 # the default shipped scenes, 3 runs each
-    scripts/bench_ranks.py --generated     # make_cables.py scenes of 2.6e3 to 2.6e4 unknowns
+    scripts/bench_ranks.py --generated     # make_cables.py ropeways and nets, 2.6e3 to 7.3e4 unknowns
 
 With --generated the table has the static start's own time too (summary.json's
 static_start.wall_time_s) and a third column: 2 ranks with the static start on rank 0 alone
@@ -30,8 +30,14 @@ SCENES = [("runs/seed/free_fall_1+4.toml", []), ("runs/hard/two_sliders.toml", [
           ("runs/pendulum64.toml", []), ("runs/rollup.toml", []), ("runs/rollup.toml", ["beam.0.spans=256"]),
           ("runs/cables/ropeway.toml", ["analysis.t_end=0.4"]),
           ("runs/hard/slider_skips_spans.toml", ["analysis.t_end=0.3"])]
-# make_cables.py arguments: carriers, spans, hangers (equilibrium start, 50 steps of 1e-3)
-GENERATED = [(1, 100, 10), (3, 64, 8), (1, 400, 40), (5, 200, 20)]
+# make_cables.py arguments (equilibrium start, 50 steps of 1e-3): ropeways (carriers, spans,
+# hangers) and cable nets (K x K ropes, spans between crossings)
+GENERATED = [("cables_1x100x10", ["--carriers", "1", "--spans", "100", "--hangers", "10"]),
+             ("cables_3x64x8", ["--carriers", "3", "--spans", "64", "--hangers", "8"]),
+             ("cables_1x400x40", ["--carriers", "1", "--spans", "400", "--hangers", "40"]),
+             ("cables_5x200x20", ["--carriers", "5", "--spans", "200", "--hangers", "20"]),
+             ("net_10x10x4", ["--net", "10", "--spans", "4"]),
+             ("net_10x10x16", ["--net", "10", "--spans", "16"])]
 
 
 def generate(work: Path) -> list[tuple[str, list[str]]]:
@@ -39,11 +45,10 @@ def generate(work: Path) -> list[tuple[str, list[str]]]:
     import sys
 
     out = []
-    for carriers, spans, hangers in GENERATED:
-        path = work / f"cables_{carriers}x{spans}x{hangers}.toml"
-        subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cables.py"), "--carriers", str(carriers),
-                        "--spans", str(spans), "--hangers", str(hangers), "--t-end", "0.05", "--out", str(path)],
-                       check=True, capture_output=True)
+    for name, args in GENERATED:
+        path = work / f"{name}.toml"
+        subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cables.py"), *args, "--start", "equilibrium",
+                        "--t-end", "0.05", "--out", str(path)], check=True, capture_output=True)
         out.append((str(path), []))
     return out
 

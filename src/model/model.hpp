@@ -156,8 +156,14 @@ class Model {
   std::vector<PetscInt> numbering_order() const;
   /// The beam holding control point cp.
   int beam_of_cp(PetscInt cp) const;
+  /// Sort control points by their reference position along the axis of the points' largest
+  /// extent (stable): the numbering of a structure with loops, so that its split is a straight cut.
+  void order_along_longest_axis(std::vector<PetscInt>& cps) const;
+  /// Per beam, the index of the structure whose beams are joined into loops (a net) it belongs
+  /// to, or -1; links_out (optional): the links between beams that hold for the whole run.
+  std::vector<int> loop_structures(std::vector<std::pair<PetscInt, PetscInt>>* links_out = nullptr) const;
   /// The structures whose beams are joined into loops (a net), each as its control points in a
-  /// fill-reducing (nested-dissection) order of their graph, for elimination_order.
+  /// fill-reducing (minimum-degree) order of their graph, for elimination_order.
   std::vector<std::vector<PetscInt>> loop_structure_orders() const;
   /// Choose each effect's anchor among its Effect::anchor_choices (Effect::set_anchor).
   void resolve_anchors();

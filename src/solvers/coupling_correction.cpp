@@ -56,6 +56,7 @@ PetscErrorCode fail_on_every_rank(KSP ksp, Vec x, bool* failed) {
 CouplingCorrection::~CouplingCorrection() {
   VecScatterDestroy(&ghost_scatter_);
   VecDestroy(&ghosts_);
+  VecDestroy(&work_);
 }
 
 PetscErrorCode CouplingCorrection::attach(KSP ksp) {
@@ -198,25 +199,23 @@ PetscErrorCode CouplingCorrection::setup_reduced(Mat A, const Coupling& coupling
   const int mk = static_cast<int>(reduced.size());
   PetscCall(lay_out(mk));
 
-  // Y = N' Jr^-1 P_R, one reduced solve per interface unknown of this rank
-  Vec y = nullptr;
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &y));
-  Y_.resize(n, mk);
-  for (int j = 0; j < mk; ++j) {
-    PetscCall(condensation_->solve_reduced_unit(reduced[static_cast<size_t>(j)], y));
-    const PetscScalar* a = nullptr;
-    PetscCall(VecGetArrayRead(y, &a));
-    for (PetscInt i = 0; i < n; ++i) Y_(i, j) = PetscRealPart(a[i]);
-    PetscCall(VecRestoreArrayRead(y, &a));
-  }
-  PetscCall(VecDestroy(&y));
-
-  // every rank's Y at the unknowns other ranks reach (row-major), with their global indices
+  // Y = N' Jr^-1 P_R, one reduced solve per interface unknown of this rank, kept at the
+  // unknowns other ranks' entries reach (row-major): all S needs. The correction's own solve
+  // with Y is one more reduced solve (correct), not a product with Y kept whole, which would
+  // hold n x |R| numbers (a net's interface is hundreds of unknowns).
+  Y_.resize(0, 0);
+  PetscCall(VecDestroy(&work_));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &work_));
   std::vector<PetscInt> reached(coupling.referenced.size()), all_reached;
   std::vector<double> Y_reached(coupling.referenced.size() * static_cast<size_t>(mk)), all_Y;
-  for (size_t k = 0; k < coupling.referenced.size(); ++k) {
-    reached[k] = lo_ + coupling.referenced[k];
-    for (int j = 0; j < mk; ++j) Y_reached[k * static_cast<size_t>(mk) + static_cast<size_t>(j)] = Y_(coupling.referenced[k], j);
+  for (size_t k = 0; k < coupling.referenced.size(); ++k) reached[k] = lo_ + coupling.referenced[k];
+  for (int j = 0; j < mk; ++j) {
+    PetscCall(condensation_->solve_reduced_unit(reduced[static_cast<size_t>(j)], work_));
+    const PetscScalar* a = nullptr;
+    PetscCall(VecGetArrayRead(work_, &a));
+    for (size_t k = 0; k < coupling.referenced.size(); ++k)
+      Y_reached[k * static_cast<size_t>(mk) + static_cast<size_t>(j)] = PetscRealPart(a[coupling.referenced[k]]);
+    PetscCall(VecRestoreArrayRead(work_, &a));
   }
   PetscCall(allgather(comm_, reached, MPIU_INT, &all_reached));
   PetscCall(allgather(comm_, Y_reached, MPI_DOUBLE, &all_Y));
@@ -429,7 +428,20 @@ PetscErrorCode CouplingCorrection::correct(Mat A, Vec x) {
                               counts_.data(), displs_.data(), MPI_DOUBLE, comm_));
   const Eigen::VectorXd w = S_.solve(Eigen::Map<const Eigen::VectorXd>(r_all_.data(), m_));
   // x = y + D^-1 P_I w, this rank's part
-  if (!local_.empty()) {
+  if (condensation_ && !local_.empty()) {  // one more reduced solve, N' Jr^-1 P_R w
+    const auto w_mine = w.segment(displs_[static_cast<size_t>(rank)], counts_[static_cast<size_t>(rank)]);
+    std::vector<PetscScalar> values(w_mine.data(), w_mine.data() + w_mine.size());
+    PetscCall(condensation_->solve_reduced(local_, values, work_));
+    PetscScalar* xa = nullptr;
+    const PetscScalar* ya = nullptr;
+    PetscCall(VecGetArray(x, &xa));
+    PetscCall(VecGetArrayRead(work_, &ya));
+    PetscInt n = 0;
+    PetscCall(VecGetLocalSize(work_, &n));
+    for (PetscInt i = 0; i < n; ++i) xa[i] += ya[i];
+    PetscCall(VecRestoreArrayRead(work_, &ya));
+    PetscCall(VecRestoreArray(x, &xa));
+  } else if (!local_.empty()) {
     PetscScalar* xa = nullptr;
     PetscCall(VecGetArray(x, &xa));
     Eigen::Map<Eigen::VectorXd> xl(reinterpret_cast<double*>(xa), Y_.rows());

@@ -15,8 +15,9 @@
 /// every rank; its set-up costs one block solve per interface unknown a rank owns, per
 /// factorisation. Each solve then costs one block application, the product of the coupling
 /// entries with y's values on the other ranks ((b - A y)_I = -(E y)_I, the blocks' solves being
-/// exact), an allgather of |I| numbers, a dense solve with S and Y = D^-1 P_I times w on each
-/// rank.
+/// exact), an allgather of |I| numbers, a dense solve with S and D^-1 P_I w on each rank (kept
+/// as Y = D^-1 P_I; condensed, one more reduced solve, so that only Y's rows other ranks reach
+/// are kept).
 ///
 /// With director beams the blocks solve condensed (DirectorCondensation): the correction then
 /// works in the same reduced coordinates, N^T on the rows and N' on the columns, and the solve
@@ -108,7 +109,8 @@ class CouplingCorrection {
   std::vector<PetscInt> local_;         // this rank's interface unknowns (local numbering)
   std::vector<int> counts_, displs_;    // interface unknowns per rank, offsets into I
   PetscInt m_ = 0;                      // |I|
-  Eigen::MatrixXd Y_;                   // D^-1 P_I on this rank: rows local, columns this rank's part of I
+  Eigen::MatrixXd Y_;                   // D^-1 P_I on this rank: rows local, columns this rank's part of I (full solves)
+  Vec work_ = nullptr;                  // reduced mode: a reduced solve's result, in full coordinates
   DirectorCondensation* condensation_ = nullptr;
   // reduced mode: per interface unknown of this rank (a reduced row), the full local rows of
   // N^T's row and their weights

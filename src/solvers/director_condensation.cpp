@@ -453,10 +453,20 @@ void DirectorCondensation::full_rows(PetscInt reduced, std::vector<PetscInt>* ou
 
 PetscErrorCode DirectorCondensation::solve_reduced_unit(PetscInt j, Vec y) {
   PetscFunctionBeginUser;
+  PetscCall(solve_reduced({j}, {1.0}, y));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::solve_reduced(const std::vector<PetscInt>& rows,
+                                                   const std::vector<PetscScalar>& values, Vec y) {
+  PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(rr_));
-  PetscCall(VecSetValue(rr_, j, 1.0, INSERT_VALUES));
-  PetscCall(VecAssemblyBegin(rr_));
-  PetscCall(VecAssemblyEnd(rr_));
+  {
+    PetscScalar* r = nullptr;
+    PetscCall(VecGetArray(rr_, &r));
+    for (size_t k = 0; k < rows.size(); ++k) r[rows[k]] = values[k];
+    PetscCall(VecRestoreArray(rr_, &r));
+  }
   PetscCall(MatSolve(F_, rr_, a_));
   const PetscScalar* a = nullptr;
   PetscScalar* yy = nullptr;

@@ -101,6 +101,9 @@ class DirectorCondensation {
   /// ... y = N' Jr^-1 e_j: the block's reduced solve of the unit vector of reduced unknown j,
   /// in full coordinates (0 on the triads' multipliers), as the manifold apply returns it.
   PetscErrorCode solve_reduced_unit(PetscInt j, Vec y);
+  /// ... y = N' Jr^-1 r for the reduced right-hand side r whose nonzeros are values at reduced
+  /// unknowns rows, in full coordinates.
+  PetscErrorCode solve_reduced(const std::vector<PetscInt>& rows, const std::vector<PetscScalar>& values, Vec y);
 
  private:
   struct Group {      // a row/column group of the full system

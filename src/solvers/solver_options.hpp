@@ -63,7 +63,7 @@ struct CoreOptions {
   /// coupling correction where no rank has more than schwarz_exact_max_interface rows coupled
   /// to another rank (GMRES otherwise); false: GMRES always
   PetscBool schwarz_exact = PETSC_TRUE;
-  PetscInt schwarz_exact_max_interface = 256;
+  PetscInt schwarz_exact_max_interface = 1024;
   /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
   /// Measured on 2 ranks (scripts/bench_ranks.py, docs/performance.md): the distributed run
   /// costs 1.9x the serial one at 166 unknowns, 1.8x on the 64-span pendulum (1188); sliding

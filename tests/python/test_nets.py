@@ -48,8 +48,10 @@ def test_a_nets_factorisation_fill_grows_slowly_with_its_width(tmp_path):
 
 
 def test_a_net_runs_the_same_on_all_ranks_and_on_one(tmp_path):
-    """Meaningful under mpirun: the split cuts ropes and crossings (joints whose two ends lie on
-    two ranks); the history equals the serial one."""
+    """Meaningful under mpirun: the split cuts ropes, the steps take the coupling correction, and
+    the history equals the serial one. The net is numbered along its longer side, so that on 2
+    ranks the split is a straight cut across the 4 ropes of one direction, 24 coupled rows each
+    (split between breadth-first levels, diagonally across the net, it had 210 rows)."""
     import slidebeam
 
     scene = slidebeam.load_scene(net_scene(tmp_path, 4, 2))
@@ -57,6 +59,10 @@ def test_a_net_runs_the_same_on_all_ranks_and_on_one(tmp_path):
     world = world_sim.run_dynamic().records
     alone = slidebeam.Simulation(scene, MPI.COMM_SELF).run_dynamic().records
     assert not world_sim.integrator.pivoting_lu
+    if MPI.COMM_WORLD.Get_size() == 2:
+        solves = world_sim.integrator.parallel_solves
+        assert 0 < solves["coupled_rows"] <= 4 * 24, solves
+        assert solves["corrected"] > 0 and solves["krylov"] == 0, solves
     assert len(world) == len(alone) > 1
     for a, b in zip(world, alone):
         for p, q in zip(a.tracked, b.tracked):
