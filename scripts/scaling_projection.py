@@ -28,6 +28,10 @@ The model (docs/performance.md, "Beyond this machine"):
     over levels about 1.5 times that; dense-LU speed `flops` (a core's LAPACK rate);
   - solving with S and back-substituting: negligible next to the factorisation (Jacobian reused
     over a step's iterations would remove the factorisation from all but the first iteration).
+  - strategy "as built": what the coupling correction does today instead of taking the rank's
+    Schur block from its factorisation: one reduced block solve per interface unknown of the
+    rank at every Jacobian, each costing the whole block (SOLVE_US_PER_UNKNOWN, measured), S
+    factored redundantly.
 """
 from __future__ import annotations
 
@@ -40,6 +44,9 @@ ROOT = Path(__file__).resolve().parents[1]
 # Measured on this machine (scripts/bench_scaling.py, one rank, 10^3..10^5 unknowns): 2.7-3.7 us
 # per step per unknown (2.8-2.9 from 1.4e4 unknowns on) at 3 Newton iterations per step.
 SERIAL_US_PER_UNKNOWN_ITERATION = 3.0 / 3
+# Measured (the 20 x 20 net of make_cables.py --net 20 --spans 4 on 2 ranks, -log_view): a reduced
+# block solve of a 48 960-unknown block took 0.73 ms, 0.015 us per unknown of the block.
+SOLVE_US_PER_UNKNOWN = 0.73e3 / 48960
 CONDENSED_PER_CUT = 12  # 2 control points x 6 condensed unknowns
 UNKNOWNS_PER_SPAN = 18
 
@@ -67,7 +74,8 @@ def iteration_time(layout: str, unknowns: float, ranks: int, strategy: str, late
     the top separator of nested dissection, about 24 K unknowns across the whole net (a dense
     block of (24 K)^3 flops, which a serial direct solve of the net pays too).
     strategy "redundant": every rank factors S; "distributed": S factored by
-    min(P, 64) ranks at half a core's dense-LU rate each, plus log2 P latencies per level.
+    min(P, 64) ranks at half a core's dense-LU rate each, plus log2 P latencies per level;
+    "as built": redundant, plus a block solve per interface unknown of the rank (s_rank / 2).
     """
     a = SERIAL_US_PER_UNKNOWN_ITERATION * 1e-6
     if layout == "bundle":
@@ -87,8 +95,10 @@ def iteration_time(layout: str, unknowns: float, ranks: int, strategy: str, late
         total = interior + serial_extra
         return {"interior": interior, "gather": 0.0, "schur": serial_extra, "total": total, "S": 0.0}
     gather = math.log2(ranks) * latency + 8 * ranks * s_rank**2 / 4 / bandwidth
-    if strategy == "redundant":
+    if strategy in ("redundant", "as built"):
         schur = schur_flops / flops
+        if strategy == "as built":
+            schur += s_rank / 2 * SOLVE_US_PER_UNKNOWN * 1e-6 * unknowns / ranks
     else:
         q = min(ranks, 64)
         schur = schur_flops / (0.5 * q * flops) + math.log2(ranks) * 10 * latency
@@ -114,7 +124,7 @@ def main() -> None:
     curves = {}
     limits = []
     for layout, n in cases:
-        for strategy in ("redundant", "distributed"):
+        for strategy in ("as built", "redundant", "distributed"):
             base = iteration_time(layout, n, 1, strategy, args.latency, args.bandwidth, args.flops)["total"]
             curve = []
             for p in ranks:
@@ -141,7 +151,7 @@ def main() -> None:
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.loglog(ranks, ranks, "k:", label="ideal")
         for (layout, n, strategy), sp in curves.items():
-            ax.loglog(ranks, sp, "o-" if strategy == "distributed" else "s--", ms=3,
+            ax.loglog(ranks, sp, {"distributed": "o-", "redundant": "s--", "as built": "x:"}[strategy], ms=3,
                       label=f"{layout} {n:.0e}, {strategy}")
         ax.set_xlabel("ranks")
         ax.set_ylabel("speed-up per Newton iteration")

@@ -203,6 +203,10 @@ PYBIND11_MODULE(_core, m) {
            py::arg("t"), py::arg("x"), py::arg("effects"),
            "force of each given sliding joint on its slider at x, global frame (collective)")
       .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
+      .def_property_readonly("cut_points", &Model::cut_points,
+                             "the most control points a rank holds next to another rank's in the split over all "
+                             "ranks (0: owned by one rank from the start); above -sb_serial_above_cut rank 0 owns "
+                             "the model")
       .def_property_readonly("ghost_rebuilds", &Model::ghost_rebuilds,
                              "how often the ghost set was rebuilt because a sliding joint moved")
       .def("elimination_order", &Model::elimination_order,
@@ -267,6 +271,7 @@ PYBIND11_MODULE(_core, m) {
         "a solver's prefix (sb_static_snes_rtol) when it was created");
   m.attr("SOLVER_PREFIXES") = py::dict(py::arg("static") = kStaticPrefix, py::arg("equilibrium") = kEquilibriumPrefix,
                                        py::arg("time_steps") = kStepPrefix, py::arg("mass") = kMassPrefix);
+  m.attr("SERIAL_ABOVE_CUT") = CoreOptions{}.serial_above_cut;
   // -sb_serial_below's default: the CLI decides by it before any model exists
   m.attr("SERIAL_BELOW") = CoreOptions{}.serial_below;
   // -sb_statics_on_rank_0's default: the CLI and Simulation.settle decide by it

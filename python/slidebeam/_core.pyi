@@ -103,6 +103,8 @@ class Model:
     @property
     def ghost_count(self) -> int: ...
     @property
+    def cut_points(self) -> int: ...
+    @property
     def ghost_rebuilds(self) -> int: ...
     def elimination_order(self) -> list[int]:
         """permutation of the unknowns (new position -> old index) of the serial factorisation"""
@@ -163,6 +165,8 @@ class RecordWriter:
     def pending(self) -> int: ...
     @property
     def failed_record(self) -> int: ...
+
+SERIAL_ABOVE_CUT: int  # = 30
 
 SERIAL_BELOW: int  # = 1500
 

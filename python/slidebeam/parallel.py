@@ -89,6 +89,16 @@ def equilibrium_on_rank_0() -> bool:
     return _core_bool("equilibrium_on_rank_0")
 
 
+def serial_above_cut() -> int:
+    """-sb_serial_above_cut: a model whose split would leave a rank more control points next to
+    another rank's is owned by rank 0 alone (0: no limit)."""
+    from petsc4py import PETSc
+
+    from . import _core
+
+    return int(PETSc.Options().getInt("sb_serial_above_cut", _core.SERIAL_ABOVE_CUT))
+
+
 def serial_below() -> int:
     """-sb_serial_below: a model with fewer unknowns runs on one rank (0: always distribute)."""
     from petsc4py import PETSc

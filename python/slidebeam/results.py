@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from .dynamics import DynamicRecord, JointState, RunOutcome
+from .parallel import serial_above_cut
 from .simulation import Simulation, StepRecord
 
 
@@ -226,6 +227,7 @@ def parallel_summary(sim: Simulation) -> dict[str, Any]:
     solves = dict(sim.integrator.parallel_solves)
     return {
         "unknowns_per_rank": sim.x.getComm().tompi4py().allgather(sim.x.getLocalSize()),
+        "cut_points": sim.cut_points,
         "coupled_rows": solves.pop("coupled_rows"),
         "jacobians_solved_by": {"one block application": solves["blocks"],
                                 "block application and coupling correction": solves["corrected"],
@@ -241,6 +243,10 @@ def parallel_line(summary: dict[str, Any]) -> str:
     """One line on how the ranks shared and solved the run (summary["parallel"])."""
     p = summary["parallel"]
     sizes = p["unknowns_per_rank"]
+    if sum(1 for n in sizes if n) == 1 and p.get("cut_points", 0) > 0:
+        return (f"{len(sizes)} ranks: rank 0 owns all {sum(sizes)} unknowns, since a split would leave a rank "
+                f"{p['cut_points']} control points next to another rank's (above -sb_serial_above_cut "
+                f"{serial_above_cut()}: the coupling correction's set-up would cost more than the split saves)")
     solved = ", ".join(f"{n} by {how}" for how, n in p["jacobians_solved_by"].items() if n)
     line = (f"{len(sizes)} ranks: {min(sizes)}-{max(sizes)} unknowns each, coupled through up to "
             f"{p['coupled_rows']} rows of a rank; step Jacobians solved {solved or 'by the pivoting LU'}")

@@ -653,8 +653,16 @@ class Simulation:
 
     def elimination_order(self) -> list[int]:
         """Permutation of the unknowns (new position -> old index) the serial factorisation uses:
-        sliders before carriers, multipliers next to the coordinates they constrain."""
+        sliders before carriers, multipliers next to the coordinates they constrain, the points of
+        beams joined into loops (a net) in minimum-degree order."""
         return list(self._model.elimination_order())
+
+    @property
+    def cut_points(self) -> int:
+        """The most control points a rank holds next to another rank's in the split of the
+        model over all ranks (0: owned by one rank from the start, -sb_serial_below). Above
+        -sb_serial_above_cut rank 0 owns the model alone."""
+        return int(self._model.cut_points)
 
     def sliding_joint_effects(self) -> list[int]:
         """Model effect index of every [[sliding_joint]], in scene order."""

@@ -106,10 +106,18 @@ void Model::finalize() {
   PetscInt total = n_tail;
   for (size_t c = 0; c < coordinates.size(); ++c) total += coordinates[c] + multipliers[c] + attached[c];
   // a model too small to gain from distribution is owned and solved by rank 0 alone
-  const PetscInt serial_below = core_options(comm_).serial_below;
+  const CoreOptions& options = core_options(comm_);
   const std::vector<PetscInt> order = numbering_order();
-  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < serial_below ? 1 : 0, order,
-                joined_positions(order));
+  const std::vector<char> joined = joined_positions(order);
+  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < options.serial_below ? 1 : 0, order,
+                joined);
+  if (map_.owners() > 1) {
+    // A split that cuts wide (a net cut across dozens of ropes) costs the parallel solve more in
+    // interface set-up than it saves: such a model is owned by rank 0 alone.
+    cut_points_ = largest_cut();
+    if (options.serial_above_cut > 0 && cut_points_ > options.serial_above_cut)
+      map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, 1, order, joined);
+  }
   for (size_t k = 0; k < effects_.size(); ++k)
     if (effects_[k]->n_extra() > 0)
       effects_[k]->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]
@@ -754,6 +762,28 @@ std::vector<PetscInt> Model::numbering_order() const {
     order.insert(order.end(), component.begin(), component.end());
   }
   return order;
+}
+
+PetscInt Model::largest_cut() const {
+  // neighbours: the points a span couples, and the effects' couplings (joints, sliders)
+  std::vector<std::pair<PetscInt, PetscInt>> links;
+  for (const auto& e : effects_) e->reference_couplings(*this, links);
+  std::vector<char> at_cut(static_cast<size_t>(n_cp_total_), 0);
+  const auto mark = [&](PetscInt a, PetscInt b) {
+    if (map_.cp_owner(a) == map_.cp_owner(b)) return;
+    at_cut[static_cast<size_t>(a)] = 1;
+    at_cut[static_cast<size_t>(b)] = 1;
+  };
+  for (const auto& beam : beams_) {
+    const int reach = beam.is_ancf() ? 1 : 2;
+    for (int c = 0; c < beam.n_cp(); ++c)
+      for (int d = 1; d <= reach && c + d < beam.n_cp(); ++d) mark(beam.first_cp() + c, beam.first_cp() + c + d);
+  }
+  for (const auto& [a, b] : links) mark(a, b);
+  std::vector<PetscInt> per_rank(static_cast<size_t>(size_), 0);
+  for (PetscInt cp = 0; cp < n_cp_total_; ++cp)
+    if (at_cut[static_cast<size_t>(cp)]) ++per_rank[static_cast<size_t>(map_.cp_owner(cp))];
+  return *std::max_element(per_rank.begin(), per_rank.end());
 }
 
 void Model::order_along_longest_axis(std::vector<PetscInt>& cps) const {

@@ -156,6 +156,8 @@ class Model {
   std::vector<PetscInt> numbering_order() const;
   /// The beam holding control point cp.
   int beam_of_cp(PetscInt cp) const;
+  /// The most control points a rank holds next to another rank's (map_'s split).
+  PetscInt largest_cut() const;
   /// Sort control points by their reference position along the axis of the points' largest
   /// extent (stable): the numbering of a structure with loops, so that its split is a straight cut.
   void order_along_longest_axis(std::vector<PetscInt>& cps) const;
@@ -178,6 +180,10 @@ class Model {
   PetscInt ghost_count() const { return ghost_dofs_.size(); }
   /// How often the ghost set was rebuilt because an effect moved (sliding joints).
   int ghost_rebuilds() const { return ghost_rebuilds_; }
+  /// The most control points a rank would hold next to another rank's, in the split over all
+  /// ranks (0 when the model was owned by one rank from the start, -sb_serial_below). Above
+  /// -sb_serial_above_cut rank 0 owns the model alone.
+  PetscInt cut_points() const { return cut_points_; }
 
   /// Prescribed rows owned by this rank and their values.
   const std::vector<PetscInt>& prescribed_rows() const { return bc_rows_; }
@@ -215,6 +221,7 @@ class Model {
   Vec x_old_ = nullptr;  // the step start last given to set_step_start (not owned)
   unsigned long step_starts_ = 0;  // set_step_start calls: EvalContext::step_start
   mutable int ghost_rebuilds_ = 0;
+  PetscInt cut_points_ = 0;
   Vec q_mask_ = nullptr, s_mask_ = nullptr;
   bool has_sliding_state_ = false;
   std::vector<PetscInt> init_rows_;  // initial values of extras (owned rows)

@@ -69,6 +69,9 @@ struct CoreOptions {
   /// costs 1.9x the serial one at 166 unknowns, 1.8x on the 64-span pendulum (1188); sliding
   /// scenes gain from about 800 unknowns, every scene measured from 1832 on.
   PetscInt serial_below = 1500;
+  // measured: nets cut across 10 ropes (20 points a side) ran 0.9-1.0x the serial time on 2
+  // ranks, across 20 ropes 2x (docs/performance.md, "Coupled ranks")
+  PetscInt serial_above_cut = 30;
   /// static analyses of a distributed run solved on rank 0 alone by the serial solver (the
   /// manifold Newton on the condensed system): `slidebeam run` runs a static analysis there;
   /// Simulation.solve_static hands its state to every rank; false: on all ranks (MUMPS on the

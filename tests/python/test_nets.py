@@ -9,6 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from mpi4py import MPI
 
 from test_cables import lu_nonzeros_per_unknown
@@ -67,3 +68,26 @@ def test_a_net_runs_the_same_on_all_ranks_and_on_one(tmp_path):
     for a, b in zip(world, alone):
         for p, q in zip(a.tracked, b.tracked):
             assert max(abs(u - v) for u, v in zip(p, q)) < 1e-10
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.Get_size() != 2, reason="two ranks: mpirun -n 2")
+def test_a_net_cut_wider_than_the_limit_is_owned_by_rank_0(tmp_path):
+    """Meaningful under mpirun (2 ranks): the 4x4 net's straight cut leaves each rank 8 control
+    points next to the other's (4 ropes, 2 points a side); with -sb_serial_above_cut below that,
+    rank 0 owns the whole model (the coupling correction's set-up would cost more than the split
+    saves on nets cut across many ropes), and the run says why."""
+    import slidebeam
+    from slidebeam.results import parallel_line, parallel_summary
+    from test_condensation import petsc_options
+
+    scene = slidebeam.load_scene(net_scene(tmp_path, 4, 2))
+    split = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+    assert split.cut_points == 8
+    assert all(n > 0 for n in MPI.COMM_WORLD.allgather(split.x.getLocalSize()))
+    with petsc_options(sb_serial_above_cut="7"):
+        alone = slidebeam.Simulation(scene, MPI.COMM_WORLD)
+        assert alone.cut_points == 8
+        assert MPI.COMM_WORLD.allgather(alone.x.getLocalSize()) == [alone.x.getSize(), 0]
+        assert alone.integrator.step(1e-3).converged
+        line = parallel_line({"parallel": parallel_summary(alone)})
+    assert "rank 0 owns all" in line and "8 control points" in line, line
