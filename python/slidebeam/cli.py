@@ -99,15 +99,31 @@ def _say(rank: int, text: str, stream=sys.stdout) -> None:
         print(text, file=stream, flush=True)
 
 
+# Beyond this many beams the header groups beams described alike (a net has hundreds).
+BEAMS_LISTED = 12
+
+
+def _beam_kind(b) -> str:
+    if b.formulation == "ancf":
+        return f"{b.geometry.kind}, L = {b.geometry.length:g}, ANCF cable, {b.spans} element{'' if b.spans == 1 else 's'}"
+    return (f"{b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} span{'' if b.spans == 1 else 's'}, "
+            f"{b.quadrature} quadrature, {b.strain} strains")
+
+
 def _describe(scene: Scene) -> str:
     lines = [f"scene '{scene.name}' ({scene.file}): {scene.analysis.type} analysis"]
-    for b in scene.beams:
-        if b.formulation == "ancf":
-            lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, ANCF cable, {b.spans} "
-                         f"element{'' if b.spans == 1 else 's'}")
-            continue
-        lines.append(f"  beam {b.name}: {b.geometry.kind}, L = {b.geometry.length:g}, {b.spans} span{'' if b.spans == 1 else 's'}, "
-                     f"{b.quadrature} quadrature, {b.strain} strains")
+    if len(scene.beams) <= BEAMS_LISTED:
+        lines += [f"  beam {b.name}: {_beam_kind(b)}" for b in scene.beams]
+    else:
+        groups: dict[str, list[str]] = {}
+        for b in scene.beams:
+            groups.setdefault(_beam_kind(b), []).append(b.name)
+        for kind, names in list(groups.items())[:BEAMS_LISTED]:
+            which = names[0] if len(names) == 1 else f"{len(names)} beams ({names[0]} ... {names[-1]})"
+            lines.append(f"  {which}: {kind}")
+        if len(groups) > BEAMS_LISTED:
+            rest = sum(len(names) for names in list(groups.values())[BEAMS_LISTED:])
+            lines.append(f"  ... and {rest} more beams")
     specs = table_specs()
     lines.append("  " + (", ".join(f"[{table}]" if specs[table][0].single else f"{n} [[{table}]]"
                                    for table, n in _table_counts(scene).items()) or "no effect tables"))

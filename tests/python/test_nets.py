@@ -91,3 +91,17 @@ def test_a_net_cut_wider_than_the_limit_is_owned_by_rank_0(tmp_path):
         assert alone.integrator.step(1e-3).converged
         line = parallel_line({"parallel": parallel_summary(alone)})
     assert "rank 0 owns all" in line and "8 control points" in line, line
+
+
+def test_the_run_header_groups_a_nets_beams(tmp_path):
+    """A net has hundreds of beams: the run's header lists beams described alike as one line
+    (a scene of a dozen beams or fewer lists each)."""
+    import slidebeam
+    from slidebeam.cli import BEAMS_LISTED, _describe
+
+    header = _describe(slidebeam.load_scene(net_scene(tmp_path, 3, 2))).splitlines()
+    assert header[1].startswith("  24 beams (x0_0 ... y2_3): line, L = 5, 2 spans"), header
+    assert len(header) == 3, header
+    few = _describe(slidebeam.load_scene(ROOT / "runs" / "right_angle_cantilever.toml")).splitlines()
+    assert [line.split(":")[0] for line in few[1:3]] == ["  beam leg1", "  beam leg2"]
+    assert BEAMS_LISTED < 24
