@@ -18,7 +18,8 @@ namespace slidebeam {
 
 namespace {
 // Beams joined into loops are eliminated in minimum-degree order: on a 10 x 10 net it filled 4.5x
-// less than nested dissection (docs/performance.md, "Nets").
+// less than nested dissection (docs/performance.md, "Multi-beam cables: parallel runs, contact search,
+// linear cost").
 const char* const kLoopOrdering = MATORDERINGQMD;
 
 PetscClassId slidebeam_classid() {
