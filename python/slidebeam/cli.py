@@ -495,6 +495,10 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
             _say(rank, outcome.message)
         if "parallel" in summary:
             _say(rank, parallel_line(summary))
+        elif summary["pivoting_lu"]:
+            # slower, and a sign of a system the condensed LU could not factor: worth knowing
+            _say(rank, "note: a step's LU without pivoting met a zero pivot, and the steps after it ran on the "
+                       "pivoting LU (SuperLU), which is slower (docs/troubleshooting.md, \"Solvers\")")
         _say(rank, f"done in {wall:.3f} s: {summary['steps']} steps, {summary['newton_iterations']} Newton iterations; "
                    f"results in {out}/")
         return EXIT_OK

@@ -191,6 +191,7 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
         "final_energy": {"kinetic": last.kinetic_energy, "strain": last.strain_energy,
                          "potential": last.potential_energy, "total": last.total_energy},
         "max_constraint_residual": max(r.constraint_residual for r in recs),
+        "pivoting_lu": bool(sim.integrator.pivoting_lu),
     }
     if sim.settled is not None:
         summary["static_start"] = static_start_summary(sim)

@@ -397,3 +397,44 @@ def test_corotated_condensed_solve_keeps_newton_quadratic_for_every_scheme(root,
     assert modified.newton_iterations <= 1.05 * modified_plain.newton_iterations, \
         (f"{integrator}, old Jacobians: {modified.newton_iterations / modified.steps:.2f} Newton iterations per step, "
          f"{modified_plain.newton_iterations / modified_plain.steps:.2f} without the rotation")
+
+
+@pytest.mark.skip_in_parallel
+def test_a_run_says_when_its_steps_fell_back_to_the_pivoting_lu(run_cli, tmp_path):
+    """The seed's strains on the full system (-sb_condense_directors false): the LU without
+    pivoting meets a zero pivot and the steps go on with SuperLU. The run says so in its last
+    lines and in summary.json (pivoting_lu); the condensed solve of the same scene needs no
+    fall-back and says nothing."""
+    import json
+
+    scene = tmp_path / "seed_rod.toml"
+    scene.write_text("""
+[analysis]
+type = "dynamic"
+integrator = "energy-momentum"
+dt = 0.01
+t_end = 0.03
+
+[[beam]]
+name = "rod"
+start = [0.0, 0.0, 0.0]
+end = [1.0, 0.0, 0.0]
+spans = 4
+strain = "seed"
+section = { EA = 50.0, kGA = 50.0, GJ = 1.0, EI2 = 1.0, EI3 = 1.0, rhoA = 1.0, rhoI2 = 0.1, rhoI3 = 0.1 }
+
+[[support]]
+type = "spherical"
+beam = "rod"
+at = "start"
+
+[gravity]
+g = [0.0, 0.0, -9.81]
+""")
+    for options, fell_back in ((["-sb_condense_directors", "false"], True), ([], False)):
+        out = tmp_path / f"out_{fell_back}"
+        done = run_cli("run", str(scene), "--out", str(out), "--", *options) if options else \
+            run_cli("run", str(scene), "--out", str(out))
+        assert done.returncode == 0, done.stderr
+        assert ("ran on the pivoting LU (SuperLU)" in done.stdout) == fell_back, done.stdout
+        assert json.loads((out / "summary.json").read_text())["pivoting_lu"] == fell_back
