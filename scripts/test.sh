@@ -10,7 +10,11 @@ cd "$here"
 echo "== C++ unit tests (ctest)"
 ctest --test-dir build --output-on-failure
 echo "== pytest, serial"
-/usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
+# a temporary tree of its own: pytest's default one (/tmp/pytest-of-$USER) keeps the last three
+# runs' folders and deletes older ones, those of another test run going on at the same time too
+basetemp="$(mktemp -d "${TMPDIR:-/tmp}/slidebeam-tests.XXXXXX")"
+trap 'rm -rf "$basetemp"' EXIT
+/usr/bin/python3 -m pytest -q -p no:cacheprovider --basetemp "$basetemp/serial" tests/python
 echo "== pytest, mpirun -n 2"
 mpirun -n 2 /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
 echo "== all tests passed"
