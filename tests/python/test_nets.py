@@ -139,3 +139,15 @@ carrier = "x1_1"
     first_net = min(position[sim.control_point_unknowns(cp)[0]] for cp in net_points)
     assert position[first_extra] < first_net
     assert sim.integrator.step(1e-3).converged and not sim.integrator.pivoting_lu
+
+
+def test_a_falling_net_keeps_its_energy_under_energy_momentum(tmp_path):
+    """The net falls from its flat drawing for 20 steps: the energy it gains in motion and strain
+    is the potential energy it loses, to the Newton tolerance (welds and supports do no work)."""
+    import slidebeam
+
+    scene = net_scene(tmp_path, 4, 2)
+    scene.write_text(scene.read_text().replace("t_end = 0.005", "t_end = 0.02"))
+    last = slidebeam.Simulation(slidebeam.load_scene(scene), MPI.COMM_SELF).run_dynamic().records[-1]
+    assert last.t == 0.02 and last.kinetic_energy > 1.0
+    assert abs(last.total_energy) < 1e-10 * last.kinetic_energy, last.total_energy
