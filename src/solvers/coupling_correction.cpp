@@ -71,7 +71,7 @@ PetscErrorCode CouplingCorrection::detach(KSP ksp) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCorrection::post_solve(KSP ksp, Vec b, Vec x, void* ctx) {
+PetscErrorCode CouplingCorrection::post_solve(KSP ksp, Vec /*b*/, Vec x, void* ctx) {
   PetscFunctionBeginUser;
   auto* self = static_cast<CouplingCorrection*>(ctx);
   bool failed = false;
