@@ -89,20 +89,21 @@ def equilibrium_on_rank_0() -> bool:
     return _core_bool("equilibrium_on_rank_0")
 
 
-def serial_above_cut() -> int:
-    """-sb_serial_above_cut: a model whose split would leave a rank more control points next to
-    another rank's is owned by rank 0 alone (0: no limit)."""
+def _core_int(name: str) -> int:
+    """The int option -sb_<name>, or its default in the core (_core.<NAME>)."""
     from petsc4py import PETSc
 
     from . import _core
 
-    return int(PETSc.Options().getInt("sb_serial_above_cut", _core.SERIAL_ABOVE_CUT))
+    return int(PETSc.Options().getInt(f"sb_{name}", getattr(_core, name.upper())))
+
+
+def serial_above_cut() -> int:
+    """-sb_serial_above_cut: a model whose split would leave a rank more control points next to
+    another rank's is owned by rank 0 alone (0: no limit)."""
+    return _core_int("serial_above_cut")
 
 
 def serial_below() -> int:
     """-sb_serial_below: a model with fewer unknowns runs on one rank (0: always distribute)."""
-    from petsc4py import PETSc
-
-    from . import _core
-
-    return int(PETSc.Options().getInt("sb_serial_below", _core.SERIAL_BELOW))
+    return _core_int("serial_below")

@@ -22,6 +22,10 @@ namespace {
 // linear cost").
 const char* const kLoopOrdering = MATORDERINGQMD;
 
+// Control points a span couples lie within this many points of each other along their beam:
+// three consecutive points of a director beam's quadratic span, two nodes of an ANCF element.
+int span_reach(const Beam& b) { return b.is_ancf() ? 1 : 2; }
+
 PetscClassId slidebeam_classid() {
   static PetscClassId id = 0;
   if (!id) PetscClassIdRegister("slidebeam", &id);
@@ -123,6 +127,7 @@ void Model::finalize() {
     if (effects_[k]->n_extra() > 0)
       effects_[k]->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]
                                                    : map_.extra(slot_position[k]));
+  elimination_order_ = compute_elimination_order();
   locate_points();
   for (auto& e : effects_) e->distribute(*this);
 
@@ -775,11 +780,9 @@ PetscInt Model::largest_cut() const {
     at_cut[static_cast<size_t>(a)] = 1;
     at_cut[static_cast<size_t>(b)] = 1;
   };
-  for (const auto& beam : beams_) {
-    const int reach = beam.is_ancf() ? 1 : 2;
+  for (const auto& beam : beams_)
     for (int c = 0; c < beam.n_cp(); ++c)
-      for (int d = 1; d <= reach && c + d < beam.n_cp(); ++d) mark(beam.first_cp() + c, beam.first_cp() + c + d);
-  }
+      for (int d = 1; d <= span_reach(beam) && c + d < beam.n_cp(); ++d) mark(beam.first_cp() + c, beam.first_cp() + c + d);
   for (const auto& [a, b] : links) mark(a, b);
   std::vector<PetscInt> per_rank(static_cast<size_t>(size_), 0);
   for (PetscInt cp = 0; cp < n_cp_total_; ++cp)
@@ -892,7 +895,7 @@ std::vector<std::vector<PetscInt>> Model::loop_structure_orders() const {
     for (int c = 0; c < beam.n_cp(); ++c) out[static_cast<size_t>(loop_of[b])].push_back(beam.first_cp() + c);
   }
   // Each loop structure's points in minimum-degree order of their graph: the points a span
-  // couples (three consecutive points of a director beam, two nodes of an ANCF cable) and the links.
+  // couples (span_reach) and the links.
   for (auto& points : out) {
     const auto n = static_cast<PetscInt>(points.size());
     std::map<PetscInt, PetscInt> index;
@@ -901,7 +904,7 @@ std::vector<std::vector<PetscInt>> Model::loop_structure_orders() const {
     for (PetscInt i = 0; i < n; ++i) {
       const PetscInt cp = points[static_cast<size_t>(i)];
       const Beam& beam = beams_[static_cast<size_t>(beam_of_cp(cp))];
-      const int reach = beam.is_ancf() ? 1 : 2;
+      const int reach = span_reach(beam);
       for (int d = -reach; d <= reach; ++d) {
         const PetscInt c = cp - beam.first_cp() + d;
         if (c >= 0 && c < beam.n_cp()) adjacent[static_cast<size_t>(i)].push_back(i + d);
@@ -938,7 +941,7 @@ std::vector<std::vector<PetscInt>> Model::loop_structure_orders() const {
   return out;
 }
 
-std::vector<PetscInt> Model::elimination_order() const {
+std::vector<PetscInt> Model::compute_elimination_order() const {
   // Units: a structure of beams joined into loops (a net) is eliminated as one, its points in a
   // fill-reducing order (loop_structure_orders); every other beam is a unit of its own, its
   // points in their order.

@@ -145,8 +145,10 @@ class Model {
   /// elimination anchor. Each multiplier then meets its pivot as a Schur complement of the
   /// coordinates before it, and every joint fills only a window of its carrier's band, so the
   /// factorisation's cost grows linearly with the scene (the natural order, with all extras at
-  /// the end, fills every carrier from its joints to its last point). Same on every rank.
-  std::vector<PetscInt> elimination_order() const;
+  /// the end, fills every carrier from its joints to its last point). Same on every rank;
+  /// computed once, at finalize (a net's minimum-degree order is not free, and the solvers ask
+  /// again at every new Jacobian pattern).
+  const std::vector<PetscInt>& elimination_order() const { return elimination_order_; }
   /// The control points in the order the DofMap numbers them: each connected structure (beams
   /// joined through joints, Effect::reference_couplings) in reverse Cuthill-McKee order, which
   /// keeps a beam in its own order and slots a beam hanging from another among the points it
@@ -189,6 +191,8 @@ class Model {
   const std::vector<PetscInt>& prescribed_rows() const { return bc_rows_; }
 
  private:
+  /// elimination_order()'s permutation, from the finalized DofMap.
+  std::vector<PetscInt> compute_elimination_order() const;
   /// Scatter the global x into a ghosted local vector (default: x_local_).
   PetscErrorCode update_ghosts(Vec x, Vec local = nullptr) const;
   /// The effects' closest-point queries, answered by one parallel search (collective).
@@ -222,6 +226,7 @@ class Model {
   unsigned long step_starts_ = 0;  // set_step_start calls: EvalContext::step_start
   mutable int ghost_rebuilds_ = 0;
   PetscInt cut_points_ = 0;
+  std::vector<PetscInt> elimination_order_;  // elimination_order(), set by finalize
   Vec q_mask_ = nullptr, s_mask_ = nullptr;
   bool has_sliding_state_ = false;
   std::vector<PetscInt> init_rows_;  // initial values of extras (owned rows)

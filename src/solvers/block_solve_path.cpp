@@ -17,7 +17,7 @@ BlockSolvePath::BlockSolvePath(const Model& model, SNES snes, Mat J, const char*
   const CoreOptions options = core_options(model.comm());
   const bool user_sub = user_sets_schwarz_option(prefix, "-sub_pc_type");
   if (!options.condense_directors || options.schwarz_overlap != 0 || user_sub) return;
-  const std::vector<PetscInt> order = model.elimination_order();
+  const std::vector<PetscInt>& order = model.elimination_order();
   blocks_ = std::make_unique<DirectorCondensation>(model, order, DirectorCondensation::Mode::Exact);
   int any = blocks_->empty() ? 0 : 1;
   MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPI_INT, MPI_MAX, model.comm());

@@ -26,7 +26,7 @@ bool schwarz_requested(MPI_Comm comm, const char* prefix) {
 
 PetscErrorCode set_schwarz_subdomains(PC pc, const Model& model, Mat J) {
   PetscFunctionBeginUser;
-  const std::vector<PetscInt> order = model.elimination_order();
+  const std::vector<PetscInt>& order = model.elimination_order();
   std::vector<PetscInt> position(order.size());
   for (size_t k = 0; k < order.size(); ++k) position[static_cast<size_t>(order[k])] = static_cast<PetscInt>(k);
   PetscInt lo = 0, hi = 0, overlap = 1;

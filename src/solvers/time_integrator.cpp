@@ -95,7 +95,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     SB_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
     // The model's elimination order: the natural order with every multiplier next to the
     // coordinates it constrains, sliders before their carriers (Model::elimination_order).
-    const std::vector<PetscInt> order = model.elimination_order();
+    const std::vector<PetscInt>& order = model.elimination_order();
     SB_CHECK(attach_elimination_order(J_, order));
     SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
     fast_lu_ = true;
