@@ -345,6 +345,8 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("v_prev", &TimeIntegrator::v_prev, "v_{n-1} (predictor memory)")
       .def_property_readonly("h_prev", &TimeIntegrator::h_prev, "the last step size (predictor memory)")
       .def_property_readonly("pivoting_lu", &TimeIntegrator::pivoting_lu, "time steps use the pivoting LU")
+      .def_property_readonly("pivoting_lu_steps", &TimeIntegrator::pivoting_lu_steps,
+                             "converged steps solved on the pivoting LU after a fall-back")
       .def("restore", &TimeIntegrator::restore, py::arg("t"), py::arg("h_prev"), py::arg("pivoting_lu"),
            py::arg("segment_start") = 0.0, py::arg("segment_steps") = 0,
            "resume from a checkpoint (the state vectors already loaded)")

@@ -447,17 +447,21 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
     n_steps = max(1, round(a.t_end / a.dt))
     report_every = max(1, n_steps // 20)  # about 20 progress lines per run
     next_report = [0]
+    rejected = [0]  # step cuts since the last progress line
 
     def progress(rec) -> None:
         if rec.converged:
             output.write(rec.t, rec.joints)  # the record's joints: not computed again
+        rejected[0] += rec.rejected_steps
         if args.quiet:
             return
         if rec.converged and rec.step < next_report[0] and rec.t < a.t_end * (1 - 1e-12):
             return
         next_report[0] = rec.step + report_every
+        cuts = f"  {rejected[0]} steps cut" if rejected[0] else ""
+        rejected[0] = 0
         _say(rank, f"  step {rec.step:6d}  t = {rec.t:10.5g}  newton {rec.newton_iterations:2d}  "
-                   f"E = {rec.total_energy:.10e}  |constraints| = {rec.constraint_residual:.1e}"
+                   f"E = {rec.total_energy:.10e}  |constraints| = {rec.constraint_residual:.1e}{cuts}"
                    f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
 
     if state is None and a.start == "equilibrium":
@@ -497,10 +501,15 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
             _say(rank, parallel_line(summary))
         elif summary["pivoting_lu"]:
             # slower, and a sign of a system the condensed LU could not factor: worth knowing
-            _say(rank, "note: a step's LU without pivoting met a zero pivot, and the steps after it ran on the "
-                       "pivoting LU (SuperLU), which is slower (docs/troubleshooting.md, \"Solvers\")")
-        _say(rank, f"done in {wall:.3f} s: {summary['steps']} steps, {summary['newton_iterations']} Newton iterations; "
-                   f"results in {out}/")
+            _say(rank, f"note: {summary['pivoting_lu_steps']} steps ran on the pivoting LU (SuperLU), which is slower, "
+                       "after the LU without pivoting failed on them (a zero pivot, or Newton did not converge); the "
+                       "steps after each went back to it (docs/troubleshooting.md, \"Solvers\")")
+        if summary["rejected_steps"]:
+            _say(rank, f"note: {summary['rejected_steps']} steps failed and were retried at half the step size "
+                       f"(summary.json rejected_steps; history.csv rejected_steps says where): dt = "
+                       f"{summary['dt']:g} is too large for parts of this run")
+        _say(rank, f"done in {wall:.3f} s: {summary['steps']} steps, {summary['newton_iterations']} Newton iterations, "
+                   f"{summary['jacobian_evaluations']} Jacobians; results in {out}/")
         return EXIT_OK
     _say(rank, f"slidebeam: error: {outcome.message}", sys.stderr)
     return EXIT_SOLVE_FAILED

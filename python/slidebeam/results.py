@@ -187,11 +187,13 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
         "t_end": a.t_end, "t_reached": sim.t, "dt": a.dt, "dt_min": a.dt_min,
         "steps": outcome.steps, "rejected_steps": outcome.rejected_steps,
         "newton_iterations": outcome.newton_iterations,
+        "jacobian_evaluations": int(sim.integrator.jacobian_evaluations),
         "unknowns": sim.x.getSize(), "ranks": sim.x.getComm().getSize(), "wall_time_s": wall_time,
         "final_energy": {"kinetic": last.kinetic_energy, "strain": last.strain_energy,
                          "potential": last.potential_energy, "total": last.total_energy},
         "max_constraint_residual": max(r.constraint_residual for r in recs),
-        "pivoting_lu": bool(sim.integrator.pivoting_lu),
+        "pivoting_lu": bool(sim.integrator.pivoting_lu) or sim.integrator.pivoting_lu_steps > 0,
+        "pivoting_lu_steps": int(sim.integrator.pivoting_lu_steps),
     }
     if sim.settled is not None:
         summary["static_start"] = static_start_summary(sim)

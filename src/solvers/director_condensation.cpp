@@ -111,6 +111,7 @@ PetscErrorCode DirectorCondensation::attach(SNES snes) {
   PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
   snes_ = snes;
   PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_corotate_jacobian", &corotate_, nullptr));
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_backtrack", &backtrack_, nullptr));
   PetscFunctionReturn(0);
 }
 
@@ -120,6 +121,7 @@ PetscErrorCode DirectorCondensation::attach_update(SNES snes) {
   PetscCall(SNESGetLineSearch(snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
   PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_backtrack", &backtrack_, nullptr));
   PetscFunctionReturn(0);
 }
 
@@ -631,7 +633,47 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
   Vec X = nullptr, F = nullptr, Y = nullptr, W = nullptr, G = nullptr;
   PetscCall(SNESLineSearchGetSNES(ls, &snes));
   PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
-  PetscCall(VecWAXPY(W, -1.0, Y, X));
+  PetscReal fnorm0 = 0.0, unused = 0.0;
+  PetscCall(SNESLineSearchGetNorms(ls, &unused, &fnorm0, &unused));
+  // The full step first. Where it makes |F| grow (Newton far from the solution: a rope's axial
+  // waves after a jerk sent it from 1e5 to 1e48), shorter steps along it, halving up to
+  // kBacktracks times, and the first that lowers |F| is taken (else the one of least |F|).
+  // G holds the best trial so far; F is F(W) of the trial in W.
+  constexpr int kBacktracks = 6;
+  PetscReal norms[3] = {0.0, 0.0, 0.0};  // |F|, |W|, |W - X|
+  PetscCall(trial(snes, X, Y, 1.0, W, F, norms));
+  if (backtrack_ && !(norms[0] <= fnorm0) && fnorm0 > 0.0) {
+    PetscReal best[3] = {norms[0], norms[1], norms[2]};
+    Vec Fbest = nullptr;
+    PetscCall(VecDuplicate(F, &Fbest));
+    PetscCall(VecCopy(W, G));
+    PetscCall(VecCopy(F, Fbest));
+    double lambda = 1.0;
+    for (int k = 0; k < kBacktracks; ++k) {
+      lambda *= 0.5;
+      PetscCall(trial(snes, X, Y, lambda, W, F, norms));
+      if (norms[0] < best[0] || !std::isfinite(best[0])) {
+        std::copy(norms, norms + 3, best);
+        PetscCall(VecCopy(W, G));
+        PetscCall(VecCopy(F, Fbest));
+      }
+      if (norms[0] < fnorm0) break;
+    }
+    PetscCall(PetscInfo(snes, "Backtracked: |F| %g -> %g at step length %g\n", (double)fnorm0, (double)best[0], lambda));
+    PetscCall(VecCopy(G, W));
+    PetscCall(VecCopy(Fbest, F));
+    PetscCall(VecDestroy(&Fbest));
+    std::copy(best, best + 3, norms);
+  }
+  PetscCall(VecCopy(W, X));
+  PetscCall(SNESLineSearchSetNorms(ls, norms[1], norms[0], norms[2]));
+  if (!std::isfinite(norms[0])) PetscCall(SNESLineSearchSetReason(ls, SNES_LINESEARCH_FAILED_DOMAIN));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::trial(SNES snes, Vec X, Vec Y, double lambda, Vec W, Vec F, PetscReal* norms) {
+  PetscFunctionBeginUser;
+  PetscCall(VecWAXPY(W, -lambda, Y, X));
   if (exponential_) {
     // The step's director part is w x d_i (C dq = 0 on the manifold): w = 1/2 sum_i d_i x dd_i,
     // and the triad turns by exp([w]x) (the closest frame of d + w x d turns by atan|w| only).
@@ -656,7 +698,6 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
   }
   PetscCall(project(W));
   PetscCall(SNESComputeFunction(snes, W, F));
-  PetscReal fnorm = 0, xnorm = 0, ynorm = 0;
   // Multipliers: the residual is linear in them (forces s G(x_f)^T lambda), so the choice that
   // leaves no force along G^T is a 6 x 6 least-squares problem per triad (unless the step's
   // own, Newton's, are kept: set_newton_multipliers).
@@ -691,16 +732,11 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
     }
     MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(X));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_DOUBLE, MPI_SUM, comm));
-    fnorm = std::sqrt(sums[0]);
-    xnorm = std::sqrt(sums[1]);
-    ynorm = std::sqrt(sums[2]);
+    for (int k = 0; k < 3; ++k) norms[k] = std::sqrt(sums[k]);
     PetscCall(VecRestoreArrayRead(X, &x));
     PetscCall(VecRestoreArray(F, &f));
     PetscCall(VecRestoreArray(W, &w));
   }
-  PetscCall(VecCopy(W, X));
-  PetscCall(SNESLineSearchSetNorms(ls, xnorm, fnorm, ynorm));
-  if (!std::isfinite(fnorm)) PetscCall(SNESLineSearchSetReason(ls, SNES_LINESEARCH_FAILED_DOMAIN));
   PetscFunctionReturn(0);
 }
 

@@ -122,6 +122,9 @@ class DirectorCondensation {
   PetscErrorCode apply(Vec b, Vec y);
   PetscErrorCode apply_exact(Mat A, Vec b, Vec y);
   PetscErrorCode search(SNESLineSearch ls);
+  /// One trial of the line search: W = X - lambda Y on the manifold, its multipliers set, F =
+  /// F(W); norms = |F|, |W|, |W - X|.
+  PetscErrorCode trial(SNES snes, Vec X, Vec Y, double lambda, Vec W, Vec F, PetscReal* norms);
   int red_size(const Group& g) const { return g.triad >= 0 ? 6 : 1; }
   /// y's part of group G from the reduced solution a, with the set-up's N' (not co-rotated).
   void expand(const Group& G, const PetscScalar* a, PetscScalar* yy) const;
@@ -160,6 +163,7 @@ class DirectorCondensation {
   Vec p_ = nullptr, t_ = nullptr;
   // line search state
   bool exponential_ = false;
+  PetscBool backtrack_ = PETSC_TRUE;  // -sb_backtrack: shorter steps where the full one makes |F| grow
   bool newton_multipliers_ = false;
   bool manifold_apply_ = false;
   Vec x_old_ = nullptr;

@@ -116,11 +116,19 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
                              "time steps with -sb_jacobian_reuse: rotate the reused condensed Jacobian with the triads",
                              "", o->corotate_jacobian, &o->corotate_jacobian, nullptr));
   PetscCall(PetscOptionsBool("-sb_jacobian_reuse",
-                             "time steps: modified Newton, the Jacobian and its LU kept across iterations and steps",
-                             "", o->jacobian_reuse, &o->jacobian_reuse, nullptr));
+                             "time steps: modified Newton, the Jacobian and its LU kept across iterations and steps "
+                             "(false: full Newton)",
+                             "", o->jacobian_reuse, &o->jacobian_reuse, &o->jacobian_reuse_set));
+  PetscCall(PetscOptionsBool("-sb_newton_by_cost",
+                             "time steps without -sb_jacobian_reuse: modified or full Newton, each measured over a "
+                             "stretch of steps and the cheaper one run (iterations + 4 per Jacobian)",
+                             "", o->newton_by_cost, &o->newton_by_cost, nullptr));
   PetscCall(PetscOptionsReal("-sb_jacobian_reuse_rate",
                              "modified Newton: a fresh Jacobian once an iteration reduces |F| by less than this factor",
                              "", o->jacobian_reuse_rate, &o->jacobian_reuse_rate, nullptr));
+  PetscCall(PetscOptionsBool("-sb_backtrack",
+                             "Newton on the director manifold: halve a step that makes |F| grow, up to 6 times",
+                             "", o->backtrack, &o->backtrack, nullptr));
   PetscCall(PetscOptionsBool("-sb_full_newton_after_rebuild",
                              "modified Newton: finish a step with full Newton once its Jacobian had to be rebuilt", "",
                              o->full_newton_after_rebuild, &o->full_newton_after_rebuild, nullptr));

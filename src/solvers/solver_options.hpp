@@ -52,7 +52,12 @@ struct CoreOptions {
   PetscBool exponential_update = PETSC_TRUE;
   PetscBool corotate_jacobian = PETSC_TRUE;
   PetscBool jacobian_reuse = PETSC_FALSE;
+  PetscBool jacobian_reuse_set = PETSC_FALSE;  // -sb_jacobian_reuse given
+  /// time steps without -sb_jacobian_reuse: modified or full Newton chosen by their measured cost
+  PetscBool newton_by_cost = PETSC_FALSE;
   PetscReal jacobian_reuse_rate = 0.2;
+  /// the manifold line search halves a step that makes |F| grow (DirectorCondensation::search)
+  PetscBool backtrack = PETSC_TRUE;
   PetscBool full_newton_after_rebuild = PETSC_FALSE;
   PetscBool floor_stop = PETSC_FALSE;
   PetscBool project_velocity = PETSC_TRUE;

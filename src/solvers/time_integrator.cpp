@@ -75,8 +75,9 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   // multipliers, so c0 M + theta K is eliminated before the constraint rows and their pivots are
   // Schur complements, nonzero as long as the coordinate block is regular: 2-3x faster than
   // SuperLU on these small banded systems. It does not pivot, so a zero pivot (d1 of the seed's
-  // strains, which has neither mass nor stiffness) or any failed step switches to SuperLU for
-  // good (use_pivoting_lu). An explicit -pc_factor_mat_solver_type wins over both.
+  // strains, which has neither mass nor stiffness) or any failed step retries the step on SuperLU
+  // (use_pivoting_lu); the steps after it return to the fast LU (step()). An explicit
+  // -pc_factor_mat_solver_type wins over both.
   // An explicit solver or preconditioner (-pc_type asm, -pc_type fieldsplit, ...) from the
   // options database wins.
   const bool user_solver = solver_option_set(kStepPrefix, "-pc_factor_mat_solver_type") ||
@@ -84,28 +85,16 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   int size = 1;
   MPI_Comm_size(model.comm(), &size);
   const CoreOptions options = core_options(model.comm());
-  const PetscBool condense = options.condense_directors;
   if (BlockSolvePath::requested(model.comm(), kStepPrefix)) {
     blocks_ = std::make_unique<BlockSolvePath>(model, snes_, J_, kStepPrefix);
   } else if (size == 1 && !user_solver) {
-    KSP ksp = nullptr;
-    PC pc = nullptr;
-    SB_CHECK(SNESGetKSP(snes_, &ksp));
-    SB_CHECK(KSPGetPC(ksp, &pc));
-    SB_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
-    // The model's elimination order: the natural order with every multiplier next to the
-    // coordinates it constrains, sliders before their carriers (Model::elimination_order).
-    const std::vector<PetscInt>& order = model.elimination_order();
-    SB_CHECK(attach_elimination_order(J_, order));
-    SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
-    fast_lu_ = true;
-    if (condense) {
-      condensation_ = std::make_unique<DirectorCondensation>(model, order);
-      if (condensation_->empty()) condensation_.reset();
-      else SB_CHECK(condensation_->attach(snes_));
-    }
+    attach_fast_lu();
   }
   reuse_ = options.jacobian_reuse;
+  // -sb_newton_by_cost without -sb_jacobian_reuse: the Newton variant of each stretch of steps
+  // is chosen by its cost (choose_newton)
+  auto_reuse_ = options.newton_by_cost && !options.jacobian_reuse_set;
+  if (auto_reuse_) reset_newton_choice();
   reuse_rate_ = options.jacobian_reuse_rate;
   full_newton_after_rebuild_ = options.full_newton_after_rebuild;
   floor_stop_ = options.floor_stop;
@@ -551,6 +540,15 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
 
 SolveResult TimeIntegrator::step(double h) {
   SB_CHECK(PetscLogEventBegin(ev_step_, 0, 0, 0, 0));
+  // After a fall-back, the fast LU again once the pivoting one has taken 1, 2, 4, ... 64 steps
+  // (doubling while the fast one keeps failing at once: the seed's strains on the full system
+  // meet their zero pivot at every step).
+  if (fell_back_ && pivoted_since_ >= (1L << std::min(fast_failures_ - 1, 6))) {
+    SB_CHECK(PetscInfo(snes_, "Back to the fast LU after %ld steps on the pivoting one\n", pivoted_since_));
+    attach_fast_lu();
+    fell_back_ = false;
+  }
+  if (auto_reuse_) choose_newton();
   prepare_step(h);
   ++solve_count_;
   // The floor scales with the step size (c0 M ~ 1/h^2 in F): a measurement holds for one size.
@@ -561,12 +559,18 @@ SolveResult TimeIntegrator::step(double h) {
   // last step failed; then build a fresh one first (lag -2).
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, (jac_solve_ < 0 || c0_ != jac_c0_ || last_failed_) ? -2 : -1));
   SolveResult r;
+  const int jac_before = jac_evals_;
   bool tried_full_newton = !reuse_;
   for (int attempt = 0;; ++attempt) {
     // After a failure, from the same predictor: first a pivoting LU (if the fast one was in
     // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
     if (attempt > 0) {
       if (fast_lu_ || blocks_) {
+        if (fast_lu_) {
+          fell_back_ = true;
+          ++fast_failures_;
+          pivoted_since_ = 0;
+        }
         use_pivoting_lu();
       } else if (!tried_full_newton) {
         SB_CHECK(SNESSetLagJacobian(snes_, 1));
@@ -594,6 +598,12 @@ SolveResult TimeIntegrator::step(double h) {
     if (r.converged()) break;
   }
   last_failed_ = !r.converged();
+  if (auto_reuse_) {
+    ++choice_.steps;
+    choice_.cost += r.iterations + kJacobianCost * (jac_evals_ - jac_before);
+  }
+  if (r.converged() && fell_back_) ++pivoting_steps_, ++pivoted_since_;
+  if (r.converged() && fast_lu_) fast_failures_ = 0;
   if (r.converged() && floor_sample_ > 0.0) {
     floor_samples_[floor_count_++ % kFloorSamples] = floor_sample_;
     const int n = std::min(floor_count_, kFloorSamples);
@@ -641,6 +651,50 @@ SolveResult TimeIntegrator::step(double h) {
   return r;
 }
 
+void TimeIntegrator::reset_newton_choice() {
+  choice_ = NewtonChoice{};
+  set_reuse(true);
+}
+
+void TimeIntegrator::set_reuse(bool on) {
+  reuse_ = on ? PETSC_TRUE : PETSC_FALSE;
+  jac_solve_ = -1;  // a fresh Jacobian at the next step either way
+  SB_CHECK(SNESSetLagJacobian(snes_, on ? -2 : 1));
+}
+
+void TimeIntegrator::choose_newton() {
+  NewtonChoice& c = choice_;
+  if (c.steps < c.budget) return;
+  const double per_step = c.cost / std::max(1L, c.steps);
+  (reuse_ ? c.reuse_cost : c.full_cost) = per_step;
+  bool reuse = reuse_ == PETSC_TRUE;
+  if (c.probing || c.full_cost < 0.0) {
+    // a measurement of each variant is at hand (or the first of full Newton is still due):
+    // the cheaper one runs for a period, or full Newton is measured first
+    if (c.full_cost < 0.0) {
+      reuse = false;
+      c.probing = true;
+      c.budget = kFullNewtonWindow;
+    } else {
+      reuse = c.reuse_cost <= c.full_cost;
+      c.probing = false;
+      c.budget = kChoicePeriod;
+    }
+  } else {
+    // a period is over: measure the other variant again, briefly
+    reuse = !reuse;
+    c.probing = true;
+    c.budget = reuse ? kReuseWindow : kFullNewtonWindow;
+  }
+  c.steps = 0;
+  c.cost = 0.0;
+  if (reuse != (reuse_ == PETSC_TRUE)) {
+    SB_CHECK(PetscInfo(snes_, "Newton cost per step: modified %g, full %g (iterations + %g per Jacobian): %s\n",
+                       c.reuse_cost, c.full_cost, kJacobianCost, reuse ? "modified Newton" : "full Newton"));
+    set_reuse(reuse);
+  }
+}
+
 void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double segment_start, long segment_steps) {
   t_ = t;
   model_.set_prescribed_time(t);
@@ -651,7 +705,43 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   last_failed_ = false;
   stepped_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
-  if (pivoting_lu && (fast_lu_ || blocks_)) use_pivoting_lu();
+  if (auto_reuse_) reset_newton_choice();
+  if (pivoting_lu && (fast_lu_ || blocks_)) {
+    if (fast_lu_) fell_back_ = true, fast_failures_ = 1, pivoted_since_ = 0;
+    use_pivoting_lu();
+  }
+}
+
+void TimeIntegrator::attach_fast_lu() {
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  SB_CHECK(SNESGetKSP(snes_, &ksp));
+  SB_CHECK(KSPGetPC(ksp, &pc));
+  SB_CHECK(PCReset(pc));
+  SB_CHECK(KSPSetType(ksp, KSPPREONLY));
+  SB_CHECK(PCSetType(pc, PCLU));
+  SB_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
+  // The model's elimination order: the natural order with every multiplier next to the
+  // coordinates it constrains, sliders before their carriers (Model::elimination_order).
+  const std::vector<PetscInt>& order = model_.elimination_order();
+  SB_CHECK(attach_elimination_order(J_, order));
+  SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
+  fast_lu_ = true;
+  const CoreOptions options = core_options(model_.comm());
+  if (options.condense_directors) {
+    condensation_ = std::make_unique<DirectorCondensation>(model_, order);
+    if (condensation_->empty()) {
+      condensation_.reset();
+    } else {
+      SB_CHECK(condensation_->attach(snes_));
+    }
+  }
+  if (!condensation_) {  // the plain Newton update on the full system
+    SNESLineSearch ls = nullptr;
+    SB_CHECK(SNESGetLineSearch(snes_, &ls));
+    SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+  }
+  if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 
 void TimeIntegrator::use_pivoting_lu() {

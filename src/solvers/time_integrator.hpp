@@ -97,15 +97,24 @@ class TimeIntegrator {
   /// Memory of the midpoint-type predictor: v_{n-1} and the last step size.
   Vec v_prev() const { return v_prev_; }
   double h_prev() const { return h_prev_; }
-  /// True once time steps use the pivoting LU (after a failed step, or when the user chose a solver).
+  /// True while time steps use the pivoting LU (after a failed step, until the return to the
+  /// fast one; or when the user chose a solver).
   bool pivoting_lu() const { return !fast_lu_ && !blocks_; }
+  /// Converged steps solved on the pivoting LU, serial fall-backs included (the steps of a
+  /// solver the user chose are not counted).
+  long pivoting_lu_steps() const { return pivoting_steps_; }
   /// Resume from a checkpoint: x, v, a, v_prev and sliding_rate have been loaded into this
   /// integrator's vectors; set the time, the predictor memory and the linear solver state.
   /// segment_steps > 0 continues a segment of equal steps h_prev that started at segment_start.
   void restore(double t, double h_prev, bool pivoting_lu, double segment_start = 0.0, long segment_steps = 0);
   /// Build a fresh step Jacobian at the next step, as a restart does: a run that writes a
   /// checkpoint then goes on exactly as a restart from it.
-  void forget_jacobian() { jac_solve_ = -1; }
+  void forget_jacobian() {
+    jac_solve_ = -1;
+    if (auto_reuse_) reset_newton_choice();
+  }
+  /// Modified Newton (the Jacobian kept across iterations and steps) for the coming steps.
+  bool jacobian_reuse() const { return reuse_ == PETSC_TRUE; }
   Mat mass() const { return M_; }
   Mat jacobian() const { return J_; }
   SNES snes() const { return snes_; }
@@ -173,6 +182,10 @@ class TimeIntegrator {
   PetscErrorCode step_forces(Vec x1, Vec F, const StepEval& eval);
   /// Leave the non-pivoting LU for SuperLU (after a failure with it).
   void use_pivoting_lu();
+  /// Serial steps: PETSc's LU without pivoting in the model's elimination order, on the
+  /// condensed system where there are director triads (the constructor, and the return after
+  /// a fall-back).
+  void attach_fast_lu();
   /// Add the converged step's work of every counted effect to flows_ (x_: start, x1_: end).
   void account_energy_flows();
   /// [M G^T; G 0] at x_ (the effects' tangent with the forces frozen, theta = 0; supports'
@@ -209,6 +222,26 @@ class TimeIntegrator {
   long n_seg_ = 0;       // steps taken in it
   bool has_history_force_ = false;
   // modified Newton bookkeeping
+  /// Without -sb_jacobian_reuse, modified and full Newton are chosen by their cost per step,
+  /// iterations + kJacobianCost per Jacobian (each Jacobian is assembled and factored; on a
+  /// 40-span cable one costs 15 iterations, on the pendulum 3). Modified Newton first for
+  /// kReuseWindow steps, full Newton for kFullNewtonWindow, then the cheaper for kChoicePeriod,
+  /// the other measured again for its window, and so on: a function of the iteration counts
+  /// alone, so a run is reproducible (docs/performance.md, "Cables").
+  static constexpr double kJacobianCost = 4.0;
+  static constexpr long kReuseWindow = 32, kFullNewtonWindow = 16, kChoicePeriod = 128;
+  struct NewtonChoice {
+    long budget = kReuseWindow;  // steps of the current variant before the next choice
+    long steps = 0;              // steps taken in it so far
+    double cost = 0.0;           // their cost
+    double reuse_cost = -1.0, full_cost = -1.0;  // per step, last measured (-1: not yet)
+    bool probing = false;        // the current variant is being measured against the other
+  };
+  NewtonChoice choice_;
+  bool auto_reuse_ = false;
+  void reset_newton_choice();
+  void choose_newton();
+  void set_reuse(bool on);
   PetscBool reuse_ = PETSC_FALSE;
   PetscReal reuse_rate_ = 0.2;
   PetscBool full_newton_after_rebuild_ = PETSC_FALSE;
@@ -232,6 +265,10 @@ class TimeIntegrator {
   std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
   std::unique_ptr<BlockSolvePath> blocks_;  // -sb_schwarz: the parallel block solve
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
+  bool fell_back_ = false;   // on the pivoting LU after a failure of the fast one (serial)
+  int fast_failures_ = 0;    // consecutive fall-backs without a step on the fast LU between them
+  long pivoted_since_ = 0;   // converged steps on the pivoting LU since the last fall-back
+  long pivoting_steps_ = 0;  // converged steps on the pivoting LU in all
   PetscLogEvent ev_step_ = 0;
 };
 
