@@ -88,6 +88,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   if (BlockSolvePath::requested(model.comm(), kStepPrefix)) {
     blocks_ = std::make_unique<BlockSolvePath>(model, snes_, J_, kStepPrefix);
   } else if (size == 1 && !user_solver) {
+    condense_ = options.condense_directors == PETSC_TRUE;
     attach_fast_lu();
   }
   reuse_ = options.jacobian_reuse;
@@ -727,8 +728,7 @@ void TimeIntegrator::attach_fast_lu() {
   SB_CHECK(attach_elimination_order(J_, order));
   SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
   fast_lu_ = true;
-  const CoreOptions options = core_options(model_.comm());
-  if (options.condense_directors) {
+  if (condense_) {
     condensation_ = std::make_unique<DirectorCondensation>(model_, order);
     if (condensation_->empty()) {
       condensation_.reset();

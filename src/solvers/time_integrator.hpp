@@ -265,6 +265,7 @@ class TimeIntegrator {
   std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
   std::unique_ptr<BlockSolvePath> blocks_;  // -sb_schwarz: the parallel block solve
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
+  bool condense_ = false;    // the fast LU works on the condensed system (-sb_condense_directors at the start)
   bool fell_back_ = false;   // on the pivoting LU after a failure of the fast one (serial)
   int fast_failures_ = 0;    // consecutive fall-backs without a step on the fast LU between them
   long pivoted_since_ = 0;   // converged steps on the pivoting LU since the last fall-back
