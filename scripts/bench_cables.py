@@ -12,9 +12,8 @@ catenary (Irvine) of the same cable. Time it only on an otherwise idle machine.
     scripts/bench_cables.py                      # every scene, 3 runs each
     scripts/bench_cables.py --repeat 1 --quick   # the swing shortened to 10.5 s
 
-MoorDyn, for a side-by-side on the same cable, is not a dependency: install it into a throwaway
-venv (/usr/bin/python3 -m venv --system-site-packages /tmp/md && /tmp/md/bin/pip install moordyn)
-and see docs/performance.md, "Cables", for the figures measured with it.
+A side-by-side with MoorDyn on the same cable is not in this script yet (docs/performance.md,
+"Cables", says what is open).
 """
 from __future__ import annotations
 
@@ -44,10 +43,8 @@ def run(scene: str, sets: list[str], petsc: list[str], out: Path) -> dict:
     return json.loads((out / "summary.json").read_text())
 
 
-def jacobian_share(summary: dict) -> float:
-    """Share of the run in the step Jacobians' assembly (the cost table's effect rows are
-    residuals and Jacobians together; the Jacobians' share of them is not split out, so this is
-    the assembly's share)."""
+def assembly_share(summary: dict) -> float:
+    """Share of the run in assembly: the cost table's effect rows, residuals and Jacobians together."""
     return sum(c["share"] for c in summary.get("cost", []) if c["phase"].startswith("assembly"))
 
 
@@ -124,7 +121,7 @@ def main() -> None:
                     its.append(s["newton_iterations"] / n)
                     jac.append(s["jacobian_evaluations"] / n)
                     rej.append(s["rejected_steps"] / n)
-                    share.append(jacobian_share(s))
+                    share.append(assembly_share(s))
                     if scene == SWING and not swing_checked and not petsc:
                         omega = swing_frequency(out / "history.csv")
                         T, T_exact = start_tension(out / "history.csv"), catenary_tension()

@@ -91,9 +91,17 @@ DirectorCondensation::~DirectorCondensation() {
   VecDestroy(&a_);
   VecDestroy(&p_);
   VecDestroy(&t_);
+  VecDestroy(&f_best_);
 }
 
 PetscErrorCode DirectorCondensation::attach(SNES snes) {
+  PetscFunctionBeginUser;
+  PetscCall(read_options());
+  PetscCall(reattach(snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::reattach(SNES snes) {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
   PC pc = nullptr;
@@ -105,23 +113,30 @@ PetscErrorCode DirectorCondensation::attach(SNES snes) {
   PetscCall(PCShellSetSetUp(pc, &DirectorCondensation::pc_setup));
   PetscCall(PCShellSetApply(pc, &DirectorCondensation::pc_apply));
   PetscCall(PCShellSetName(pc, "director triads condensed to 6 unknowns per control point, then LU"));
-  SNESLineSearch ls = nullptr;
-  PetscCall(SNESGetLineSearch(snes, &ls));
-  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
-  PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
+  PetscCall(install_line_search(snes));
   snes_ = snes;
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_corotate_jacobian", &corotate_, nullptr));
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_backtrack", &backtrack_, nullptr));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode DirectorCondensation::attach_update(SNES snes) {
   PetscFunctionBeginUser;
+  PetscCall(read_options());
+  PetscCall(install_line_search(snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::read_options() {
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_corotate_jacobian", &corotate_, nullptr));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode DirectorCondensation::install_line_search(SNES snes) {
+  PetscFunctionBeginUser;
   SNESLineSearch ls = nullptr;
   PetscCall(SNESGetLineSearch(snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
   PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
-  PetscCall(PetscOptionsGetBool(nullptr, nullptr, "-sb_backtrack", &backtrack_, nullptr));
   PetscFunctionReturn(0);
 }
 
@@ -245,6 +260,7 @@ PetscErrorCode DirectorCondensation::build_pattern(Mat J) {
 PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   PetscFunctionBeginUser;
   *ok = true;
+  ++setups_;
   block_ = J;
   PetscObjectState state = 0;
   PetscObjectId id = 0;
@@ -638,14 +654,21 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
   // The full step first. Where it makes |F| grow (Newton far from the solution: a rope's axial
   // waves after a jerk sent it from 1e5 to 1e48), shorter steps along it, halving up to
   // kBacktracks times, and the first that lowers |F| is taken (else the one of least |F|).
-  // G holds the best trial so far; F is F(W) of the trial in W.
+  // Not at roundoff: a step below kRoundoffStep of the state only moves |F| about its floor
+  // (the stiff pendulum's last iteration grows |F| in one step of five), and shortening it
+  // costs residuals and gains nothing. G holds the best trial so far; F is F(W) of the trial in W.
   constexpr int kBacktracks = 6;
+  constexpr double kRoundoffStep = 1e-7;  // the convergence test's (TimeIntegrator::converged)
   PetscReal norms[3] = {0.0, 0.0, 0.0};  // |F|, |W|, |W - X|
   PetscCall(trial(snes, X, Y, 1.0, W, F, norms));
-  if (backtrack_ && !(norms[0] <= fnorm0) && fnorm0 > 0.0) {
+  // With an old Jacobian (modified Newton) growth asks for a fresh one instead (the time
+  // integrator's convergence test), not for a shorter step along a stale direction.
+  const bool fresh = setups_ != setups_seen_;
+  setups_seen_ = setups_;
+  if (backtrack_ && fresh && !(norms[0] <= fnorm0) && fnorm0 > 0.0 && !(norms[2] <= kRoundoffStep * norms[1])) {
     PetscReal best[3] = {norms[0], norms[1], norms[2]};
-    Vec Fbest = nullptr;
-    PetscCall(VecDuplicate(F, &Fbest));
+    if (!f_best_) PetscCall(VecDuplicate(F, &f_best_));
+    Vec Fbest = f_best_;
     PetscCall(VecCopy(W, G));
     PetscCall(VecCopy(F, Fbest));
     double lambda = 1.0;
@@ -662,7 +685,6 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
     PetscCall(PetscInfo(snes, "Backtracked: |F| %g -> %g at step length %g\n", (double)fnorm0, (double)best[0], lambda));
     PetscCall(VecCopy(G, W));
     PetscCall(VecCopy(Fbest, F));
-    PetscCall(VecDestroy(&Fbest));
     std::copy(best, best + 3, norms);
   }
   PetscCall(VecCopy(W, X));

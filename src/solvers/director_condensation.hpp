@@ -61,6 +61,9 @@ class DirectorCondensation {
   /// Install on snes: KSP preonly with this preconditioner (the reduced LU), and the line
   /// search that keeps iterates on the manifold (Manifold mode).
   PetscErrorCode attach(SNES snes);
+  /// attach again, after snes used another solver for a while (a fall-back to a pivoting LU),
+  /// with the options read at the first attach.
+  PetscErrorCode reattach(SNES snes);
   /// Install on snes the line search that keeps iterates on the manifold, and nothing else: the
   /// linear solve stays snes's own (Update mode; collective).
   PetscErrorCode attach_update(SNES snes);
@@ -82,6 +85,11 @@ class DirectorCondensation {
   /// Keep the multipliers of the Newton step instead of setting them by least squares (Update
   /// mode only: the step must carry them, as a solve of the full system does).
   void set_newton_multipliers(bool on) { newton_multipliers_ = on; }
+  /// The line search halves a step that makes |F| grow, up to 6 times (time steps, -sb_backtrack:
+  /// an implicit step from its predictor is close to its solution unless the motion jerked).
+  /// Off for statics: a load step's full Newton steps on large rotations make |F| grow on their
+  /// way and converge quadratically; halved, the roll-up's first load step took 73 iterations.
+  void set_backtrack(bool on) { backtrack_ = on; }
   /// Exact mode: apply the reduced solve alone (no particular solution for the constraint rows,
   /// no multipliers), as in Manifold mode. Right when the block solve is the whole linear solve
   /// (ranks not coupled) and a line search keeps the iterates on the manifold and sets the
@@ -122,6 +130,9 @@ class DirectorCondensation {
   PetscErrorCode apply(Vec b, Vec y);
   PetscErrorCode apply_exact(Mat A, Vec b, Vec y);
   PetscErrorCode search(SNESLineSearch ls);
+  /// -sb_corotate_jacobian from the options database (at attach).
+  PetscErrorCode read_options();
+  PetscErrorCode install_line_search(SNES snes);
   /// One trial of the line search: W = X - lambda Y on the manifold, its multipliers set, F =
   /// F(W); norms = |F|, |W|, |W - X|.
   PetscErrorCode trial(SNES snes, Vec X, Vec Y, double lambda, Vec W, Vec F, PetscReal* norms);
@@ -163,7 +174,9 @@ class DirectorCondensation {
   Vec p_ = nullptr, t_ = nullptr;
   // line search state
   bool exponential_ = false;
-  PetscBool backtrack_ = PETSC_TRUE;  // -sb_backtrack: shorter steps where the full one makes |F| grow
+  bool backtrack_ = false;             // set_backtrack
+  long setups_ = 0, setups_seen_ = 0;  // set-ups so far; as of the last line search (a fresh direction?)
+  Vec f_best_ = nullptr;               // backtracking: F of the best trial
   bool newton_multipliers_ = false;
   bool manifold_apply_ = false;
   Vec x_old_ = nullptr;

@@ -127,7 +127,8 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
                              "modified Newton: a fresh Jacobian once an iteration reduces |F| by less than this factor",
                              "", o->jacobian_reuse_rate, &o->jacobian_reuse_rate, nullptr));
   PetscCall(PetscOptionsBool("-sb_backtrack",
-                             "Newton on the director manifold: halve a step that makes |F| grow, up to 6 times",
+                             "time steps, Newton on the director manifold: halve a step that makes |F| grow, up to 6 "
+                             "times",
                              "", o->backtrack, &o->backtrack, nullptr));
   PetscCall(PetscOptionsBool("-sb_full_newton_after_rebuild",
                              "modified Newton: finish a step with full Newton once its Jacobian had to be rebuilt", "",

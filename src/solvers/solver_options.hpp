@@ -56,7 +56,7 @@ struct CoreOptions {
   /// time steps without -sb_jacobian_reuse: modified or full Newton chosen by their measured cost
   PetscBool newton_by_cost = PETSC_FALSE;
   PetscReal jacobian_reuse_rate = 0.2;
-  /// the manifold line search halves a step that makes |F| grow (DirectorCondensation::search)
+  /// time steps: the manifold line search halves a step that makes |F| grow (DirectorCondensation::set_backtrack)
   PetscBool backtrack = PETSC_TRUE;
   PetscBool full_newton_after_rebuild = PETSC_FALSE;
   PetscBool floor_stop = PETSC_FALSE;

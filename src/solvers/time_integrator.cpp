@@ -88,9 +88,14 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   if (BlockSolvePath::requested(model.comm(), kStepPrefix)) {
     blocks_ = std::make_unique<BlockSolvePath>(model, snes_, J_, kStepPrefix);
   } else if (size == 1 && !user_solver) {
-    condense_ = options.condense_directors == PETSC_TRUE;
+    if (options.condense_directors) {
+      condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order());
+      if (condensation_->empty()) condensation_.reset();
+      else condensation_->set_backtrack(options.backtrack);
+    }
     attach_fast_lu();
   }
+  if (blocks_ && blocks_->update()) blocks_->update()->set_backtrack(options.backtrack);
   reuse_ = options.jacobian_reuse;
   // -sb_newton_by_cost without -sb_jacobian_reuse: the Newton variant of each stretch of steps
   // is chosen by its cost (choose_newton)
@@ -666,26 +671,18 @@ void TimeIntegrator::set_reuse(bool on) {
 void TimeIntegrator::choose_newton() {
   NewtonChoice& c = choice_;
   if (c.steps < c.budget) return;
-  const double per_step = c.cost / std::max(1L, c.steps);
-  (reuse_ ? c.reuse_cost : c.full_cost) = per_step;
+  (reuse_ ? c.reuse_cost : c.full_cost) = c.cost / std::max(1L, c.steps);
   bool reuse = reuse_ == PETSC_TRUE;
-  if (c.probing || c.full_cost < 0.0) {
-    // a measurement of each variant is at hand (or the first of full Newton is still due):
-    // the cheaper one runs for a period, or full Newton is measured first
-    if (c.full_cost < 0.0) {
-      reuse = false;
-      c.probing = true;
-      c.budget = kFullNewtonWindow;
-    } else {
-      reuse = c.reuse_cost <= c.full_cost;
-      c.probing = false;
-      c.budget = kChoicePeriod;
-    }
-  } else {
-    // a period is over: measure the other variant again, briefly
+  if (!c.probing || c.reuse_cost < 0.0 || c.full_cost < 0.0) {
+    // a period is over, or the other variant has no measurement yet: measure it, briefly
     reuse = !reuse;
     c.probing = true;
     c.budget = reuse ? kReuseWindow : kFullNewtonWindow;
+  } else {
+    // both measured: the cheaper one runs for a period
+    reuse = c.reuse_cost <= c.full_cost;
+    c.probing = false;
+    c.budget = kChoicePeriod;
   }
   c.steps = 0;
   c.cost = 0.0;
@@ -708,7 +705,11 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
   if (auto_reuse_) reset_newton_choice();
   if (pivoting_lu && (fast_lu_ || blocks_)) {
-    if (fast_lu_) fell_back_ = true, fast_failures_ = 1, pivoted_since_ = 0;
+    if (fast_lu_) {  // as after a fall-back: the fast LU again after a step
+      fell_back_ = true;
+      fast_failures_ = 1;
+      pivoted_since_ = 0;
+    }
     use_pivoting_lu();
   }
 }
@@ -728,13 +729,11 @@ void TimeIntegrator::attach_fast_lu() {
   SB_CHECK(attach_elimination_order(J_, order));
   SB_CHECK(PCFactorSetMatOrderingType(pc, kModelOrdering));
   fast_lu_ = true;
-  if (condense_) {
-    condensation_ = std::make_unique<DirectorCondensation>(model_, order);
-    if (condensation_->empty()) {
-      condensation_.reset();
-    } else {
-      SB_CHECK(condensation_->attach(snes_));
-    }
+  if (parked_condensation_) {  // the return after a fall-back
+    condensation_ = std::move(parked_condensation_);
+    SB_CHECK(condensation_->reattach(snes_));
+  } else if (condensation_) {  // the first time
+    SB_CHECK(condensation_->attach(snes_));
   }
   if (!condensation_) {  // the plain Newton update on the full system
     SNESLineSearch ls = nullptr;
@@ -760,11 +759,11 @@ void TimeIntegrator::use_pivoting_lu() {
   SB_CHECK(PCReset(pc));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));
   SB_CHECK(PCSetType(pc, PCLU));
-  if (condensation_) {  // the full saddle-point system and plain Newton updates from now on
+  if (condensation_) {  // the full saddle-point system and plain Newton updates until the return
     SNESLineSearch ls = nullptr;
     SB_CHECK(SNESGetLineSearch(snes_, &ls));
     SB_CHECK(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
-    condensation_.reset();
+    parked_condensation_ = std::move(condensation_);  // until the return (attach_fast_lu)
   }
   SB_CHECK(PCFactorSetMatSolverType(pc, size == 1 ? MATSOLVERSUPERLU : MATSOLVERMUMPS));
   if (size == 1) SB_CHECK(PCFactorSetMatOrderingType(pc, MATORDERINGND));

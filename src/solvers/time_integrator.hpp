@@ -113,8 +113,6 @@ class TimeIntegrator {
     jac_solve_ = -1;
     if (auto_reuse_) reset_newton_choice();
   }
-  /// Modified Newton (the Jacobian kept across iterations and steps) for the coming steps.
-  bool jacobian_reuse() const { return reuse_ == PETSC_TRUE; }
   Mat mass() const { return M_; }
   Mat jacobian() const { return J_; }
   SNES snes() const { return snes_; }
@@ -235,7 +233,7 @@ class TimeIntegrator {
     long steps = 0;              // steps taken in it so far
     double cost = 0.0;           // their cost
     double reuse_cost = -1.0, full_cost = -1.0;  // per step, last measured (-1: not yet)
-    bool probing = false;        // the current variant is being measured against the other
+    bool probing = true;         // the current variant is being measured against the other
   };
   NewtonChoice choice_;
   bool auto_reuse_ = false;
@@ -263,9 +261,9 @@ class TimeIntegrator {
   bool use_floor_ = false;
   PetscBool floor_stop_ = PETSC_FALSE;  // -sb_floor_stop
   std::unique_ptr<DirectorCondensation> condensation_;  // serial fast path with director triads
+  std::unique_ptr<DirectorCondensation> parked_condensation_;  // ... while a fall-back runs on the pivoting LU
   std::unique_ptr<BlockSolvePath> blocks_;  // -sb_schwarz: the parallel block solve
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
-  bool condense_ = false;    // the fast LU works on the condensed system (-sb_condense_directors at the start)
   bool fell_back_ = false;   // on the pivoting LU after a failure of the fast one (serial)
   int fast_failures_ = 0;    // consecutive fall-backs without a step on the fast LU between them
   long pivoted_since_ = 0;   // converged steps on the pivoting LU since the last fall-back

@@ -2,9 +2,11 @@
 """Test set-up: import the package from python/, initialise PETSc once, keep ranks in step."""
 from __future__ import annotations
 
+import contextlib
 import gc
 import os
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -26,6 +28,19 @@ from petsc4py import PETSc  # noqa: E402, F401
 DISTRIBUTE = ("-sb_serial_below", "0")
 if MPI.COMM_WORLD.Get_size() > 1:
     PETSc.Options().setValue(*DISTRIBUTE)
+
+
+@contextlib.contextmanager
+def petsc_options(**options: str) -> Iterator[None]:
+    """These PETSc options in the database for the block (a Simulation built in it reads them),
+    removed afterwards."""
+    for k, v in options.items():
+        PETSc.Options().setValue(k, v)
+    try:
+        yield
+    finally:
+        for k in options:
+            PETSc.Options().delValue(k)
 
 
 def pytest_configure(config: pytest.Config) -> None:

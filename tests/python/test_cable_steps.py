@@ -3,38 +3,21 @@
 fall-back, and Newton chosen by cost (docs/performance.md, "Cables")."""
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 
 import numpy as np
 import pytest
-from petsc4py import PETSc
 
 import slidebeam
+from conftest import petsc_options
 
 ROOT = Path(__file__).resolve().parents[2]
 pytestmark = pytest.mark.skip_in_parallel  # serial paths: the fast LU and its condensed Newton
 
 
-def with_options(options: dict[str, str], build):
-    """build() with these PETSc options set, removed again afterwards."""
-    for k, v in options.items():
-        PETSc.Options().setValue(k, v)
-    try:
-        return build()
-    finally:
-        for k in options:
-            PETSc.Options().delValue(k)
-
-
-def shipped(path: str, t_end: float):
-    """A shipped scene ending at t_end."""
-    scene = slidebeam.load_scene(ROOT / path)
-    return dataclasses.replace(scene, analysis=dataclasses.replace(scene.analysis, t_end=t_end))
-
-
-def moving_anchor(t_end: float) -> slidebeam.Simulation:
-    return slidebeam.Simulation(shipped("runs/effects/moving_anchor.toml", t_end))
+def shipped(path: str, t_end: float) -> slidebeam.Simulation:
+    """A shipped scene ending at t_end, with the PETSc options set now."""
+    return slidebeam.Simulation(slidebeam.load_scene(ROOT / path, [f"analysis.t_end={t_end}"]))
 
 
 def run(sim: slidebeam.Simulation):
@@ -47,38 +30,37 @@ def test_backtracking_keeps_a_jerked_rope_from_diverging():
     """The hanging steel rope whose anchor stops after a 1 m ramp: at dt = 0.01 full Newton steps
     from the predictor made |F| grow from 1e5 to 1e48 and 288 of 544 steps were cut. Halving a
     step that makes |F| grow: no step is cut (and without it some are, so the test can fail)."""
-    with_backtrack = with_options({}, lambda: run(moving_anchor(1.7)))
-    assert with_backtrack.rejected_steps == 0
-    without = with_options({"sb_backtrack": "false"}, lambda: run(moving_anchor(1.7)))
+    assert run(shipped("runs/effects/moving_anchor.toml", 1.7)).rejected_steps == 0
+    with petsc_options(sb_backtrack="false"):
+        without = run(shipped("runs/effects/moving_anchor.toml", 1.7))
     assert without.rejected_steps > 0
 
 
 def test_a_fall_back_returns_to_the_fast_lu():
     """Without backtracking the rope's step at t = 0.495 fails on the fast LU and is solved on the
-    pivoting one; the steps after it return to the fast LU (it used to stay on SuperLU for good)."""
-    sim = with_options({"sb_backtrack": "false"}, lambda: moving_anchor(0.7))
+    pivoting one; the steps after it return to the fast LU (it used to stay on SuperLU for good),
+    with the options it started with (backtracking still off)."""
+    with petsc_options(sb_backtrack="false"):
+        sim = shipped("runs/effects/moving_anchor.toml", 0.7)
     run(sim)
     assert sim.integrator.pivoting_lu_steps >= 1
     assert not sim.integrator.pivoting_lu
+    assert sim.snes.getKSP().getPC().getType() == "shell"  # the condensed manifold Newton again
 
 
-def swing(t_end: float, options: dict[str, str]):
-    scene = shipped("runs/cables/cable_swing.toml", t_end)
-
-    def build():
-        sim = slidebeam.Simulation(scene)
+def swing(t_end: float, **options: str) -> slidebeam.Simulation:
+    with petsc_options(**options):
+        sim = shipped("runs/cables/cable_swing.toml", t_end)
         run(sim)  # the static start first
-        return sim
-
-    return with_options(options, build)
+    return sim
 
 
 def test_newton_by_cost_takes_fewer_jacobians_to_the_same_states():
     """The hanging cable of the cable benchmark, 150 steps: full Newton builds a Jacobian at every
     iteration; chosen by cost (the scene's [petsc] sb_newton_by_cost) modified Newton wins, with
-    fewer Jacobians than steps, and the states agree to the Newton tolerance."""
-    full = swing(1.5, {"sb_jacobian_reuse": "false"})
-    chosen = swing(1.5, {})
+    fewer Jacobians, and the states agree to the Newton tolerance."""
+    full = swing(1.5, sb_jacobian_reuse="false")
+    chosen = swing(1.5)
     n_full, n_chosen = full.integrator.jacobian_evaluations, chosen.integrator.jacobian_evaluations
     assert n_full >= 3 * 150
     assert n_chosen < 0.7 * n_full

@@ -13,6 +13,7 @@ from petsc4py import PETSc
 
 import slidebeam
 from checks import distributed_and_serial_records, step_jacobian_error, trial_end_state
+from conftest import petsc_options
 
 INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 NEWTON_ATOL = 1e-10  # the SNES absolute tolerance (solvers/newton.cpp)
@@ -218,13 +219,10 @@ def test_modified_newton_changes_the_path_not_the_solution():
     """Jacobian reuse (sb_jacobian_reuse) converges to the same states as full Newton."""
     runs = {}
     for reuse in (False, True):
-        PETSc.Options().setValue("sb_jacobian_reuse", "true" if reuse else "false")
-        try:
+        with petsc_options(sb_jacobian_reuse="true" if reuse else "false"):
             sim = slidebeam.Simulation(pendulum("energy-momentum", 0.005, t_end=0.2))
             run = sim.run_dynamic()
             runs[reuse] = (run, sim.integrator.jacobian_evaluations)
-        finally:
-            PETSc.Options().delValue("sb_jacobian_reuse")
     (full, jac_full), (mod, jac_mod) = runs[False], runs[True]
     assert jac_mod < 0.7 * jac_full  # the factorisation really was reused
     for a, b in zip(full.records, mod.records):
@@ -275,11 +273,8 @@ def test_seed_strains_fall_back_to_a_pivoting_lu():
     })
     histories = []
     for condense in ((True, False) if serial else (False,)):
-        PETSc.Options().setValue("sb_condense_directors", "true" if condense else "false")
-        try:
+        with petsc_options(sb_condense_directors="true" if condense else "false"):
             sim = slidebeam.Simulation(scene)
-        finally:
-            PETSc.Options().delValue("sb_condense_directors")
         run = sim.run_dynamic()
         assert run.complete and run.rejected_steps == 0, run.message
         pc = sim.snes.getKSP().getPC()
@@ -311,14 +306,9 @@ def pendulum_run(root, **petsc: str) -> tuple[slidebeam.Simulation, int, int]:
     """300 steps of runs/pendulum16.toml (modified Newton on a stiff rod) under extra PETSc
     options; energy at the Newton tolerance. Returns the simulation, steps, Newton iterations."""
     scene = slidebeam.load_scene(root / "runs" / "pendulum16.toml", ["analysis.t_end=0.3", "output.every=1"])
-    for k, v in petsc.items():
-        PETSc.Options().setValue(k, v)
-    try:
+    with petsc_options(**petsc):
         sim = slidebeam.Simulation(scene)
         run = sim.run_dynamic()
-    finally:
-        for k in petsc:
-            PETSc.Options().delValue(k)
     assert run.complete, run.message
     H = np.array([r.total_energy for r in run.records])
     assert np.abs(H - H[0]).max() / max(r.kinetic_energy for r in run.records) <= 10 * NEWTON_ATOL
@@ -362,13 +352,8 @@ def soft_pendulum_run(root, integrator: str, **petsc: str) -> slidebeam.dynamics
     PETSc options, every step recorded."""
     scene = slidebeam.load_scene(root / "runs" / "soft_pendulum.toml",
                                  [f"analysis.integrator={integrator}", "analysis.t_end=0.2", "output.every=1"])
-    for k, v in petsc.items():
-        PETSc.Options().setValue(k, v)
-    try:
+    with petsc_options(**petsc):
         run = slidebeam.Simulation(scene).run_dynamic()
-    finally:
-        for k in petsc:
-            PETSc.Options().delValue(k)
     assert run.complete and run.rejected_steps == 0, run.message
     return run
 
