@@ -260,7 +260,6 @@ PetscErrorCode DirectorCondensation::build_pattern(Mat J) {
 PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   PetscFunctionBeginUser;
   *ok = true;
-  ++setups_;
   block_ = J;
   PetscObjectState state = 0;
   PetscObjectId id = 0;
@@ -663,8 +662,8 @@ PetscErrorCode DirectorCondensation::search(SNESLineSearch ls) {
   PetscCall(trial(snes, X, Y, 1.0, W, F, norms));
   // With an old Jacobian (modified Newton) growth asks for a fresh one instead (the time
   // integrator's convergence test), not for a shorter step along a stale direction.
-  const bool fresh = setups_ != setups_seen_;
-  setups_seen_ = setups_;
+  const bool fresh = rebuilds_ != rebuilds_seen_;
+  rebuilds_seen_ = rebuilds_;
   if (backtrack_ && fresh && !(norms[0] <= fnorm0) && fnorm0 > 0.0 && !(norms[2] <= kRoundoffStep * norms[1])) {
     PetscReal best[3] = {norms[0], norms[1], norms[2]};
     if (!f_best_) PetscCall(VecDuplicate(F, &f_best_));

@@ -85,11 +85,14 @@ class DirectorCondensation {
   /// Keep the multipliers of the Newton step instead of setting them by least squares (Update
   /// mode only: the step must carry them, as a solve of the full system does).
   void set_newton_multipliers(bool on) { newton_multipliers_ = on; }
-  /// The line search halves a step that makes |F| grow, up to 6 times (time steps, -sb_backtrack:
-  /// an implicit step from its predictor is close to its solution unless the motion jerked).
-  /// Off for statics: a load step's full Newton steps on large rotations make |F| grow on their
-  /// way and converge quadratically; halved, the roll-up's first load step took 73 iterations.
+  /// The line search halves a step that makes |F| grow, up to 6 times (off by default; the time
+  /// integrator's retry of a failed step, -sb_backtrack). Not as a rule: a Newton iteration that
+  /// converges often grows |F| first (large rotations in a load step: the roll-up's first load
+  /// step took 73 iterations halved; a stiff rail at a large time step), and halved it fails.
   void set_backtrack(bool on) { backtrack_ = on; }
+  /// The SNES's Jacobian was just rebuilt: the next direction is a fresh Jacobian's, which the
+  /// line search may shorten (an old Jacobian's growing step calls for a rebuild instead).
+  void jacobian_rebuilt() { ++rebuilds_; }
   /// Exact mode: apply the reduced solve alone (no particular solution for the constraint rows,
   /// no multipliers), as in Manifold mode. Right when the block solve is the whole linear solve
   /// (ranks not coupled) and a line search keeps the iterates on the manifold and sets the
@@ -175,7 +178,7 @@ class DirectorCondensation {
   // line search state
   bool exponential_ = false;
   bool backtrack_ = false;             // set_backtrack
-  long setups_ = 0, setups_seen_ = 0;  // set-ups so far; as of the last line search (a fresh direction?)
+  long rebuilds_ = 0, rebuilds_seen_ = 0;  // jacobian_rebuilt() calls; as of the last line search
   Vec f_best_ = nullptr;               // backtracking: F of the best trial
   bool newton_multipliers_ = false;
   bool manifold_apply_ = false;

@@ -91,11 +91,10 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     if (options.condense_directors) {
       condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order());
       if (condensation_->empty()) condensation_.reset();
-      else condensation_->set_backtrack(options.backtrack);
     }
     attach_fast_lu();
   }
-  if (blocks_ && blocks_->update()) blocks_->update()->set_backtrack(options.backtrack);
+  backtrack_retry_ = options.backtrack == PETSC_TRUE;
   reuse_ = options.jacobian_reuse;
   // -sb_newton_by_cost without -sb_jacobian_reuse: the Newton variant of each stretch of steps
   // is chosen by its cost (choose_newton)
@@ -473,6 +472,8 @@ PetscErrorCode TimeIntegrator::form_jacobian(SNES snes, Vec x, Mat J, Mat, void*
   self->jac_solve_ = self->solve_count_;
   self->jac_c0_ = self->c0_;
   ++self->jac_evals_;
+  // the line search may shorten this Jacobian's steps (not an old one's)
+  if (DirectorCondensation* c = self->manifold_line_search()) c->jacobian_rebuilt();
   PetscFunctionReturn(0);
 }
 
@@ -567,11 +568,21 @@ SolveResult TimeIntegrator::step(double h) {
   SolveResult r;
   const int jac_before = jac_evals_;
   bool tried_full_newton = !reuse_;
+  bool tried_backtracking = !backtrack_retry_ || !manifold_line_search();
   for (int attempt = 0;; ++attempt) {
-    // After a failure, from the same predictor: first a pivoting LU (if the fast one was in
+    // After a failure, from the same predictor: first full Newton whose line search halves the
+    // steps that make |F| grow (on the manifold), then a pivoting LU (if the fast one was in
     // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
+    // Backtracking only on a retry: a converging step's first iterate often grows |F| a
+    // hundredfold on stiff terms and then converges quadratically (the rail at dt = 0.1), and a
+    // shortened step there fails.
     if (attempt > 0) {
-      if (fast_lu_ || blocks_) {
+      if (!tried_backtracking) {
+        set_backtracking(true);
+        tried_backtracking = true;
+        if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, 1));
+        tried_full_newton = true;
+      } else if (fast_lu_ || blocks_) {
         if (fast_lu_) {
           fell_back_ = true;
           ++fast_failures_;
@@ -603,6 +614,7 @@ SolveResult TimeIntegrator::step(double h) {
     if (r.converged() && !std::isfinite(norm)) r.reason = SNES_DIVERGED_FNORM_NAN;
     if (r.converged()) break;
   }
+  if (backtrack_retry_) set_backtracking(false);
   last_failed_ = !r.converged();
   if (auto_reuse_) {
     ++choice_.steps;
@@ -655,6 +667,15 @@ SolveResult TimeIntegrator::step(double h) {
   }
   SB_CHECK(PetscLogEventEnd(ev_step_, 0, 0, 0, 0));
   return r;
+}
+
+DirectorCondensation* TimeIntegrator::manifold_line_search() const {
+  if (condensation_) return condensation_.get();
+  return blocks_ ? blocks_->update() : nullptr;
+}
+
+void TimeIntegrator::set_backtracking(bool on) {
+  if (DirectorCondensation* c = manifold_line_search()) c->set_backtrack(on);
 }
 
 void TimeIntegrator::reset_newton_choice() {

@@ -184,6 +184,11 @@ class TimeIntegrator {
   /// condensed system where there are director triads (the constructor, and the return after
   /// a fall-back).
   void attach_fast_lu();
+  /// The director condensation whose line search keeps the iterates on the manifold (the
+  /// serial fast path's, or the block path's update), if any.
+  DirectorCondensation* manifold_line_search() const;
+  /// Its backtracking (DirectorCondensation::set_backtrack): on for the retry of a failed step.
+  void set_backtracking(bool on);
   /// Add the converged step's work of every counted effect to flows_ (x_: start, x1_: end).
   void account_energy_flows();
   /// [M G^T; G 0] at x_ (the effects' tangent with the forces frozen, theta = 0; supports'
@@ -264,6 +269,7 @@ class TimeIntegrator {
   std::unique_ptr<DirectorCondensation> parked_condensation_;  // ... while a fall-back runs on the pivoting LU
   std::unique_ptr<BlockSolvePath> blocks_;  // -sb_schwarz: the parallel block solve
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
+  bool backtrack_retry_ = false;  // -sb_backtrack: retry a failed step with backtracking first
   bool fell_back_ = false;   // on the pivoting LU after a failure of the fast one (serial)
   int fast_failures_ = 0;    // consecutive fall-backs without a step on the fast LU between them
   long pivoted_since_ = 0;   // converged steps on the pivoting LU since the last fall-back
