@@ -5,6 +5,7 @@
 #include "util/petsc_check.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 namespace slidebeam {
@@ -260,6 +261,7 @@ PetscErrorCode DirectorCondensation::build_pattern(Mat J) {
 PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   PetscFunctionBeginUser;
   *ok = true;
+  factored_ = false;
   block_ = J;
   PetscObjectState state = 0;
   PetscObjectId id = 0;
@@ -424,6 +426,7 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
     PetscCall(PetscInfo(J, "Condensed LU: zero pivot (error %d)\n", static_cast<int>(err)));
     *ok = false;
   }
+  factored_ = *ok;
   PetscFunctionReturn(0);
 }
 
@@ -497,6 +500,12 @@ PetscErrorCode DirectorCondensation::solve_reduced(const std::vector<PetscInt>& 
 
 PetscErrorCode DirectorCondensation::apply(Vec b, Vec y) {
   PetscFunctionBeginUser;
+  if (!factored_) {
+    // The set-up failed (its PC says so): a NaN step, which fails the Newton step cleanly. The
+    // factors may be missing altogether (a failed set-up after a new pattern).
+    PetscCall(VecSet(y, std::numeric_limits<PetscScalar>::quiet_NaN()));
+    PetscFunctionReturn(0);
+  }
   // Co-rotated factors (Manifold mode, an iterate away from the factored one): a rigid rotation
   // R of a triad's neighbourhood maps the reduced Jacobian to R6 Jr R6^T, R6 = diag(R, R) (the
   // strains are frame-indifferent and c0 M is isotropic), so Jr(now)^-1 ~ R6 Jr(then)^-1 R6^T

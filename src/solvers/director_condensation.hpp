@@ -159,6 +159,7 @@ class DirectorCondensation {
   PetscObjectState pattern_state_ = -1;
   Mat Jr_ = nullptr, F_ = nullptr;
   bool symbolic_done_ = false;
+  bool factored_ = false;              // the last set-up gave factors (apply needs them)
   bool blocked_ = false;               // Jr_ is BAIJ with 6 x 6 blocks (triads only)
   Vec rr_ = nullptr, a_ = nullptr;     // reduced right-hand side and solution
   std::vector<Mat9x3> S_, Sp_;         // rotation columns of N (force state) and N' (end state)
