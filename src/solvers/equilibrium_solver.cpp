@@ -152,6 +152,15 @@ PetscErrorCode EquilibriumSolver::converged(SNES snes, PetscInt it, PetscReal xn
   PetscCall(RoundoffTest::test(snes, it, xnorm, snorm, fnorm, reason, &self->test_));
   if (*reason == SNES_CONVERGED_ITERATING && it > 1 && fnorm >= 0.5 * prev && snorm <= 1e-9 * xnorm)
     *reason = SNES_CONVERGED_SNORM_RELATIVE;
+  // The first iterate's |F| may grow tenfold (directors, a slack cable pulled taut) before Newton
+  // converges; a solve whose |F| rises twice after that oscillates, and mostly runs to the
+  // iteration limit (a continuation step of a rope bundle: 10 iterations, then cut).
+  if (it == 0) self->rises_ = 0;
+  if (it > 1 && fnorm > prev) ++self->rises_;
+  if (*reason == SNES_CONVERGED_ITERATING && self->give_up_on_rises_ && self->rises_ >= 2) {
+    PetscCall(PetscInfo(snes, "|F| rose twice after the first iterate: the continuation step is cut\n"));
+    *reason = SNES_DIVERGED_DTOL;
+  }
   PetscFunctionReturn(0);
 }
 
@@ -190,20 +199,27 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   const double target = std::max(rtol * r, 1e-10);
   double h = h0;
   SNES last_snes = snes_;  // the solver of the last Newton solve
-  auto newton = [&](double c) {
+  // fast_only: the fast solve alone (the condensed LU; the block path on several ranks). A
+  // continuation step it does not solve is cut first: a smaller pseudo-step is cheaper than the
+  // fall-backs on the full saddle-point system, whose pivoting LU grows much faster than the
+  // system (a step of a 34k-unknown bundle: 16 SuperLU factorisations, 17 s, where the halved
+  // step took 8 condensed iterations, 0.3 s).
+  auto newton = [&](double c, bool fast_only) {
     c_ = c;
+    give_up_on_rises_ = fast_only && c > 0.0;
     last_snes = snes_;
     SB_CHECK(manifold_->project(x));  // x_k on the manifold too: the pull c M (x - x_k) vanishes at x = x_k
     SB_CHECK(VecCopy(x, x_k_));
     if (c > 0.0 && blocks_) {  // distributed: the block path first, then the direct solve from the same start
       last_snes = block_snes_;
       if (block_solve(x, &res.newton_iterations)) return true;
+      if (fast_only) return false;
       last_snes = snes_;
       SB_CHECK(PetscInfo(snes_, "continuation step failed on the block solve: once more on the direct solve\n"));
       SB_CHECK(VecCopy(x_k_, x));
     }
     // The polish (c = 0) meets the tangent of a mechanism, singular or nearly so: a pivoting LU.
-    const SolveResult s = manifold_->solve(x, c == 0.0);
+    const SolveResult s = manifold_->solve(x, c == 0.0, !fast_only);
     res.newton_iterations += s.iterations;
     return s.converged() && std::isfinite(s.residual_norm);
   };
@@ -211,7 +227,8 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   while (r > target && res.pseudo_steps < max_steps) {
     if ((res.interrupted = stop_signal(model_.comm())) != 0) break;
     SB_CHECK(VecCopy(x, x_start));
-    if (!newton(1.0 / (h * h)) || !within_bounds(x)) {
+    // the fall-backs only once the pseudo-step has been cut twice in a row
+    if (!newton(1.0 / (h * h), cuts < 2) || !within_bounds(x)) {
       SB_CHECK(VecCopy(x_start, x));
       h *= 0.5;
       if (++cuts > 12) break;  // in a row: 1/4096 of the pseudo-step that last worked
@@ -228,11 +245,16 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
     SB_CHECK(VecNorm(work_, NORM_INFINITY, &dx));
     SB_CHECK(VecPointwiseMult(work_, x, model_.coordinate_mask()));
     SB_CHECK(VecNorm(work_, NORM_INFINITY, &xn));
-    // The pseudo-step grows at least 2x after an easy solve, faster when the residual falls
-    // (switched evolution relaxation), at most 10x; a hard solve keeps it.
+    // The pseudo-step grows with the residual's fall (switched evolution relaxation, at most 10x
+    // a step), and at least 4x after an easy solve (up to 3 iterations: the first steps, where
+    // |F| hardly falls, would otherwise double it a dozen times), 2x after a moderate one (4-5);
+    // after a hard one by the fall alone, at most 2x. On the 1e5-unknown bundle of
+    // scripts/bench_start.py: 14 steps and 71 iterations, where "2x up to 6 iterations" took 17
+    // and 101, and growing after 6 iterations made more steps fail.
     const SolveResult last = solve_result(last_snes);
     const double ser = std::sqrt(r / std::max(r_new, 1e-300));
-    h *= last.iterations <= 6 ? std::clamp(ser, 2.0, 10.0) : std::clamp(ser, 1.0, 2.0);
+    const PetscInt its = last.iterations;
+    h *= its <= 3 ? std::clamp(ser, 4.0, 10.0) : its <= 5 ? std::clamp(ser, 2.0, 10.0) : std::clamp(ser, 1.0, 2.0);
     const bool stagnant = r_new >= 0.5 * r;
     SB_CHECK(PetscInfo(snes_, "continuation step %d: h %g, |F| %g, |dx| %g, |x| %g, Newton %d\n", res.pseudo_steps,
                        h, r_new, dx, xn, static_cast<int>(last.iterations)));
@@ -256,7 +278,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   // (docs/performance.md, "The equilibrium start on several ranks").
   if (res.interrupted == 0 && !(r <= target || res.at_roundoff) && r <= 1e-4 * res.residual0) {
     SB_CHECK(VecCopy(x, x_start));
-    if (newton(0.0) && within_bounds(x)) {
+    if (newton(0.0, false) && within_bounds(x)) {
       SB_CHECK(static_residual_norm(x, &r));
       res.polished = true;
     } else {

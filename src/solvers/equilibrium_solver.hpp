@@ -96,6 +96,10 @@ class EquilibriumSolver {
   std::vector<Bound> bounds_;
   double t_ = 0.0;
   double c_ = 0.0;  // 1 / h^2 (0: plain statics)
+  // A continuation step's solve on the fast path alone gives up at the second rise of |F| after
+  // its first iterate (converged's count): the caller cuts the pseudo-step instead.
+  bool give_up_on_rises_ = false;
+  int rises_ = 0;
   int pattern_seen_ = 0, block_pattern_seen_ = 0;
   std::unique_ptr<ManifoldNewton> manifold_;
   /// Newton on the continuation step from x on the block path; false if it failed (x then

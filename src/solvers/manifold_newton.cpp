@@ -98,7 +98,7 @@ SolveResult ManifoldNewton::attempt(Vec x, PetscInt max_it) {
   return r;
 }
 
-SolveResult ManifoldNewton::solve(Vec x, bool pivoting) {
+SolveResult ManifoldNewton::solve(Vec x, bool pivoting, bool fallbacks) {
   if (!active_) {
     SB_CHECK(SNESSolve(snes_, nullptr, x));
     return solve_result(snes_);
@@ -135,6 +135,10 @@ SolveResult ManifoldNewton::solve(Vec x, bool pivoting) {
     condensed_failed_ = true;
     SB_CHECK(use_full_lu());
     if (add(attempt(x, first_limit))) return total;
+  }
+  if (!fallbacks) {
+    restore();
+    return total;
   }
   // 2. Newton's multipliers, directors still rotated (full system)
   SB_CHECK(PetscInfo(snes_, "Manifold Newton failed (%s): once more with Newton's multipliers on the full system\n",

@@ -55,8 +55,10 @@ class ManifoldNewton {
   PetscErrorCode project(Vec x) const;
   /// Newton from x (projected first); after a failure the fall-backs above, each from the same
   /// x. The iterations of every attempt count. pivoting: the pivoting LU on the full system
-  /// instead of the condensed LU for this solve (a tangent that may be singular).
-  SolveResult solve(Vec x, bool pivoting = false);
+  /// instead of the condensed LU for this solve (a tangent that may be singular). fallbacks
+  /// false: the first attempt only (a zero pivot still moves to the pivoting LU), for a caller
+  /// that has a cheaper remedy than a solve on the full system (a continuation cuts its step).
+  SolveResult solve(Vec x, bool pivoting = false, bool fallbacks = true);
 
  private:
   /// The SNES's KSP and PC, the PC's set-up dropped (before another solver takes over).
