@@ -283,6 +283,10 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("pseudo_steps", &EquilibriumResult::pseudo_steps)
       .def_readonly("block_steps", &EquilibriumResult::block_steps,
                     "continuation steps solved on the parallel block path (a distributed static start)")
+      .def_readonly("full_system_steps", &EquilibriumResult::full_system_steps,
+                    "continuation steps that needed the pivoting LU of the whole saddle-point system")
+      .def_readonly("cut_steps", &EquilibriumResult::cut_steps,
+                    "continuation steps whose solve failed and was retried with half the pseudo-step")
       .def_readonly("newton_iterations", &EquilibriumResult::newton_iterations)
       .def_readonly("residual0", &EquilibriumResult::residual0)
       .def_readonly("residual", &EquilibriumResult::residual)

@@ -475,7 +475,8 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
             _say_run_warnings(sim, rank)
         except EquilibriumFailure as err:
             return _equilibrium_failed(sim, scene, out, args, rank, ranks, t0, output, err)
-        _say(rank, f"static start: equilibrium after {eq.pseudo_steps} continuation steps, {eq.newton_iterations} "
+        cut = f" ({eq.cut_steps} cut and retried)" if eq.cut_steps else ""
+        _say(rank, f"static start: equilibrium after {eq.pseudo_steps} continuation steps{cut}, {eq.newton_iterations} "
                    f"Newton iterations (|F| {eq.residual0:.3e} -> {eq.residual:.3e})")
     outcome = sim.run_dynamic(progress, state, save)
     with output_phase():

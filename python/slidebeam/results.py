@@ -216,7 +216,8 @@ def static_start_summary(sim: Simulation) -> dict[str, Any]:
     """summary.json's account of a simulation's static start (settled)."""
     s = sim.settled
     assert s is not None
-    return {"continuation_steps": s.pseudo_steps, "block_steps": s.block_steps, "polished": s.polished,
+    return {"continuation_steps": s.pseudo_steps, "block_steps": s.block_steps,
+            "full_system_steps": s.full_system_steps, "cut_steps": s.cut_steps, "polished": s.polished,
             "newton_iterations": s.newton_iterations, "residual_initial": s.residual0, "residual": s.residual,
             "wall_time_s": sim.settle_wall_time}
 

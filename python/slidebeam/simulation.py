@@ -42,6 +42,8 @@ class EquilibriumOutcome:
     converged: bool
     pseudo_steps: int  # continuation steps
     block_steps: int  # ... solved on the parallel block path (a distributed static start)
+    full_system_steps: int  # ... that needed the pivoting LU of the whole saddle-point system
+    cut_steps: int  # continuation steps that failed and were retried with half the pseudo-step
     newton_iterations: int
     residual0: float  # |F| at the start
     residual: float  # |F| at the end

@@ -227,9 +227,11 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
   while (r > target && res.pseudo_steps < max_steps) {
     if ((res.interrupted = stop_signal(model_.comm())) != 0) break;
     SB_CHECK(VecCopy(x, x_start));
+    const long full_before = manifold_->full_system_attempts();
     // the fall-backs only once the pseudo-step has been cut twice in a row
     if (!newton(1.0 / (h * h), cuts < 2) || !within_bounds(x)) {
       SB_CHECK(VecCopy(x_start, x));
+      ++res.cut_steps;
       h *= 0.5;
       if (++cuts > 12) break;  // in a row: 1/4096 of the pseudo-step that last worked
       continue;
@@ -237,6 +239,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
     cuts = 0;
     ++res.pseudo_steps;
     if (last_snes == block_snes_) ++res.block_steps;
+    if (manifold_->full_system_attempts() != full_before) ++res.full_system_steps;
     double r_new = 0.0, dx = 0.0, xn = 0.0;
     SB_CHECK(static_residual_norm(x, &r_new));
     // how far the coordinates moved (multipliers are as noisy as the residual is small)

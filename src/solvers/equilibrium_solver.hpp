@@ -38,6 +38,8 @@ struct EquilibriumResult {
   bool converged = false;
   int pseudo_steps = 0;       ///< continuation steps taken (accepted)
   int block_steps = 0;        ///< ... of which solved on the parallel block path (distributed)
+  int full_system_steps = 0;  ///< ... of which needed the pivoting LU of the whole saddle-point system
+  int cut_steps = 0;          ///< continuation steps whose solve failed, retried with half the pseudo-step
   int newton_iterations = 0;  ///< all Newton iterations, polish included
   double residual0 = 0.0;     ///< ||F|| of the start state
   double residual = 0.0;      ///< ||F|| of the final state

@@ -91,6 +91,7 @@ SolveResult ManifoldNewton::attempt(Vec x, PetscInt max_it) {
   SB_CHECK(SNESGetTolerances(snes_, &atol, &rtol, &stol, &it, &maxf));
   SB_CHECK(SNESSetTolerances(snes_, atol, rtol, stol, max_it, maxf));
   SB_CHECK(VecCopy(x_start_, x));
+  if (!condensed_) ++full_system_attempts_;
   SB_CHECK(SNESSolve(snes_, nullptr, x));
   SB_CHECK(SNESSetTolerances(snes_, atol, rtol, stol, it, maxf));
   SolveResult r = solve_result(snes_);
@@ -100,6 +101,7 @@ SolveResult ManifoldNewton::attempt(Vec x, PetscInt max_it) {
 
 SolveResult ManifoldNewton::solve(Vec x, bool pivoting, bool fallbacks) {
   if (!active_) {
+    ++full_system_attempts_;
     SB_CHECK(SNESSolve(snes_, nullptr, x));
     return solve_result(snes_);
   }

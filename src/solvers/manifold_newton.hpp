@@ -59,6 +59,9 @@ class ManifoldNewton {
   /// false: the first attempt only (a zero pivot still moves to the pivoting LU), for a caller
   /// that has a cheaper remedy than a solve on the full system (a continuation cuts its step).
   SolveResult solve(Vec x, bool pivoting = false, bool fallbacks = true);
+  /// Newton attempts so far on the full saddle-point system (the pivoting LU: SuperLU serially,
+  /// MUMPS on several ranks), not on the condensed LU.
+  long full_system_attempts() const { return full_system_attempts_; }
 
  private:
   /// The SNES's KSP and PC, the PC's set-up dropped (before another solver takes over).
@@ -74,6 +77,7 @@ class ManifoldNewton {
   bool condensed_ = false;         // ... and in use
   bool condensed_failed_ = false;  // it met a zero pivot: the pivoting LU from then on
   Vec x_start_ = nullptr;
+  long full_system_attempts_ = 0;
 };
 
 }  // namespace slidebeam
