@@ -12,8 +12,16 @@ catenary (Irvine) of the same cable. Time it only on an otherwise idle machine.
     scripts/bench_cables.py                      # every scene, 3 runs each
     scripts/bench_cables.py --repeat 1 --quick   # the swing shortened to 10.5 s
 
-A side-by-side with MoorDyn on the same cable is not in this script yet (docs/performance.md,
-"Cables", says what is open).
+Side by side with MoorDyn (optional; the project does not depend on it): where the Python running
+this script imports `moordyn`, the swing is also run by MoorDyn on the same cable (40 lumped-mass
+segments, RK4 at dtM = 8e-4 s, its largest stable step there; bending stiffness, no water, no
+damping), and a second table gives both codes' time for the swing and their errors against the
+exact frequency and the catenary tension. MoorDyn comes from PyPI into a throwaway venv on
+Debian's Python (which keeps petsc4py visible):
+
+    /usr/bin/python3 -m venv --system-site-packages /tmp/moordyn-venv
+    /tmp/moordyn-venv/bin/pip install moordyn==2.7.2
+    /tmp/moordyn-venv/bin/python scripts/bench_cables.py --repeat 3 runs/cables/cable_swing.toml
 """
 from __future__ import annotations
 
@@ -23,6 +31,7 @@ import json
 import math
 import statistics
 import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
@@ -49,15 +58,19 @@ def assembly_share(summary: dict) -> float:
 
 
 def swing_frequency(history: Path) -> float:
-    """omega of the tracked midpoint's sideways (y) motion after the support stopped (t > 1 s):
-    the least-squares fit of a + b sin(omega t) + c cos(omega t) plus a sine and cosine at the
-    strongest higher mode of the spectrum (the third symmetric mode, at 3x the frequency, rides
-    on the first: zero crossings were off by 1e-3), omega refined on a grid about the peak."""
+    """omega of the tracked midpoint's sideways (y) motion in slidebeam's history.csv."""
+    rows = list(csv.DictReader(history.open()))
+    return fit_frequency([float(r["t"]) for r in rows], [float(r["cable@50.3.y"]) for r in rows])
+
+
+def fit_frequency(times: list[float], ys: list[float]) -> float:
+    """omega of a sideways (y) motion after the support stopped (t > 1 s): the least-squares fit
+    of a + b sin(omega t) + c cos(omega t) plus a sine and cosine at the strongest higher mode of
+    the spectrum (the third symmetric mode, at 3x the frequency, rides on the first: zero
+    crossings were off by 1e-3), omega refined on a grid about the peak."""
     import numpy as np
 
-    rows = list(csv.DictReader(history.open()))
-    t = np.array([float(r["t"]) for r in rows])
-    y = np.array([float(r["cable@50.3.y"]) for r in rows])
+    t, y = np.asarray(times), np.asarray(ys)
     keep = t > 1.0
     t, y = t[keep], y[keep]
     if len(t) < 16:
@@ -102,6 +115,83 @@ def catenary_tension(L0: float = 100.6, span: float = 100.0, w: float = 9.81, EA
     return math.hypot(H, V)
 
 
+MOORDYN_INPUT = """--------------------- MoorDyn Input File ------------------------------------
+slidebeam's runs/cables/cable_swing.toml: 100.6 m, 1 kg/m, EA 1e7 N, EI 10 N m^2, in air
+----------------------- LINE TYPES ------------------------------------------
+TypeName   Diam    Mass/m     EA     BA/-zeta    EI    Cd     Ca     CdAx    CaAx
+(name)     (m)     (kg/m)     (N)    (N-s/-)    (N-m^2) (-)   (-)    (-)     (-)
+cable      0.01    1.0        1.0e7  0.0         10.0  0.0    0.0    0.0     0.0
+---------------------- POINTS --------------------------------
+ID  Attachment  X      Y     Z      M      V        CdA   CA
+(#)   (-)       (m)   (m)   (m)    (kg)   (m^3)   (m^2)  (-)
+1     Fixed      0     0     0      0      0        0     0
+2     Coupled    100   0     0      0      0        0     0
+---------------------- LINES --------------------------------------
+ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#)   (name)     (#)      (#)       (m)         (-)     (-)
+1     cable      1        2         100.6       {segments}       -
+---------------------- OPTIONS -----------------------------------------
+{dtM}   dtM
+1000.0   WtrDpth
+0.0      WtrDnsty
+9.81     g
+RK4      tScheme
+60.0     TmaxIC
+1.0e-7   threshIC
+--------------------- OUTPUTS --------------------------------------------
+END
+------------------------- need this line --------------------------------------
+"""
+
+
+def moordyn_swing(t_end: float, work: Path, dtM: float = 8e-4, segments: int = 40) -> dict:
+    """The swing run by MoorDyn (its Python module): the end at x = 100 m moved 5 cm sideways by
+    the same ramp over 0.5 s, coupled every 0.01 s (slidebeam's dt), the middle node's y
+    recorded each time. Returns the wall and CPU time of the time integration (its static
+    initialisation apart), omega and the support tension after the initialisation."""
+    import os
+    import time
+
+    import moordyn
+
+    # MoorDyn reports every coupling step on the C library's stdout: kept off the table
+    sys.stdout.flush()
+    saved = os.dup(1)
+    quiet = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(quiet, 1)
+    try:
+        return _moordyn_swing(moordyn, t_end, work, dtM, segments)
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(quiet)
+
+
+def _moordyn_swing(moordyn, t_end: float, work: Path, dtM: float, segments: int) -> dict:
+    import time
+
+    path = work / "moordyn_swing.txt"
+    path.write_text(MOORDYN_INPUT.format(segments=segments, dtM=dtM))
+    system = moordyn.Create(str(path))
+    moordyn.Init(system, [100.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+    line = moordyn.GetLine(system, 1)
+    mid = moordyn.GetLineN(line) // 2
+    # the force on the coupled end point (its segment's tension and its half-segment's weight)
+    tension = math.sqrt(sum(f * f for f in moordyn.GetPointForce(moordyn.GetPoint(system, 2))))
+    dt, steps = 0.01, int(round(t_end / 0.01))
+    times, ys = [], []
+    wall0, cpu0 = time.perf_counter(), time.process_time()
+    for k in range(steps):
+        t1 = (k + 1) * dt
+        ramp = min(t1 / 0.5, 1.0)
+        moordyn.Step(system, [100.0, 0.05 * ramp, 0.0], [0.0, 0.1 if t1 <= 0.5 + 1e-12 else 0.0, 0.0], k * dt, dt)
+        times.append(t1)
+        ys.append(moordyn.GetLineNodePos(line, mid)[1])
+    wall, cpu = time.perf_counter() - wall0, time.process_time() - cpu0
+    moordyn.Close(system)
+    return {"wall": wall, "cpu": cpu, "omega": fit_frequency(times, ys), "tension": tension}
+
+
 def start_tension(history: Path) -> float:
     row = next(csv.DictReader(history.open()))
     return math.sqrt(sum(float(row[f"spherical[cable@start].f{c}"]) ** 2 for c in "xyz"))
@@ -118,6 +208,7 @@ def main() -> None:
           "| assembly share | vs full Newton |")
     print("|---|---|---|---|---|---|---|---|---|")
     swing_checked = False
+    swing_time = None  # slidebeam's swing, chosen by cost: median stepping time and wall time, s
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         for scene, sets in scenes:
@@ -126,7 +217,7 @@ def main() -> None:
             full_ms = None
             rows = []
             for name, petsc in VARIANTS:
-                ms, its, jac, rej, share = [], [], [], [], []
+                ms, its, jac, rej, share, stepping, wall = [], [], [], [], [], [], []
                 for k in range(args.repeat):
                     out = work / f"out_{k}"
                     s = run(scene, sets, petsc, out)
@@ -136,6 +227,8 @@ def main() -> None:
                     jac.append(s["jacobian_evaluations"] / n)
                     rej.append(s["rejected_steps"] / n)
                     share.append(assembly_share(s))
+                    stepping.append(s["stepping_time_s"])
+                    wall.append(s["wall_time_s"])
                     if scene == SWING and not swing_checked:
                         omega = swing_frequency(out / "history.csv")
                         T, T_exact = start_tension(out / "history.csv"), catenary_tension()
@@ -143,7 +236,10 @@ def main() -> None:
                         accuracy = (f"swing: omega = {omega:.7f} rad/s (exact linear {EXACT_OMEGA}: relative error "
                                     f"{abs(omega / EXACT_OMEGA - 1):.1e}); support tension {T:.4f} N (elastic "
                                     f"catenary {T_exact:.4f} N: relative error {abs(T / T_exact - 1):.1e})")
+                        t_end = 10.5 if args.quick else 60.5
                 med = statistics.median(ms)
+                if scene == SWING and swing_time is None:
+                    swing_time = (statistics.median(stepping), statistics.median(wall))
                 if name == "full Newton":
                     full_ms = med
                 rows.append((name, med, statistics.median(its), statistics.median(jac), statistics.median(rej),
@@ -154,9 +250,34 @@ def main() -> None:
                 label = Path(scene).stem + (f" ({', '.join(sets)})" if sets else "")
                 print(f"| {label} | {unknowns} | {name} | {med:.3f} | {it:.2f} | {jc:.3f} | {rj:.3f} | {sh:.0%} "
                       f"| {ratio} |", flush=True)
-    if swing_checked:
-        print()
-        print(accuracy)
+        if swing_checked:
+            print()
+            print(accuracy)
+            side_by_side(swing_time, omega, T, t_end, args.repeat, work)
+
+
+def side_by_side(slidebeam_time: tuple[float, float], omega: float, tension: float, t_end: float, repeat: int,
+                 work: Path) -> None:
+    """The swing by slidebeam and by MoorDyn in one table, where MoorDyn imports."""
+    try:
+        import moordyn  # noqa: F401
+    except ImportError:
+        print("\n(MoorDyn not importable here: the side-by-side is skipped; the docstring says how to install it)")
+        return
+    runs = [moordyn_swing(t_end, work) for _ in range(repeat)]
+    md_wall = statistics.median(r["wall"] for r in runs)
+    md_cpu = statistics.median(r["cpu"] for r in runs)
+    md = runs[0]
+    T_exact = catenary_tension()
+    stepping, wall = slidebeam_time
+    print(f"\nThe swing ({t_end - 0.5:g} s after the 0.5 s ramp), side by side (medians of {repeat}):\n")
+    print("| code | model | time step | time stepping, s | whole run, s | omega error | support tension error |")
+    print("|---|---|---|---|---|---|---|")
+    print(f"| slidebeam (by cost) | 40 spans, energy-momentum | 0.01 s | {stepping:.2f} | {wall:.2f} "
+          f"| {abs(omega / EXACT_OMEGA - 1):.1e} | {abs(tension / T_exact - 1):.1e} |")
+    print(f"| MoorDyn 2.7.2 | 40 lumped-mass segments, RK4 | 8e-4 s | {md_wall:.2f} (CPU {md_cpu:.2f}) | – "
+          f"| {abs(md['omega'] / EXACT_OMEGA - 1):.1e} | {abs(md['tension'] / T_exact - 1):.1e} |")
+    print(f"\nslidebeam's time stepping / MoorDyn's: {stepping / md_wall:.2f}")
 
 
 if __name__ == "__main__":
