@@ -21,6 +21,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 
 namespace slidebeam::effects {
@@ -61,18 +62,31 @@ void kelvin_voigt_point(const StrainTable& T, const Vec6& sigma, const Vec6& c, 
   r += w * P.transpose() * force;
   if (K) *K += w * P.transpose() * Kz * P;
 }
+
+/// The retardation time of each strain (axial, shear 2, shear 3, torsion, bending about d2, about
+/// d3): retardation_time for all, or retardation_times one by one; both given is a contradiction
+/// the scene must resolve (the array used to win silently).
+std::array<double, 6> retardation_times(const EffectParams& p) {
+  const bool each = p.vec.count("retardation_times") && !p.vec.at("retardation_times").empty();
+  if (each && p.num.count("retardation_time"))
+    throw ParamError("retardation_times",
+                     "give retardation_time (one for every strain) or retardation_times (one per strain), not both");
+  std::array<double, 6> tau;
+  tau.fill(p.number("retardation_time", 0.0));
+  if (each) {
+    const auto& v = p.vector("retardation_times", 6);
+    std::copy(v.begin(), v.begin() + 6, tau.begin());
+  }
+  return tau;
+}
 }  // namespace
 
 class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
  public:
   BeamDamping(const Model& m, const EffectParams& p)
       : ElementEffect(director_beam_param(m, p, "damping"), m), alpha_(p.number("mass_proportional", 0.0)) {
-    const double tau = p.number("retardation_time", 0.0);
-    tau_ = Vec6::Constant(tau);
-    if (p.vec.count("retardation_times") && !p.vec.at("retardation_times").empty()) {
-      const auto& v = p.vector("retardation_times", 6);
-      for (int i = 0; i < 6; ++i) tau_[i] = v[static_cast<size_t>(i)];
-    }
+    const std::array<double, 6> tau = retardation_times(p);
+    for (int i = 0; i < 6; ++i) tau_[i] = tau[static_cast<size_t>(i)];
     if (!(alpha_ >= 0.0) || !(tau_.minCoeff() >= 0.0))
       throw std::invalid_argument("damping: retardation times and mass_proportional must be >= 0");
     c_ = tau_.cwiseProduct(m.beam(beam_).stiffness());
@@ -212,13 +226,8 @@ class AncfDamping final : public AncfElementEffect {
 
  public:
   AncfDamping(const Model& m, const EffectParams& p) : AncfElementEffect(m, p, "damping") {
-    const double tau = p.number("retardation_time", 0.0);
-    double tau_axial = tau, tau_bend = tau;
-    if (p.vec.count("retardation_times") && !p.vec.at("retardation_times").empty()) {
-      const auto& v = p.vector("retardation_times", 6);
-      tau_axial = v[0];
-      tau_bend = v[4];
-    }
+    const std::array<double, 6> tau = retardation_times(p);
+    const double tau_axial = tau[0], tau_bend = tau[4];
     alpha_ = p.number("mass_proportional", 0.0);
     if (!(alpha_ >= 0.0 && tau_axial >= 0.0 && tau_bend >= 0.0))
       throw std::invalid_argument("damping: retardation times and mass_proportional must be >= 0");
@@ -298,8 +307,8 @@ void register_damping_effects(EffectRegistry& r) {
       {"beam", K::Beam, "", "the beam it damps", ""},
       {"retardation_time", K::Number, "s",
        "Kelvin-Voigt retardation time tau of every strain: viscous stress tau C d eps/dt (a mode of angular "
-       "frequency omega gets the damping ratio tau omega / 2)",
-       "0.0", 0.0},
+       "frequency omega gets the damping ratio tau omega / 2); 0 when left out",
+       "", 0.0, std::numeric_limits<double>::infinity(), false, 0, {}, true},
       {"retardation_times", K::Vector, "s",
        "per strain (axial, shear 2, shear 3, torsion, bending about d2, about d3), instead of retardation_time",
        "[]", 0.0, std::numeric_limits<double>::infinity(), false, 6},

@@ -656,6 +656,21 @@ def test_rigid_joint_parses_and_checks_its_ends():
         assert "[[rigid_joint]] #1" in text and all(w in text for w in words), text
 
 
+def test_damping_refuses_both_retardation_keys():
+    """retardation_time (every strain) and retardation_times (each strain) together contradict
+    each other: the entry and the key are named (the array used to win silently: tau = 0.01 with
+    six zeros gave no damping at all). Either alone is taken."""
+    data = _two_legs({"beams": ["a", "b"], "at": ["end", "start"]})
+    data["damping"] = [{"beam": "a", "retardation_time": 0.01, "retardation_times": [0.0] * 6}]
+    text = _model_error(data)
+    assert "[[damping]] #1, key 'retardation_times'" in text and "not both" in text, text
+    from slidebeam.model import build_model
+
+    for damping in ({"retardation_time": 0.01}, {"retardation_times": [0.0] * 6}, {"mass_proportional": 0.1}):
+        data["damping"] = [{"beam": "a", **damping}]
+        build_model(scene.scene_from_dict(data))
+
+
 def _slider(joint: dict) -> dict:
     section = {"EA": 1, "kGA": 1, "GJ": 1, "EI2": 1, "EI3": 1}
     return {
