@@ -236,6 +236,26 @@ class Simulation:
         if message and message not in self.warnings:
             self.warnings.append(message)
             warnings.warn(message, ConstraintWarning, stacklevel=3)
+        self._warn_of_initial_gaps()
+
+    def _warn_of_initial_gaps(self) -> None:
+        """Warn where a slider starts off its carrier (within the joint's tolerance, or the model
+        would not have been built): the first step pulls it on, and the work that takes is no
+        effect's, so it shows in energy_balance_error. Gaps at roundoff of the coordinates pass."""
+        gaps = self._joint_gaps()
+        if not gaps:
+            return
+        extent = max(float(np.abs(self.control_points(b.name)[:, :3]).max()) for b in self.scene.beams)
+        k = int(np.argmax(gaps))
+        if gaps[k] <= 1e-12 * max(1.0, extent):
+            return
+        off = sum(g > 1e-12 * max(1.0, extent) for g in gaps)
+        message = (f"{off} of {len(gaps)} sliding joint(s) start off their carriers, by up to {gaps[k]:.3g} m "
+                   f"([[sliding_joint]] #{k + 1}): the first step pulls the sliders on, and the energy that takes "
+                   f"shows in energy_balance_error")
+        if message not in self.warnings:
+            self.warnings.append(message)
+            warnings.warn(message, ConstraintWarning, stacklevel=4)
 
     def settle(self) -> EquilibriumOutcome:
         """Start a dynamic run from static equilibrium: solve for the equilibrium under the loads
