@@ -194,6 +194,7 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
         "max_constraint_residual": max(r.constraint_residual for r in recs),
         "pivoting_lu": bool(sim.integrator.pivoting_lu) or sim.integrator.pivoting_lu_steps > 0,
         "pivoting_lu_steps": int(sim.integrator.pivoting_lu_steps),
+        "warnings": list(sim.warnings),  # what the start found and corrected or left to the first step
     }
     if sim.settled is not None:
         summary["static_start"] = static_start_summary(sim)

@@ -223,6 +223,45 @@ section = { EA = 1.0e3, kGA = 1.0e3, GJ = 1.0, EI2 = 1.0, EI3 = 1.0, rhoA = 1.0 
     assert not (tmp_path / "m" / "summary.json").exists()
 
 
+def test_start_warnings_reach_the_summary(run_cli, tmp_path):
+    """A slider drawn 1e-6 m off its carrier: the run warns on the console and summary.json
+    keeps the warning (a run without any has an empty list)."""
+    section = "{ EA = 1e4, kGA = 1e4, GJ = 1.0, EI2 = 1.0, EI3 = 1.0, rhoA = 1.0, rhoI2 = 1e-3, rhoI3 = 1e-3 }"
+    for name, dz in (("on", "0.0"), ("off", "1e-6")):
+        (tmp_path / f"{name}.toml").write_text(f"""
+[analysis]
+type = "dynamic"
+dt = 0.01
+t_end = 0.02
+[[beam]]
+name = "carrier"
+start = [0.0, 0.0, 0.0]
+end = [2.0, 0.0, 0.0]
+spans = 4
+section = {section}
+[[beam]]
+name = "hanger"
+start = [0.5, 0.0, {dz}]
+end = [0.5, 0.0, -1.0]
+spans = 1
+section = {section}
+[[support]]
+type = "clamp"
+beam = "carrier"
+at = "start"
+[[sliding_joint]]
+slider = "hanger"
+carrier = "carrier"
+""")
+        out = run_cli("run", f"{name}.toml", "--out", name)
+        assert out.returncode == 0, out.stderr
+        found = json.loads((tmp_path / name / "summary.json").read_text())["warnings"]
+        if name == "on":
+            assert found == [] and "off their carriers" not in out.stderr, (found, out.stderr)
+        else:
+            assert len(found) == 1 and "off their carriers" in found[0] and found[0] in out.stderr, (found, out.stderr)
+
+
 SEED_MESHES = ("1+1", "1+2", "1+4", "1+8")
 
 
