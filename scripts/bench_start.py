@@ -25,7 +25,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 SPANS = 400  # per carrier
-HANGERS = 4  # hangers per carrier per carrier: 4 x carriers on each, so the load grows with the bundle
+HANGERS = 4  # hangers per carrier, times the number of carriers: the load grows with the bundle
 
 
 def scene(carriers: int, work: Path) -> Path:

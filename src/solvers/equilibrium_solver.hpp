@@ -19,8 +19,9 @@
 /// Distributed, a continuation step's matrix K + M/h^2 is regular on every rank's block as a time
 /// step's is, so its Newton solve takes the time steps' parallel path (BlockSolvePath: condensed
 /// exact blocks, the coupling correction where ranks are coupled, one application per Newton
-/// step) on a SNES of its own; a step that fails there is tried again on the direct solve
-/// (MUMPS) before the pseudo-step is cut. A polish, K alone (a rank's stretch of rope floats),
+/// step) on a SNES of its own. A step that fails on the fast solve (this, or the condensed LU
+/// serially) is cut to half its pseudo-step; only after two cuts in a row is it tried again on
+/// the direct solve of the whole system (MUMPS, SuperLU serially). A polish, K alone (a rank's stretch of rope floats),
 /// is MUMPS's. -sb_equilibrium_blocks false: every solve on MUMPS.
 
 #include "model/model.hpp"
