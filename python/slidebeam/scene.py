@@ -190,6 +190,11 @@ class TimeFunction:
             return 0.0
         if self.type == "ramp":
             return 1.0 if t >= self.t1 else (t - self.t0) / (self.t1 - self.t0)
+        if self.type == "smooth_ramp":
+            if t >= self.t1:
+                return 1.0
+            u = (t - self.t0) / (self.t1 - self.t0)
+            return u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
         if self.type == "hat":
             if t >= self.t2:
                 return 0.0
@@ -503,12 +508,12 @@ _ANCF_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "rho")
 # beam keys that describe what a cable does not have (section frame, director strains, B-spline quadrature)
 _DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain")
 _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
-_TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
+_TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
               "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
 # sub-tables an override may create when absent
 _OUTPUT_KEYS = ("every", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
 _TRACK_KEYS = ("beam", "at")
-_MOTION_KEYS = ("displacement", "rotation", "time_function")  # rotation: clamps only (6 components)
+_MOTION_KEYS = ("displacement", "rotation", "time_function")  # rotation: clamps and fixed beams only (6 components)
 # every key above is described, with its unit and default, in scene_schema.py (the scene reference;
 # tests/python/test_scene_schema.py keeps the two in step)
 _CREATABLE = {"scene", "analysis", "petsc", "output", "section", "arc", "time_function"}

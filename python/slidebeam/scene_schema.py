@@ -158,12 +158,15 @@ PETSC = Table("petsc", "[petsc]", "PETSc options for the run, written without th
 
 TIME_FUNCTION = Table("time_function", "time_function = { type = ..., ... }",
                       "A multiplier f(t) of a load, of gravity, of a flow or of a prescribed motion. ramp: 0 "
-                      "until t0, linear to 1 at t1, then 1; hat: 0 until t0, up to 1 at t1, down to 0 at t2; "
+                      "until t0, linear to 1 at t1, then 1; smooth_ramp: the same with the blend "
+                      "10u^3 - 15u^4 + 6u^5 (u from 0 at t0 to 1 at t1), whose rate and acceleration are "
+                      "continuous (a driven support started without a jolt); hat: 0 until t0, up to 1 at t1, down to 0 at t2; "
                       "step: 1 on [t0, t1), else 0; sine: offset + amplitude sin(2 pi frequency t + phase); "
                       "table: piecewise linear through (times, values), constant beyond the ends.", (
-    Key("type", "the kind of function", "", REQUIRED, '"constant", "ramp", "hat", "step", "sine", "table"'),
-    Key("t0", "ramp, hat, step: where it starts", "s", "0.0", ""),
-    Key("t1", "ramp: reaches 1; hat: its peak; step: ends", "s", "required (step: inf, never ends)", "> t0"),
+    Key("type", "the kind of function", "", REQUIRED,
+        '"constant", "ramp", "smooth_ramp", "hat", "step", "sine", "table"'),
+    Key("t0", "ramp, smooth_ramp, hat, step: where it starts", "s", "0.0", ""),
+    Key("t1", "ramp, smooth_ramp: reaches 1; hat: its peak; step: ends", "s", "required (step: inf, never ends)", "> t0"),
     Key("t2", "hat: back to 0", "s", REQUIRED, "> t1"),
     Key("amplitude", "sine: amplitude", "", "1.0", ""),
     Key("frequency", "sine: frequency", "Hz", REQUIRED, "> 0"),
@@ -173,15 +176,16 @@ TIME_FUNCTION = Table("time_function", "time_function = { type = ..., ... }",
     Key("values", "table: the values", "", "required unless file", "as many as times"),
     Key("file", "table: a CSV file of lines \"t,value\" relative to the scene (an optional header line, # "
                 "comments and blank lines allowed), instead of times and values", "", "", "a file name"),
-), variants=(("constant", ()), ("ramp", ("t0", "t1")), ("hat", ("t0", "t1", "t2")), ("step", ("t0", "t1")),
+), variants=(("constant", ()), ("ramp", ("t0", "t1")), ("smooth_ramp", ("t0", "t1")), ("hat", ("t0", "t1", "t2")), ("step", ("t0", "t1")),
              ("sine", ("amplitude", "frequency", "phase", "offset")), ("table", ("times", "values", "file"))))
 
 MOTION = Table("motion", "motion = { displacement = ..., rotation = ..., time_function = { ... } }",
-               "A prescribed motion of a support ([[support]] spherical or clamp): the point moves by "
-               "f(t) displacement, a clamp also turns by the rotation vector f(t) rotation. f(0) must be 0. "
+               "A prescribed motion of a support ([[support]] spherical, clamp or fixed): the point moves by "
+               "f(t) displacement, a clamp also turns by the rotation vector f(t) rotation, a fixed beam "
+               "moves rigidly (displaced, and turned about its start). f(0) must be 0. "
                "Its work is counted in the energy balance.", (
     Key("displacement", "displacement at f = 1", "m", "[0.0, 0.0, 0.0]", "3 numbers; displacement or rotation needed"),
-    Key("rotation", "rotation vector at f = 1 (clamps only)", "rad", "[0.0, 0.0, 0.0]", "3 numbers"),
+    Key("rotation", "rotation vector at f = 1 (clamp and fixed only)", "rad", "[0.0, 0.0, 0.0]", "3 numbers"),
     Key("time_function", "f(t), see time_function", "", REQUIRED, "f(0) = 0"),
 ))
 

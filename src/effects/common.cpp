@@ -14,6 +14,7 @@ TimeFunction TimeFunction::from(const EffectParams& p) {
   const std::string kind = p.string("tf_type", "constant");
   if (kind == "constant") f.kind = Kind::Constant;
   else if (kind == "ramp") f.kind = Kind::Ramp;
+  else if (kind == "smooth_ramp") f.kind = Kind::SmoothRamp;
   else if (kind == "hat") f.kind = Kind::Hat;
   else if (kind == "step") f.kind = Kind::Step;
   else if (kind == "sine") f.kind = Kind::Sine;

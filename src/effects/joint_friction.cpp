@@ -1,42 +1,58 @@
 // SPDX-License-Identifier: MIT
-/// @file Coulomb friction on a sliding joint (scene table [[friction]]): a force on the joint's
-/// sliding coordinate s that opposes the mean sliding rate of the step, sdot = (s_n+1 - s_n) / h,
+/// @file Coulomb friction on a sliding joint (scene table [[friction]]), with true stick
+/// (docs/theory.md, "Friction that sticks").
 ///
-///   F = -mu N sdot / sqrt(sdot^2 + v_reg^2),
+/// The friction force F on the joint's sliding coordinate s is an unknown of its own. It enters
+/// the joint's s row, the force balance of the massless s: G_s . lambda - F = 0, so F is the
+/// joint's tangential force on the slider (per unit of s: s is the carrier's reference arc
+/// length, so on a stretched carrier the force itself is F / |c'|). Its own row is Coulomb's law
+/// over the step, with the mean sliding rate sdot = (s_n+1 - s_n) / h and the normal force
+/// N = |Lambda - (t . Lambda) t| (Effect::normal_force: the joint's force on the slider
+/// transverse to the carrier's unit tangent t at s, at the joint's force state):
 ///
-/// with N = |Lambda - (t . Lambda) t| the joint's force on the slider transverse to the carrier's
-/// unit tangent t at s (Effect::normal_force; both at the joint's force state). It adds
-/// -F to the joint's s row, the force balance of the massless s: G_s . lambda - F = 0, so the
-/// joint's tangential force on the slider is F (per unit of s; s is the carrier's reference arc
-/// length, so on an inextensible carrier F is the tangential force itself, on a stretched one it
-/// is F / |c'|).
+///   |F| <= mu N,   and   sdot = 0 where |F| < mu N,   F = -mu N sdot / |sdot| where sdot != 0,
 ///
-/// Regularised, not semi-smooth: below the velocity scale v_reg the force grows linearly with the
-/// sliding rate (a viscous law of coefficient mu N / v_reg), above it it tends to mu N. The
-/// residual stays smooth, Newton converges as without friction and the step Jacobian is exact;
-/// the price is that sticking is a creep: a slider held by friction against a tangential load
-/// T < mu N slides at sdot = v_reg r / sqrt(1 - r^2), r = T / (mu N) (docs/theory.md).
+/// written as one equation, C = F - proj_[-mu N, mu N](F - r sdot) = 0 for any r > 0 (the
+/// natural map of the complementarity problem). C is piecewise smooth; with z = F - r sdot:
+///   stick, |z| <= mu N:  C = r sdot            (s stays where the step started);
+///   slip,  z > mu N:     C = F - mu N          (moving toward -s: the full force toward +s);
+///   slip,  z < -mu N:    C = F + mu N.
+/// Newton takes the branch of its iterate and that branch's derivative (semi-smooth Newton):
+/// once the branch is right, the step converges as without friction. The solution does not
+/// depend on r; the path does. An iterate that slipped past the stop (a sdot of the wrong sign,
+/// of the order of the friction's deceleration times h) must fall into stick, not into a slip the
+/// other way (which would alternate with it): r below the inverse Delassus scale m_eff / h of
+/// the motion along s. r = m / (100 h), m the slider beam's translational mass
+/// (Model::beam_mass). A tie within 1e-8 mu N counts as stick:
+/// a load exactly at the limit (tan(alpha) = mu) holds, whatever the noise of the converged
+/// multipliers (about 1e-10 of mu N here).
 ///
-/// Energy: the step's work of the friction force is F ds = -mu N h sdot^2 / sqrt(sdot^2 + v_reg^2)
-/// <= 0 whatever N, so under energy-momentum (where the joint does no work) the step dissipates
-/// exactly that (EnergyRole::Dissipative: D). No force in statics (h = 0: no rate).
+/// A driven slider's s is prescribed ([[slider_drive]]): there is nothing to stick, and the
+/// friction is -mu N times the sign of the prescribed rate (0 while the drive holds s still);
+/// it adds to the drive's force.
+///
+/// Energy: the step's work of friction is F (s_n+1 - s_n): 0 in stick, -mu N |s_n+1 - s_n| in
+/// slip, never positive, and under energy-momentum (the joint does no work) exactly what the
+/// step dissipates (EnergyRole::Dissipative: D). No friction in statics (h = 0: no rate): F = 0.
 
 #include "effects/common.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace slidebeam::effects {
 
 class JointFriction final : public Effect {
  public:
-  JointFriction(const Model& m, const EffectParams& p)
-      : slider_(beam_param(m, p)), mu_(p.number("mu")), v_reg_(p.number("regularization", 1e-3)) {
-    if (!(mu_ >= 0.0)) throw std::invalid_argument("friction: mu must be >= 0");
-    if (!(v_reg_ > 0.0)) throw std::invalid_argument("friction: regularization must be > 0");
+  JointFriction(const Model& m, const EffectParams& p) : slider_(beam_param(m, p)), mu_(p.number("mu")) {
+    if (!(mu_ >= 0.0)) throw ParamError("mu", "friction: mu must be >= 0");
   }
   std::string type() const override { return "friction"; }
   std::string label() const override { return label_; }
+  /// F, the friction force on s.
+  PetscInt n_extra() const override { return 1; }
 
   void distribute(const Model& m) override {
     // the sliding joint whose slider is this beam (the model creates constraints first: model.py)
@@ -47,66 +63,144 @@ class JointFriction final : public Effect {
     if (!joint_)
       throw std::invalid_argument("friction: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
     label_ = "friction[" + m.beam(slider_).name() + "]";
+    owned_ = extra_offset() >= m.dof_map().owned_lo() && extra_offset() < m.dof_map().owned_hi();
+  }
+  /// F sits with the joint's own extras: after s, whose row holds F's pivot in stick.
+  PetscInt elimination_anchor(const Model& m) const override {
+    for (const auto& e : m.effects())
+      if (e->slider_beam() == slider_) return e->elimination_anchor(m);
+    return -1;
   }
   /// What N reads is the joint's own unknowns, ghosted by the joint on the rank that evaluates it;
   /// s (and its step start) is among them.
-  void needed_dofs(const Model&, std::vector<PetscInt>& dofs) const override { dofs.push_back(s_index()); }
-  /// Every entry (the s row over s, the multipliers and what N depends on) lies in the joint's
-  /// pattern of its s row.
-  PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }
+  void needed_dofs(const Model&, std::vector<PetscInt>& dofs) const override {
+    dofs.push_back(s_index());
+    dofs.push_back(extra_offset());
+  }
+  /// The F row over (F, s, the multipliers) and the s row's F column; the rest of the F row (what
+  /// N depends on: the carrier around s, the slider's directors) moves with s, and the
+  /// Jacobian's COO assembly records it where it is.
+  PetscErrorCode pattern(const Model&, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    if (!owned_) PetscFunctionReturn(0);
+    const PetscInt F = extra_offset(), s = s_index();
+    const PetscInt cols[5] = {F, s, joint_->extra_offset(), joint_->extra_offset() + 1, joint_->extra_offset() + 2};
+    const double zero[5] = {0, 0, 0, 0, 0};
+    PetscCall(sink.add(1, &F, 5, cols, zero));
+    PetscCall(sink.add(1, &s, 1, &F, zero));
+    PetscFunctionReturn(0);
+  }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
-    Eval ev;
-    if (!evaluate(ctx, ev)) PetscFunctionReturn(0);
-    r.at(s_index()) += mu_ * ev.N * ev.g;  // -F
+    Law law;
+    if (!evaluate(ctx, law)) PetscFunctionReturn(0);
+    const double F = ctx.x.at(extra_offset());
+    r.at(s_index()) -= F;
+    r.at(extra_offset()) += law.branch == Branch::Stick ? law.r * law.sdot : F - law.limit;
     PetscFunctionReturn(0);
   }
 
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
-    Eval ev;
-    if (!evaluate(ctx, ev)) PetscFunctionReturn(0);
-    // d(mu N g)/dx = mu g dN/dx + mu N g'(sdot) / h on s_n+1
-    std::vector<double> row(ev.dofs.size());
-    for (size_t k = 0; k < ev.dofs.size(); ++k) row[k] = mu_ * ev.g * ev.dN[k];
-    const PetscInt s = s_index();
-    bool has_s = false;
-    for (size_t k = 0; k < ev.dofs.size(); ++k)
-      if (ev.dofs[k] == s) {
-        row[k] += mu_ * ev.N * ev.dg / ctx.h;
-        has_s = true;
-      }
-    if (!has_s) {
-      ev.dofs.push_back(s);
-      row.push_back(mu_ * ev.N * ev.dg / ctx.h);
+    Law law;
+    if (!evaluate(ctx, law)) PetscFunctionReturn(0);
+    const PetscInt F = extra_offset(), s = s_index();
+    const double minus_one = -1.0;
+    PetscCall(J.add(1, &s, 1, &F, &minus_one));
+    // the F row over F, s and N's unknowns, whatever the branch (the pattern stays the same
+    // when the branch changes)
+    std::vector<PetscInt> cols{F, s};
+    std::vector<double> row{0.0, 0.0};
+    for (size_t k = 0; k < law.dofs.size(); ++k) {
+      if (law.dofs[k] == s) continue;
+      cols.push_back(law.dofs[k]);
+      row.push_back(0.0);
     }
-    PetscCall(J.add(1, &s, static_cast<PetscInt>(ev.dofs.size()), ev.dofs.data(), row.data()));
+    if (law.branch == Branch::Stick) {
+      row[1] = law.r / ctx.h;
+    } else {
+      row[0] = 1.0;
+      // F - limit, limit = sign mu N: -sign mu dN
+      for (size_t k = 0, j = 2; k < law.dofs.size(); ++k) {
+        const double d = -law.sign * mu_ * law.dN[k];
+        if (law.dofs[k] == s) row[1] += d;
+        else row[j++] = d;
+      }
+    }
+    PetscCall(J.add(1, &F, static_cast<PetscInt>(cols.size()), cols.data(), row.data()));
     PetscFunctionReturn(0);
   }
 
  private:
-  struct Eval {
-    double N = 0.0, g = 0.0, dg = 0.0;  // normal force, sdot / sqrt(sdot^2 + v^2), d g / d sdot
-    std::vector<PetscInt> dofs;
+  enum class Branch { Stick, Slip };
+  struct Law {
+    Branch branch = Branch::Slip;
+    double sign = 0.0;   // slip: F = sign mu N (+1: the force toward +s)
+    double limit = 0.0;  // slip: sign mu N
+    double r = 0.0, sdot = 0.0;
+    std::vector<PetscInt> dofs;  // what N depends on
     std::vector<double> dN;
   };
-  /// False where there is nothing to add: no step (statics), no friction, or not the joint's rank.
-  bool evaluate(const EvalContext& ctx, Eval& ev) const {
-    if (ctx.h <= 0.0 || mu_ == 0.0) return false;
-    if (!joint_->normal_force(ctx, ev.N, ev.dofs, ev.dN)) return false;
-    const double sdot = (ctx.x.at(s_index()) - ctx.x_old.at(s_index())) / ctx.h;
-    const double q = std::sqrt(sdot * sdot + v_reg_ * v_reg_);
-    ev.g = sdot / q;
-    ev.dg = v_reg_ * v_reg_ / (q * q * q);
+  /// The branch of the law at the iterate, false where there is nothing to add (not the joint's
+  /// rank). Statics: the slip branch with sign 0, F = 0.
+  bool evaluate(const EvalContext& ctx, Law& law) const {
+    double N = 0.0;
+    if (!joint_->normal_force(ctx, N, law.dofs, law.dN)) return false;
+    law.branch = Branch::Slip;
+    law.sign = 0.0;
+    if (ctx.h <= 0.0 || mu_ == 0.0) {
+      law.limit = 0.0;
+      return true;
+    }
+    const double s1 = ctx.x.at(s_index()), s0 = ctx.x_old.at(s_index());
+    law.sdot = (s1 - s0) / ctx.h;
+    if (driven(ctx.model)) {
+      // the prescribed rate's sign; a rate at roundoff (s held still) has none
+      const double ds = s1 - s0;
+      if (std::abs(ds) > 64 * std::numeric_limits<double>::epsilon() * (std::abs(s0) + std::abs(s1)))
+        law.sign = ds > 0.0 ? -1.0 : 1.0;
+    } else {
+      double m = ctx.model.beam_mass(slider_);
+      if (!(m > 0.0))  // a massless slider beam: the model's mass sets the scale
+        for (size_t b = 0; b < ctx.model.beams().size(); ++b) m += ctx.model.beam_mass(static_cast<int>(b));
+      law.r = kDelassusShare * std::max(m, std::numeric_limits<double>::min()) / ctx.h;
+      const double z = ctx.x.at(extra_offset()) - law.r * law.sdot, muN = mu_ * N;
+      if (std::abs(z) <= muN * (1.0 + kTie)) law.branch = Branch::Stick;
+      else law.sign = z > 0.0 ? 1.0 : -1.0;
+    }
+    law.limit = law.sign * mu_ * N;
     return true;
+  }
+  /// True when another effect prescribes s (a slider drive). Looked up at the first evaluation:
+  /// the drive finds its joint in its own distribute(), which may come after this one's.
+  bool driven(const Model& m) const {
+    if (driven_ < 0) {
+      driven_ = 0;
+      for (const auto& e : m.effects()) {
+        std::vector<PetscInt> rows;
+        if (e.get() != joint_) e->constrained_state(rows);
+        if (std::find(rows.begin(), rows.end(), s_index()) != rows.end()) driven_ = 1;
+      }
+    }
+    return driven_ == 1;
   }
   /// The joint's s: its fourth extra (after the three multipliers).
   PetscInt s_index() const { return joint_->extra_offset() + 3; }
 
+  /// r = kDelassusShare m / h. m / h is the inverse Delassus scale of the slider beam's whole mass;
+  /// what opposes the sliding rate can be much less (the top of a pendulum whose bob swings
+  /// freely), and an r above that inverse makes slip-+ and slip-- alternate. A hundredth covers
+  /// effective masses down to 1 % of the beam's (measured: docs/theory.md).
+  static constexpr double kDelassusShare = 0.01;
+  /// A load within this share of mu N above the limit still sticks (the converged multipliers' noise
+  /// at the limit).
+  static constexpr double kTie = 1e-8;
   int slider_;
-  double mu_, v_reg_;
+  double mu_;
   const Effect* joint_ = nullptr;
+  mutable int driven_ = -1;
+  bool owned_ = false;
   std::string label_ = "friction";
 };
 
@@ -115,14 +209,12 @@ void register_friction_effects(EffectRegistry& r) {
   EffectSpec s;
   s.type = "friction";
   s.table = "friction";
-  s.meaning = "regularised Coulomb friction on a sliding joint, from its normal force";
+  s.meaning = "Coulomb friction on a sliding joint, from its normal force: the slider sticks while the tangential "
+              "load is below mu N";
   s.role = EnergyRole::Dissipative;
   s.params = {
       {"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""},
       {"mu", K::Number, "", "Coulomb friction coefficient", "", 0.0},
-      {"regularization", K::Number, "m/s",
-       "sliding rate below which the force grows linearly with the rate (sticking creeps at about this rate)", "1.0e-3",
-       0.0, std::numeric_limits<double>::infinity(), true},
   };
   r.add(s, [](const Model& m, const EffectParams& p) { return std::make_unique<JointFriction>(m, p); });
 }

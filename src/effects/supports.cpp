@@ -148,18 +148,42 @@ class Clamp final : public PrescribingSupport {
   SupportMotion motion_;
 };
 
-/// Every control point of a beam prescribed at its reference state: a rigid rail.
+/// Every control point of a beam prescribed: a rigid rail. At its reference state, or moved
+/// rigidly: displaced by f(t) U and turned by the rotation vector f(t) Theta about the beam's
+/// start (its points X -> X_0 + f U + R (X - X_0), its directors, ANCF: r', turned by R).
 class Fixed final : public PrescribingSupport {
  public:
-  Fixed(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)) {}
+  Fixed(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), motion_(p) {}
   std::string type() const override { return "fixed"; }
   std::string label() const override { return "fixed[" + std::to_string(beam_) + "]"; }
+  bool drives() const override { return motion_.active; }
   void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    prescribed_at(m, 0.0, rows, vals);
+  }
+  void prescribed_at(const Model& m, double t, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     const Beam& b = m.beam(beam_);
     const int nq = b.coordinates_per_cp();
-    for (int c = 0; c < b.n_cp(); ++c) prescribe_cp(m, b, c, 0, nq, b.q_ref().data() + nq * c, true, rows, vals);
+    if (!motion_.active) {
+      for (int c = 0; c < b.n_cp(); ++c) prescribe_cp(m, b, c, 0, nq, b.q_ref().data() + nq * c, true, rows, vals);
+      return;
+    }
+    const Eigen::Vector3d X0 = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data()), u = motion_.displacement(t);
+    const Eigen::Matrix3d R = motion_.rotation(t);
+    std::vector<double> q(static_cast<size_t>(nq));
+    for (int c = 0; c < b.n_cp(); ++c) {
+      std::copy(b.q_ref().begin() + nq * c, b.q_ref().begin() + nq * (c + 1), q.begin());
+      Eigen::Map<Eigen::Vector3d> x(q.data());
+      x = X0 + u + R * (Eigen::Vector3d(x) - X0);
+      for (int blk = 1; blk < nq / 3; ++blk) {
+        Eigen::Map<Eigen::Vector3d> d(q.data() + 3 * blk);
+        d = R * Eigen::Vector3d(d);
+      }
+      prescribe_cp(m, b, c, 0, nq, q.data(), true, rows, vals);
+    }
   }
   bool has_reaction() const override { return true; }
+  /// The force, and the moment about the beam's start in the reference configuration (the
+  /// same point on every rank).
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
     const Beam& b = m.beam(beam_);
     const Eigen::Vector3d X = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data());
@@ -168,6 +192,7 @@ class Fixed final : public PrescribingSupport {
 
  private:
   int beam_;
+  SupportMotion motion_;
 };
 
 /// Spherical support: the centre line passes through X at beam point s; directors free.
@@ -288,8 +313,12 @@ void register_support_effects(EffectRegistry& r) {
                           "a beam end held in place and orientation",
                           {beam, {"at", K::End, "", "which end: \"start\" or \"end\"", ""}, optional_param(clamp_motion)}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<Clamp>(m, p); });
+  ParamSpec fixed_motion = clamp_motion;
+  fixed_motion.meaning =
+      "prescribed rigid motion: {displacement = [m], rotation = [rad], time_function = {...}} (the beam moves by "
+      "f(t) times the displacement and turns about its start by the rotation vector f(t) times rotation; f(0) = 0)";
   r.add(table_effect_spec("fixed", "support", "fixed", EnergyRole::Constraint, "every control point of a beam held",
-                          {beam}),
+                          {beam, optional_param(fixed_motion)}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<Fixed>(m, p); });
   r.add(table_effect_spec("spherical", "support", "spherical", EnergyRole::Constraint,
                           "a beam point held in place, free to turn",

@@ -61,6 +61,8 @@ PetscErrorCode MatSink::add(PetscInt m, const PetscInt* rows, PetscInt n, const 
   PetscFunctionBeginUser;
   if (coo_) {
     coo_->add(m, rows, n, cols, v, scale_);
+  } else if (reader_) {
+    (*reader_)(m, rows, n, cols, v);
   } else if (scale_ == 1.0) {
     PetscCall(MatSetValues(A_, m, rows, n, cols, v, ADD_VALUES));
   } else {

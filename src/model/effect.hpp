@@ -221,18 +221,23 @@ class CooAssembly {
   int generation_ = 0;
 };
 
-/// Adds element matrices into a global matrix: with MatSetValues, or into a CooAssembly.
-/// Values are multiplied by a scale (1 by default).
+/// Adds element matrices into a global matrix: with MatSetValues, or into a CooAssembly; or
+/// hands them to a function that reads them (a sum over some entries: Model's beam masses).
+/// Values are multiplied by a scale (1 by default; not for a reader).
 class MatSink {
  public:
+  using Reader = std::function<void(PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols,
+                                    const PetscScalar* v)>;
   explicit MatSink(Mat A, double scale = 1.0) : A_(A), scale_(scale) {}
   explicit MatSink(CooAssembly* coo, double scale = 1.0) : coo_(coo), scale_(scale) {}
+  explicit MatSink(const Reader* reader) : reader_(reader) {}
   /// A(rows, cols) += scale * values (row-major, m x n).
   PetscErrorCode add(PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols, const PetscScalar* v) const;
 
  private:
   Mat A_ = nullptr;
   CooAssembly* coo_ = nullptr;
+  const Reader* reader_ = nullptr;
   double scale_ = 1.0;
 };
 

@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace slidebeam {
 
@@ -196,6 +197,7 @@ void Model::finalize() {
   SB_CHECK(VecAssemblyEnd(s_mask_));
   for (const auto& e : effects_)
     if (e->has_mass()) has_inertia_ = true;
+  compute_beam_masses();
   finalized_ = true;
   set_reference_state(x_);
 }
@@ -228,6 +230,29 @@ std::vector<double> Model::extra_values(int effect, Vec x) const {
   SB_CHECK(VecRestoreArrayRead(x, &a));
   if (!v.empty()) MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm_);
   return v;
+}
+
+void Model::compute_beam_masses() {
+  // the x-position unknown of every control point (a director point's phi_x, an ANCF node's
+  // r_x): a rigid translation along x moves these by 1 and nothing else, so the sum of M over
+  // them is the mass that translates
+  std::unordered_map<PetscInt, int> beam_of_row;
+  for (size_t b = 0; b < beams_.size(); ++b)
+    for (int c = 0; c < beams_[b].n_cp(); ++c) beam_of_row[map_.q(beams_[b].first_cp() + c, 0)] = static_cast<int>(b);
+  beam_mass_.assign(beams_.size(), 0.0);
+  const MatSink::Reader tally = [&](PetscInt m, const PetscInt* rows, PetscInt n, const PetscInt* cols,
+                                    const PetscScalar* v) {
+    for (PetscInt i = 0; i < m; ++i) {
+      const auto row = beam_of_row.find(rows[i]);
+      if (row == beam_of_row.end()) continue;
+      for (PetscInt j = 0; j < n; ++j)
+        if (beam_of_row.count(cols[j])) beam_mass_[static_cast<size_t>(row->second)] += v[i * n + j];
+    }
+  };
+  const MatSink sink(&tally);
+  for (const auto& e : effects_)
+    if (e->has_mass()) SB_CHECK(e->mass(*this, sink));
+  MPI_Allreduce(MPI_IN_PLACE, beam_mass_.data(), static_cast<int>(beam_mass_.size()), MPI_DOUBLE, MPI_SUM, comm_);
 }
 
 Mat Model::create_mass_matrix() const {

@@ -105,6 +105,9 @@ class Model {
 
   /// True when some effect contributes inertia (a dynamic model).
   bool has_inertia() const { return has_inertia_; }
+  /// A beam's translational mass: its own (rho A L) and the point masses on it, from the
+  /// inertia effects' mass matrices (the sum of M over its position unknowns of one direction).
+  double beam_mass(int beam) const { return beam_mass_.at(static_cast<size_t>(beam)); }
   /// New constant mass matrix with the Jacobian's sparsity pattern (so M and J add cheaply).
   Mat create_mass_matrix() const;
   /// 1 at coordinate unknowns (phi, d_i; ANCF: r, r'), 0 at multipliers and extras.
@@ -191,6 +194,8 @@ class Model {
   const std::vector<PetscInt>& prescribed_rows() const { return bc_rows_; }
 
  private:
+  /// beam_mass() of every beam (collective).
+  void compute_beam_masses();
   /// elimination_order()'s permutation, from the finalized DofMap.
   std::vector<PetscInt> compute_elimination_order() const;
   /// Scatter the global x into a ghosted local vector (default: x_local_).
@@ -232,6 +237,7 @@ class Model {
   std::vector<PetscInt> init_rows_;  // initial values of extras (owned rows)
   std::vector<PetscScalar> init_values_;
   bool has_inertia_ = false;
+  std::vector<double> beam_mass_;  ///< beam_mass(), summed over ranks at finalize()
 
   Vec x_ = nullptr, r_ = nullptr;
   Mat J_ = nullptr;

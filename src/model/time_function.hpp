@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file Load amplitude over time: constant, ramp, hat, step, sine, table (scene `time_function`).
+/// @file Load amplitude over time: constant, ramp, smooth_ramp, hat, step, sine, table (scene
+/// `time_function`).
 
 #include "model/effect.hpp"
 
@@ -13,7 +14,7 @@
 namespace slidebeam {
 
 struct TimeFunction {
-  enum class Kind { Constant, Ramp, Hat, Step, Sine, Table } kind = Kind::Constant;
+  enum class Kind { Constant, Ramp, SmoothRamp, Hat, Step, Sine, Table } kind = Kind::Constant;
   double t0 = 0.0, t1 = std::numeric_limits<double>::infinity(), t2 = std::numeric_limits<double>::infinity();
   /// Sine: offset + amplitude sin(2 pi frequency t + phase) (frequency in Hz, phase in rad).
   double amplitude = 1.0, frequency = 0.0, phase = 0.0, offset = 0.0;
@@ -25,6 +26,12 @@ struct TimeFunction {
     switch (kind) {
       case Kind::Constant: return 1.0;
       case Kind::Ramp: return t <= t0 ? 0.0 : (t >= t1 ? 1.0 : (t - t0) / (t1 - t0));
+      case Kind::SmoothRamp: {  // 10u^3 - 15u^4 + 6u^5: rate and its rate continuous at both ends
+        if (t <= t0) return 0.0;
+        if (t >= t1) return 1.0;
+        const double u = (t - t0) / (t1 - t0);
+        return u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
+      }
       case Kind::Hat:
         if (t <= t0 || t >= t2) return 0.0;
         return t <= t1 ? (t - t0) / (t1 - t0) : (t2 - t) / (t2 - t1);
