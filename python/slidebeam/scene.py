@@ -367,7 +367,7 @@ class _Table:
     def check_keys(self, allowed: list[str] | tuple[str, ...]) -> None:
         for key in self.data:
             if key not in allowed:
-                raise self.error(key, _unknown_key_message(key, allowed))
+                raise self.error(key, _unknown_key_message(key, allowed, self.label))
 
     def has(self, key: str) -> bool:
         return key in self.data
@@ -472,7 +472,18 @@ def _did_you_mean(word: str, options: tuple[str, ...] | list[str]) -> str:
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 
-def _unknown_key_message(key: str, allowed: tuple[str, ...] | list[str]) -> str:
+# keys a table read in an earlier version, with what to do instead: the error says so, not only
+# "unknown"
+_RETIRED_KEYS = {
+    ("[[friction]]", "regularization"): "friction sticks now (Coulomb's law with stick, nothing to tune): "
+                                        "remove the key",
+}
+
+
+def _unknown_key_message(key: str, allowed: tuple[str, ...] | list[str], table: str = "") -> str:
+    retired = _RETIRED_KEYS.get((table.split(" ")[0], key))
+    if retired:
+        return f"'{key}' is no longer read: {retired}"
     hint = _did_you_mean(key, allowed)
     return f"unknown key '{key}'" + (hint or f" (allowed: {_quoted(allowed)})")
 

@@ -68,7 +68,7 @@ def tilting_rail(alpha_deg: float, tilt_deg: float, mu: float, t_end: float) -> 
 
 
 def arc_rail(mu: float, t_end: float, integrator: str = "energy-momentum", dt: float = 2e-3, spans: int = 32,
-             pendulum: bool = False, form: str | None = None) -> slidebeam.Scene:
+             pendulum: bool = False, form: str | None = None, **analysis: float) -> slidebeam.Scene:
     """A rigid quarter-circle rail of radius 1 m in the vertical plane, from 45 degrees left of
     its lowest point to 45 degrees right of it; on it, at 40 degrees left, a 1 kg block (a short
     beam whose middle slides and carries the mass) or a flexible pendulum (0.5 m, EA = 1e5, a
@@ -91,7 +91,8 @@ def arc_rail(mu: float, t_end: float, integrator: str = "energy-momentum", dt: f
         joint["form"] = form
     return slidebeam.scene_from_dict({
         "scene": {"name": "arc_rail"},
-        "analysis": {"type": "dynamic", "integrator": integrator, "t_end": t_end, "dt": dt, "start": "equilibrium"},
+        "analysis": {"type": "dynamic", "integrator": integrator, "t_end": t_end, "dt": dt, "start": "equilibrium",
+                     **analysis},
         "beam": [{"name": "rail", "arc": {"center": [0.0, 0.0, 0.0], "radius": 1.0, "normal": [0.0, 0.0, 1.0],
                                           "start": [math.sin(a0), -math.cos(a0), 0.0], "angle": 90.0},
                   "d2": [0.0, 0.0, 1.0], "spans": spans, "section": RAIL_SECTION},
@@ -206,14 +207,18 @@ def test_a_block_on_a_circular_rail_comes_to_rest_where_the_closed_form_says():
     assert max(r.energy_balance_error for r in records) <= 1e-10 * K
 
 
-@pytest.mark.parametrize("form", ("frame", "spatial"))
-@pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint", "hht"))
-def test_a_flexible_pendulum_on_the_circular_rail_runs_to_the_end(integrator, form):
+# Newmark with numerical damping (gamma = 0.6): the undamped one blows up on this pendulum at
+# t = 2.2 s without friction too
+PENDULUM_RUNS = (("energy-momentum", "frame", {}), ("energy-momentum", "spatial", {}), ("midpoint", "frame", {}),
+                 ("newmark", "spatial", {"newmark_gamma": 0.6, "newmark_beta": 0.3025}), ("hht", "frame", {}))
+
+
+@pytest.mark.parametrize("integrator, form, analysis", PENDULUM_RUNS, ids=[f"{i}-{f}" for i, f, _ in PENDULUM_RUNS])
+def test_a_flexible_pendulum_on_the_circular_rail_runs_to_the_end(integrator, form, analysis):
     """A pendulum hanging from the slider sticks and slips as it swings (the normal force swings
     with it); the run reaches its end without a rejected step and, under energy-momentum, with the
-    balance at the Newton tolerance. (Newmark is left out: it blows up on this pendulum without
-    friction too.) Under mpirun -n 2 on two ranks."""
-    sim = slidebeam.Simulation(arc_rail(0.1, 1.0, integrator=integrator, pendulum=True, form=form))
+    balance at the Newton tolerance. Under mpirun -n 2 on two ranks."""
+    sim = slidebeam.Simulation(arc_rail(0.1, 1.0, integrator=integrator, pendulum=True, form=form, **analysis))
     records = sim.run_dynamic().records
     assert records[-1].t == pytest.approx(1.0)
     assert records[-1].rejected_steps == 0
