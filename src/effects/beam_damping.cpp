@@ -303,6 +303,7 @@ void register_damping_effects(EffectRegistry& r) {
   s.table = "damping";
   s.meaning = "structural damping of a beam or cable: Kelvin-Voigt on the strain rates and mass-proportional";
   s.role = EnergyRole::Dissipative;
+  s.rate_force = true;
   s.params = {
       {"beam", K::Beam, "", "the beam it damps", ""},
       {"retardation_time", K::Number, "s",

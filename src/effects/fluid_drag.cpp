@@ -213,6 +213,7 @@ void register_drag_effects(EffectRegistry& r) {
   s.meaning = "fluid drag on a beam's centre line (wind, current): per length -1/2 rho D (C_n |v_n| v_n + "
               "C_t |v_t| v_t), v the velocity relative to a uniform flow";
   s.role = EnergyRole::External;
+  s.rate_force = true;
   s.params = {
       {"beam", K::Beam, "", "the beam in the flow (director beam or ANCF cable)", ""},
       {"diameter", K::Number, "m", "D, the width the flow sees (a rope's diameter)", "", 0.0, inf, true},

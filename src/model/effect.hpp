@@ -190,6 +190,9 @@ struct EffectSpec {
   EnergyRole role = EnergyRole::Stored;
   /// Stored effects: which part of H their energy() is ("strain", "potential" or "kinetic").
   std::string stored;
+  /// A force from the step's mean rates, none outside a step (damping, drag): HHT weights it by
+  /// 1, not by 1 + alpha, since its history term at the step start (h = 0) is zero.
+  bool rate_force = false;
   /// Quantities the effect reports per step besides its energy flow (history columns
   /// "<label>.<name>"); see Effect::report.
   std::vector<std::string> reports;

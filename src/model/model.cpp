@@ -197,6 +197,11 @@ void Model::finalize() {
   SB_CHECK(VecAssemblyEnd(s_mask_));
   for (const auto& e : effects_)
     if (e->has_mass()) has_inertia_ = true;
+  rate_force_.clear();
+  for (const auto& e : effects_) {
+    rate_force_.push_back(EffectRegistry::instance().spec(e->type()).rate_force ? 1 : 0);
+    has_rate_force_ |= rate_force_.back() != 0;
+  }
   compute_beam_masses();
   finalized_ = true;
   set_reference_state(x_);
@@ -506,11 +511,30 @@ PetscErrorCode Model::assemble_residual_of(const StepEval& ev, Vec x, Vec F, lon
     PetscScalar* ra = nullptr;
     PetscCall(VecGetArray(r_local_, &ra));
     const LocalValues rv(ghost_dofs_, ra);
-    for (size_t k = 0; k < effects_.size(); ++k) {
-      if (only >= 0 && k != static_cast<size_t>(only)) continue;
+    const auto add = [&](size_t k) -> PetscErrorCode {
+      PetscFunctionBeginUser;
+      if (only >= 0 && k != static_cast<size_t>(only)) PetscFunctionReturn(0);
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
       PetscCall(effects_[k]->residual(ctx, rv));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
+      PetscFunctionReturn(0);
+    };
+    if (ev.rate_weight != 1.0 && has_rate_force_) {
+      // the rate forces first, into the zeroed array, then scaled; the others add to that
+      for (size_t k = 0; k < effects_.size(); ++k)
+        if (rate_force_[k]) PetscCall(add(k));
+      PetscCall(VecRestoreArray(r_local_, &ra));
+      PetscCall(VecScale(r_local_, ev.rate_weight));
+      PetscCall(VecGetArray(r_local_, &ra));
+      const LocalValues rest(ghost_dofs_, ra);
+      for (size_t k = 0; k < effects_.size(); ++k)
+        if (!rate_force_[k] && (only < 0 || k == static_cast<size_t>(only))) {
+          PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
+          PetscCall(effects_[k]->residual(ctx, rest));
+          PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
+        }
+    } else {
+      for (size_t k = 0; k < effects_.size(); ++k) PetscCall(add(k));
     }
     PetscCall(VecRestoreArray(r_local_, &ra));
     PetscFunctionReturn(0);
@@ -553,10 +577,12 @@ PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J
   PetscCall(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
     PetscFunctionBeginUser;
     const MatSink sink = coo ? MatSink(coo, scale) : MatSink(J, scale);
+    const double rate_scale = scale * ev.rate_weight;
+    const MatSink rate_sink = coo ? MatSink(coo, rate_scale) : MatSink(J, rate_scale);
     const MatSink mass_sink = coo ? MatSink(coo, mass_scale) : MatSink(J, mass_scale);
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
-      PetscCall(effects_[k]->jacobian(ctx, sink));
+      PetscCall(effects_[k]->jacobian(ctx, rate_force_[k] ? rate_sink : sink));
       if (mass_scale != 0.0) PetscCall(effects_[k]->mass(*this, mass_sink));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }

@@ -26,6 +26,10 @@ struct StepEval {
   /// The time step (EvalContext): from t_start to t_end = t_start + h; h = 0 outside steps.
   double t_start = 0.0, t_end = 0.0, h = 0.0;
   StepScheme scheme = StepScheme::Static;
+  /// Factor on rate forces (EffectSpec::rate_force) relative to the other effects: HHT scales the
+  /// assembled forces by 1 + alpha and its rate forces by 1 / (1 + alpha) here, so that they
+  /// count once.
+  double rate_weight = 1.0;
 };
 
 /// Linear and angular momentum (about the origin) of a state.
@@ -237,6 +241,8 @@ class Model {
   std::vector<PetscInt> init_rows_;  // initial values of extras (owned rows)
   std::vector<PetscScalar> init_values_;
   bool has_inertia_ = false;
+  std::vector<char> rate_force_;  ///< per effect: EffectSpec::rate_force
+  bool has_rate_force_ = false;
   std::vector<double> beam_mass_;  ///< beam_mass(), summed over ranks at finalize()
 
   Vec x_ = nullptr, r_ = nullptr;

@@ -36,14 +36,22 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
       throw std::invalid_argument("HHT alpha must lie in [-1/3, 0]");
   }
   PetscLogEventRegister("SBTimeStep", 0, &ev_step_);
+  // The energy-decaying variant's strain force is C (a0 eps_n + a1 eps_n+1), a1 - a0 = xi: over a
+  // step it does the strain energy's change plus xi/2 deps C deps. That excess is counted as the
+  // strain effect's own dissipation, measured as its work minus its energy's change (the same
+  // bookkeeping as a timed potential's), so that the balance stays at the Newton tolerance.
+  const bool decaying = params.kind == IntegratorKind::EnergyMomentum && params.dissipation > 0.0;
   for (size_t k = 0; k < model.effects().size(); ++k) {
     const Effect& e = *model.effects()[k];
-    EnergyRole role = EffectRegistry::instance().spec(e.type()).role;
+    const EffectSpec& spec = EffectRegistry::instance().spec(e.type());
+    EnergyRole role = spec.role;
     if (role == EnergyRole::Constraint && e.drives()) role = EnergyRole::Driving;
     const bool timed = role == EnergyRole::Stored && e.time_dependent();
-    if (role == EnergyRole::External || role == EnergyRole::Dissipative || role == EnergyRole::Driving || timed) {
-      if (timed) timed_.push_back(flows_.size());
-      flows_.push_back({k, role, 0.0});
+    const bool decaying_strain = decaying && role == EnergyRole::Stored && spec.stored == "strain";
+    if (role == EnergyRole::External || role == EnergyRole::Dissipative || role == EnergyRole::Driving || timed ||
+        decaying_strain) {
+      if (timed || decaying_strain) timed_.push_back(flows_.size());
+      flows_.push_back({k, decaying_strain ? EnergyRole::Dissipative : role, 0.0});
     }
   }
   M_ = model.create_mass_matrix();
@@ -123,9 +131,12 @@ StepEval TimeIntegrator::step_eval() const {
               StepScheme::EnergyMomentum};
     case IntegratorKind::Midpoint:
       return {StepRule::Theta, 0.5 * (t_ + next_time(h_)), 0.5, 0.0, t_, next_time(h_), h_, StepScheme::Midpoint};
-    default:
-      return {StepRule::Endpoint, next_time(h_), 1.0, 0.0, t_, next_time(h_), h_,
-              params_.kind == IntegratorKind::HHT ? StepScheme::HHT : StepScheme::Newmark};
+    default: {
+      StepEval ev{StepRule::Endpoint, next_time(h_), 1.0, 0.0, t_, next_time(h_), h_,
+                  params_.kind == IntegratorKind::HHT ? StepScheme::HHT : StepScheme::Newmark};
+      if (params_.kind == IntegratorKind::HHT) ev.rate_weight = 1.0 / (1.0 + params_.alpha);
+      return ev;
+    }
   }
 }
 
