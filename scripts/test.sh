@@ -9,12 +9,14 @@ export PYTHONPATH="$here/python${PYTHONPATH:+:$PYTHONPATH}"
 cd "$here"
 echo "== C++ unit tests (ctest)"
 ctest --test-dir build --output-on-failure
-echo "== pytest, serial"
+echo "== pytest, serial (two test processes: pytest-xdist)"
 # a temporary tree of its own: pytest's default one (/tmp/pytest-of-$USER) keeps the last three
 # runs' folders and deletes older ones, those of another test run going on at the same time too
 basetemp="$(mktemp -d "${TMPDIR:-/tmp}/slidebeam-tests.XXXXXX")"
 trap 'rm -rf "$basetemp"' EXIT
-/usr/bin/python3 -m pytest -q -p no:cacheprovider --basetemp "$basetemp/serial" tests/python
+# each test runs one model on one rank; two at a time keep both cores busy (the pip install
+# test alone compiles for almost 3 minutes)
+/usr/bin/python3 -m pytest -q -p no:cacheprovider -n 2 --basetemp "$basetemp/serial" tests/python
 echo "== pytest, mpirun -n 2"
 mpirun -n 2 /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
 echo "== all tests passed"

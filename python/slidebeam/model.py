@@ -31,9 +31,13 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
     model = _core.Model(comm)
     effects: list[EffectInfo] = []
 
+    seen: dict[str, int] = {}
+
     def add(kind: str, label: str, num: dict | None = None, vec: dict | None = None, text: dict | None = None) -> None:
         model.add_effect(kind, num or {}, vec or {}, text or {})
-        effects.append(EffectInfo(kind, label))
+        # a label names history columns: a second entry of a table on the same beam is "#2"
+        seen[label] = seen.get(label, 0) + 1
+        effects.append(EffectInfo(kind, label if seen[label] == 1 else f"{label}#{seen[label]}"))
 
     for b in scene.beams:
         sec = b.section

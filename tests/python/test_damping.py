@@ -54,6 +54,19 @@ def test_energy_balance_closes_under_energy_momentum():
     assert all(r.dissipated == 0.0 for r in slidebeam.Simulation(undamped).run_dynamic().records)
 
 
+def test_two_entries_on_one_beam_get_columns_of_their_own(tmp_path):
+    """Two [[damping]] entries on one beam (Kelvin-Voigt and mass-proportional given apart): each
+    has its own history column (the second numbered #2); they shared one name."""
+    data = dict(cantilever(retardation_time=0.01).data)
+    data["damping"] = [*data["damping"], {"beam": "rod", "mass_proportional": 0.2}]
+    data["analysis"] = {**data["analysis"], "t_end": 0.05}
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(data))
+    labels = sim.energy_flow_labels()
+    assert len(labels) == len(set(labels))
+    assert "beam_damping[rod].dissipated" in labels and "beam_damping[rod]#2.dissipated" in labels
+    sim.run_dynamic()
+
+
 def cantilever(**damping: object) -> slidebeam.Scene:
     """A slender cantilever (L = 1, EI = 1, rhoA = 1; first mode 3.516 rad/s), pushed at the tip by
     a slow hat load (which excites the first mode), then left to ring down."""

@@ -239,6 +239,31 @@ def seed_with_friction(root, integrator: str, form: str, mu: float = 0.4) -> sli
     return slidebeam.scene_from_dict(data, file=str(root / SEED), base_dir=str(root / "runs" / "seed"))
 
 
+def set_branch(sim, x1, i_s: int, i_f: int, h: float, branch: str) -> None:
+    """Put the trial state x1 (not assembled) well inside a branch of the friction law: stick at
+    rest with F = 0 (|z| = 0 < mu N), slip with a force far beyond mu N and a consistent rate
+    (|z| > mu N whatever r); then check the branch by F's residual (stick: r sdot = 0). s_n is
+    read from the prepared step's start (sim.joint_states() would set the model's step start
+    back to the last step's)."""
+    from mpi4py import MPI
+
+    sdot, force = {"stick": (0.0, 0.0), "slip+": (-0.5, 1e4), "slip-": (0.5, -1e4)}[branch]
+    lo, hi = x1.getOwnershipRange()
+    x_n = sim.integrator.x
+    s0 = MPI.COMM_WORLD.allreduce(x_n.getValue(i_s) if lo <= i_s < hi else 0.0)
+    for i, v in ((i_s, s0 + h * sdot), (i_f, force)):
+        if lo <= i < hi:
+            x1.setValue(i, v)
+    x1.assemble()
+    R = x1.duplicate()
+    sim.integrator.step_residual(x1, R)
+    r_f = R.getValue(i_f) if lo <= i_f < hi else None
+    if r_f is not None:
+        assert (r_f == 0.0) == (branch == "stick"), (branch, r_f)
+        if branch != "stick":
+            assert abs(r_f - force) < 0.5 * abs(force)  # F - (+-mu N), mu N well below |F|
+
+
 @pytest.mark.parametrize("branch", ("stick", "slip+", "slip-"))
 @pytest.mark.parametrize("form", ("frame", "spatial"))
 @pytest.mark.parametrize("integrator", INTEGRATORS)
@@ -253,12 +278,7 @@ def test_friction_step_jacobian(root, integrator, form, branch):
     lo, hi = x1.getOwnershipRange()
     i_s = sim.sliding_coordinate_index()
     i_f = sim._model.extra_offset(friction[0])
-    s0 = sim.joint_states()[0].s
-    sdot, force = {"stick": (0.0, 0.0), "slip+": (-0.5, 0.0), "slip-": (0.5, 0.0)}[branch]
-    for i, v in ((i_s, s0 + 0.01 * sdot), (i_f, force)):
-        if lo <= i < hi:
-            x1.setValue(i, v)
-    x1.assemble()
+    set_branch(sim, x1, i_s, i_f, 0.01, branch)
     worst, scale = step_jacobian_error(sim, x1)
     assert worst <= 1e-6 * scale, f"{integrator}: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
     # the rows and columns of s and F on their own scale (eps = 1e-5 keeps the roundoff of the
@@ -266,6 +286,49 @@ def test_friction_step_jacobian(root, integrator, form, branch):
     worst, scale = step_jacobian_error(sim, x1, 1e-5, [i_s, i_f])
     assert scale > 0.1
     assert worst <= 1e-6 * scale, f"{integrator}, s and F: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
+
+
+def seed_cables_with_friction(integrator: str, cables: tuple[str, ...], mu: float = 0.3) -> slidebeam.Scene:
+    """The inclined seed scene (S2-incl, 1+4) with the carrier AB, the slider CM or both as ANCF
+    cables (test_ancf_sliding.py), and friction on the slider: N from a cable's r' tangent, a
+    cable slider's spatial joint."""
+    import tomllib
+
+    from test_ancf_sliding import SEED as SEED_DIR, as_cables
+
+    with open(SEED_DIR / "free_fall_inclined_1+4.toml", "rb") as f:
+        data = as_cables(tomllib.load(f), cables)
+    data["analysis"].update({"integrator": integrator, "dt": 0.01, "t_end": 0.3})
+    data["friction"] = [{"beam": "CM", "mu": mu}]
+    return slidebeam.scene_from_dict(data, file=f"S2-incl (cables {', '.join(cables)})", base_dir=str(SEED_DIR))
+
+
+@pytest.mark.parametrize("branch", ("stick", "slip-"))
+@pytest.mark.parametrize("integrator", ("energy-momentum", "hht"))
+@pytest.mark.parametrize("cables", ("AB", "CM", "AB+CM"))
+def test_friction_step_jacobian_on_cables(cables, integrator, branch):
+    """Friction with ANCF carriers and sliders: the step Jacobian of each branch."""
+    sim = slidebeam.Simulation(seed_cables_with_friction(integrator, tuple(cables.split("+"))))
+    friction = [i for i, e in enumerate(sim.active_effects) if e.type == "friction"]
+    x1 = trial_end_state(sim, steps=2, h=0.01, seed=3)
+    lo, hi = x1.getOwnershipRange()
+    i_s, i_f = sim.sliding_coordinate_index(), sim._model.extra_offset(friction[0])
+    set_branch(sim, x1, i_s, i_f, 0.01, branch)
+    worst, scale = step_jacobian_error(sim, x1)
+    assert worst <= 1e-6 * scale, f"{cables} {integrator}: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
+    worst, scale = step_jacobian_error(sim, x1, 1e-5, [i_s, i_f])
+    assert worst <= 1e-6 * scale, f"{cables} {integrator}, s and F: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
+
+
+@pytest.mark.parametrize("cables", ("AB", "CM", "AB+CM"))
+def test_friction_on_cables_dissipates_and_the_balance_closes(cables):
+    """Energy-momentum with friction on cable carriers and sliders: friction takes energy (it
+    slides), never gives it back, and H - H0 - W + D stays at the Newton tolerance."""
+    records = slidebeam.Simulation(seed_cables_with_friction("energy-momentum", tuple(cables.split("+")))).run_dynamic().records
+    D = [r.dissipated for r in records]
+    K = max(r.kinetic_energy for r in records)
+    assert D[-1] > 1e-3 * K and all(b >= a for a, b in zip(D, D[1:]))
+    assert max(r.energy_balance_error for r in records) <= 1e-9 * max(K, D[-1])
 
 
 def test_friction_block_serial_equals_parallel(root):
