@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import json
 import os
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
@@ -77,6 +78,7 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path,
                 "integrator": sim.scene.analysis.integrator,
                 "dt": state.dt, "step": state.step, "rejected": state.rejected,
                 "rejected_since_record": state.rejected_since_record, "newton": state.newton,
+                "wall_time_s": sim.earlier_wall_time + time.perf_counter() - sim.created,
             }
             for key, value in meta.items():
                 g.attrs[key] = value
@@ -190,6 +192,7 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
     viewer.destroy()
     sim.integrator.restore(float(meta["t"]), float(meta["h_prev"]), bool(meta["pivoting_lu"]),
                            float(meta.get("segment_start", meta["t"])), int(meta.get("segment_steps", 0)))
+    sim.earlier_wall_time = float(meta.get("wall_time_s", 0.0))
     if "energy_flows" in meta:
         sim.integrator.set_energy_flows(json.loads(meta["energy_flows"]))
         sim.initial_energy = float(meta["initial_energy"])

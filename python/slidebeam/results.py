@@ -188,7 +188,9 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
         "steps": outcome.steps, "rejected_steps": outcome.rejected_steps,
         "newton_iterations": outcome.newton_iterations,
         "jacobian_evaluations": int(sim.integrator.jacobian_evaluations),
-        "unknowns": sim.x.getSize(), "ranks": sim.x.getComm().getSize(), "wall_time_s": wall_time,
+        "unknowns": sim.x.getSize(), "ranks": sim.x.getComm().getSize(),
+        # a restarted run's history took the earlier runs' time too
+        "wall_time_s": None if wall_time is None else sim.earlier_wall_time + wall_time,
         "final_energy": {"kinetic": last.kinetic_energy, "strain": last.strain_energy,
                          "potential": last.potential_energy, "total": last.total_energy},
         "max_constraint_residual": max(r.constraint_residual for r in recs),
@@ -196,6 +198,8 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
         "pivoting_lu_steps": int(sim.integrator.pivoting_lu_steps),
         "warnings": list(sim.warnings),  # what the start found and corrected or left to the first step
     }
+    if sim.earlier_wall_time > 0.0:
+        summary["wall_time_this_run_s"] = wall_time
     if sim.settled is not None:
         summary["static_start"] = static_start_summary(sim)
     p = sim.velocity_projection

@@ -196,6 +196,10 @@ class Simulation:
         self.settled: EquilibriumOutcome | None = None  # the static start, once done (settle)
         self.settled_on_rank_0 = False  # ... solved by rank 0 alone (-sb_equilibrium_on_rank_0)
         self.settle_wall_time = 0.0  # ... its wall time, seconds
+        # wall time of the runs before this one that made its history (a restart's checkpoint),
+        # and when this one began: a checkpoint records their sum
+        self.earlier_wall_time = 0.0
+        self.created = time.perf_counter()
         self.step_wall_times: list[float] = []  # seconds per attempted time step (run_dynamic)
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.load_step_cuts = 0  # load steps of the last solve_static that failed and were halved

@@ -70,6 +70,9 @@ def test_restarted_run_equals_the_uninterrupted_one(run_cli, root, tmp_path, int
     sa = json.loads((tmp_path / "whole" / "summary.json").read_text())
     sb = json.loads((tmp_path / "parts" / "summary.json").read_text())
     assert sa["steps"] == sb["steps"] == 300 and sa["newton_iterations"] == sb["newton_iterations"]
+    # the restarted history's wall time is both runs': the restart's own is reported apart
+    assert "wall_time_this_run_s" in sb and "wall_time_this_run_s" not in sa
+    assert sb["wall_time_s"] > sb["wall_time_this_run_s"] > 0.0
     for series in ("beams.xdmf", "sliders.xdmf"):
         pa, steps_a = read_series(tmp_path / "whole" / series)
         pb, steps_b = read_series(tmp_path / "parts" / series)
