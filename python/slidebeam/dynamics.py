@@ -347,6 +347,8 @@ def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome,
                 res.stopped = message
                 return res
             st.step += 1
+            if st.step == 1:
+                sim.count_initial_snap()
             last = t_end - integ.time <= 1e-9 * a.dt
             if st.step % every == 0 or last:
                 rec = sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints)

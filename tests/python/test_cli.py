@@ -259,7 +259,8 @@ carrier = "carrier"
         if name == "on":
             assert found == [] and "off their carriers" not in out.stderr, (found, out.stderr)
         else:
-            assert len(found) == 1 and "off their carriers" in found[0] and found[0] in out.stderr, (found, out.stderr)
+            assert len(found) == 2 and "off their carriers" in found[0] and "pull of the sliders" in found[1], found
+            assert all(m in out.stderr for m in found), (found, out.stderr)
 
 
 SEED_MESHES = ("1+1", "1+2", "1+4", "1+8")
