@@ -707,6 +707,10 @@ def _parse_analysis(t: _Table) -> Analysis:
     if dt is not None and dt_min is not None and dt_min > dt:
         raise t.error("dt_min", f"must not exceed dt = {dt}, got {dt_min}")
     integrator = t.choice("integrator", _INTEGRATORS, "energy-momentum")
+    # (the schemes' own keys may stay in a scene run with another: --set analysis.integrator switches)
+    if kind == "dynamic" and t.has("steps"):
+        raise t.error("steps", 'is the load steps of type = "static": a dynamic analysis steps by t_end and dt, '
+                               "which say the same; give those")
     alpha = t.number("hht_alpha", -0.1, check=lambda a: -1.0 / 3.0 <= a <= 0.0, requirement="in [-1/3, 0]")
     # Newmark: the trapezoidal rule; HHT: its standard companions, second order and
     # unconditionally stable for linear problems (Hilber, Hughes & Taylor 1977).
@@ -1057,6 +1061,9 @@ def _explicit_section(t: _Table) -> Section:
     positive = dict(check=lambda x: x > 0, requirement="> 0")
     non_negative = dict(check=lambda x: x >= 0, requirement=">= 0")
     per_axis = t.has("kGA2") and t.has("kGA3")
+    if per_axis and t.has("kGA"):
+        raise t.error("kGA", "given with both kGA2 and kGA3, which say the same: give kGA (both axes) or "
+                             "kGA2 and kGA3")
     kGA = t.number("kGA", None if per_axis else _MISSING, **positive)  # type: ignore[arg-type]
     return Section(
         EA=t.number("EA", **positive),  # type: ignore[arg-type]

@@ -383,8 +383,8 @@ def test_override_by_index_and_name(tmp_path):
 def test_override_analysis(tmp_path):
     path = _write(tmp_path, SMALL)
     dyn = ['analysis.type="dynamic"', "beam.0.section.rho=1.0"]
-    sc = scene.load_scene(path, [*dyn, "analysis.dt=0.001", "analysis.steps=20"])
-    assert (sc.analysis.type, sc.analysis.dt, sc.analysis.steps) == ("dynamic", 0.001, 20)
+    sc = scene.load_scene(path, [*dyn, "analysis.dt=0.001", "analysis.t_end=0.02"])
+    assert (sc.analysis.type, sc.analysis.dt, sc.analysis.t_end) == ("dynamic", 0.001, 0.02)
     assert sc.analysis.dt_min == pytest.approx(0.001 / 16)
     with pytest.raises(scene.SceneError, match="'dt'"):
         scene.load_scene(path, dyn)
@@ -605,6 +605,17 @@ def test_bad_analysis_values(tmp_path):
     _assert_names(err, "[analysis]", "key 'integrator'", "did you mean 'newmark'?")
     err = _error(tmp_path, '[analysis]\nhht_alpha = -0.5\n' + SMALL)
     _assert_names(err, "[analysis]", "key 'hht_alpha'", "[-1/3, 0]")
+
+
+def test_keys_that_say_the_same_are_refused_together(tmp_path):
+    """Pairs of keys that say the same thing: the number of steps of a dynamic analysis (t_end
+    and dt, not steps), the shear stiffness of both axes (kGA, or kGA2 and kGA3)."""
+    err = _error(tmp_path, '[analysis]\ntype = "dynamic"\nt_end = 1.0\ndt = 0.1\nsteps = 10\n' + SMALL)
+    _assert_names(err, "[analysis]", "key 'steps'", "t_end and dt")
+    text = SMALL.split("[beam.section]")[0] + ("[beam.section]\nEA = 1.0\nkGA = 1.0\nkGA2 = 1.0\nkGA3 = 1.0\n"
+                                               "GJ = 1.0\nEI2 = 1.0\nEI3 = 1.0\n")
+    err = _error(tmp_path, text)
+    _assert_names(err, "section", "key 'kGA'", "kGA2 and kGA3")
 
 
 def test_error_attributes():
