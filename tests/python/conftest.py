@@ -47,7 +47,8 @@ def pytest_configure(config: pytest.Config) -> None:
     if MPI.COMM_WORLD.Get_size() > 1 and not config.option.basetemp:
         # one temporary tree per rank: ranks must not clean up each other's folders
         config.option.basetemp = f"/tmp/slidebeam-pytest-{os.getpid()}-rank{MPI.COMM_WORLD.Get_rank()}"
-    config.addinivalue_line("markers", "skip_in_parallel: only meaningful on one rank (spawns its own processes)")
+    config.addinivalue_line("markers", "skip_in_parallel: only meaningful on one rank (spawns its own processes, "
+                                       "or checks a closed form that other tests run on 2 ranks)")
     config.addinivalue_line("markers", "stability: the hard-case suite of runs/hard/ (issue 8; a few minutes)")
 
 

@@ -188,6 +188,7 @@ def test_tilting_the_rail_past_mu_starts_the_slide():
     assert max(r.energy_balance_error for r in records) <= 1e-9 * scale
 
 
+@pytest.mark.skip_in_parallel  # a closed form; the pendulum on this rail runs on 2 ranks below
 def test_a_block_on_a_circular_rail_comes_to_rest_where_the_closed_form_says():
     """mu = 0.1, released at -40 degrees: swings to 26.0, back to -13.6, on to 2.08 degrees and
     stays there (tan 2.08 deg < mu) from t = 3.03 s. The rest angle within 1e-5 rad of the closed form (the
@@ -207,13 +208,15 @@ def test_a_block_on_a_circular_rail_comes_to_rest_where_the_closed_form_says():
     assert max(r.energy_balance_error for r in records) <= 1e-10 * K
 
 
-# Newmark with numerical damping (gamma = 0.6): the undamped one blows up on this pendulum at
-# t = 2.2 s without friction too
+# (undamped Newmark runs this pendulum with friction to 3 s; without friction it blows up at
+# t = 2.2 s, a limit of the scheme with sliding joints)
 PENDULUM_RUNS = (("energy-momentum", "frame", {}), ("energy-momentum", "spatial", {}), ("midpoint", "frame", {}),
-                 ("newmark", "spatial", {"newmark_gamma": 0.6, "newmark_beta": 0.3025}), ("hht", "frame", {}))
+                 ("newmark", "spatial", {}), ("newmark", "frame", {"newmark_gamma": 0.6, "newmark_beta": 0.3025}),
+                 ("hht", "frame", {}))
 
 
-@pytest.mark.parametrize("integrator, form, analysis", PENDULUM_RUNS, ids=[f"{i}-{f}" for i, f, _ in PENDULUM_RUNS])
+@pytest.mark.parametrize("integrator, form, analysis", PENDULUM_RUNS,
+                         ids=[f"{i}{'-damped' if a else ''}-{f}" for i, f, a in PENDULUM_RUNS])
 def test_a_flexible_pendulum_on_the_circular_rail_runs_to_the_end(integrator, form, analysis):
     """A pendulum hanging from the slider sticks and slips as it swings (the normal force swings
     with it); the run reaches its end without a rejected step and, under energy-momentum, with the
