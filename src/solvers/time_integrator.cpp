@@ -434,6 +434,7 @@ void TimeIntegrator::last_step_residual(Vec F) {
   SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
   SB_CHECK(step_forces(x_, F, last_eval_));
   SB_CHECK(model_.set_prescribed_residual_rows(x_, F));
+  SB_CHECK(model_.set_step_start(x_));  // the next step's start again (a prepared step reads it)
 }
 
 std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
@@ -447,13 +448,16 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
   SB_CHECK(step_forces(x_, F, eval));
   auto r = model_.reactions(eval, x_, F, scale_);
   SB_CHECK(VecDestroy(&F));
+  SB_CHECK(model_.set_step_start(x_));  // the next step's start again (a prepared step reads it)
   return r;
 }
 
 std::vector<std::array<double, 3>> TimeIntegrator::joint_forces(const std::vector<int>& effects) {
   if (!stepped_) return model_.joint_forces(StepEval{StepRule::Endpoint, t_, 1.0}, x_, effects);
   SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
-  return model_.joint_forces(last_eval_, x_, effects);
+  auto forces = model_.joint_forces(last_eval_, x_, effects);
+  SB_CHECK(model_.set_step_start(x_));  // the next step's start again (a prepared step reads it)
+  return forces;
 }
 
 PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {

@@ -168,3 +168,26 @@ def test_reactions_are_in_history_and_summary(run_cli, root, tmp_path):
     # the end moment 2 pi EI / L about z, and no force
     assert clamp["moment"] == pytest.approx([0.0, 0.0, -2 * math.pi * 100.0 / 10.0], abs=1e-6)
     assert clamp["force"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-6)
+
+
+def test_reading_reactions_leaves_a_prepared_step_alone(root):
+    """Reactions and joint forces are the last step's: they are evaluated with that step's start,
+    and the model's step start is set back to the next step's afterwards, so that a step prepared
+    before (prepare_step) has the same residual after sim.joint_states() as before it (it moved
+    back a step)."""
+    import slidebeam
+
+    sim = slidebeam.Simulation(slidebeam.load_scene(root / "runs" / "seed" / "free_fall_inclined_1+4.toml"))
+    integ = sim.integrator
+    for _ in range(3):
+        assert integ.step(1e-3).converged
+    integ.prepare_step(1e-3)
+    x1 = integ.x.copy()
+    x1.axpy(1e-3, integ.v)
+    before, after = x1.duplicate(), x1.duplicate()
+    integ.step_residual(x1, before)
+    sim.joint_states()
+    sim.reactions()
+    integ.step_residual(x1, after)
+    after.axpy(-1.0, before)
+    assert after.norm() == 0.0, after.norm()
