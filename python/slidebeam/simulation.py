@@ -278,9 +278,7 @@ class Simulation:
         assert self.integrator is not None
         e = self._potential_energies()
         kinetic, _, _ = self.integrator.motion()
-        flows = self.integrator.energy_flows
-        work = sum(w for _, role, w in flows if role != "dissipative")
-        dissipated = -sum(w for _, role, w in flows if role == "dissipative")
+        work, dissipated = self._work_and_dissipation()
         self.initial_snap_energy = kinetic + e["strain"] + e["potential"] - self.initial_energy - work + dissipated
         self.initial_energy += self.initial_snap_energy
         message = (f"the first step's pull of the sliders onto their carriers changed the energy by "
@@ -783,8 +781,7 @@ class Simulation:
         e = self._potential_energies()
         kinetic, lin, ang = self.integrator.motion()
         flows = self.integrator.energy_flows
-        work = sum(w for _, role, w in flows if role != "dissipative")
-        dissipated = 0.0 - sum(w for _, role, w in flows if role == "dissipative")
+        work, dissipated = self._work_and_dissipation()
         total = kinetic + e["strain"] + e["potential"]
         if step == 0 and result is None:
             self.initial_energy = total
@@ -805,6 +802,15 @@ class Simulation:
             energy_balance_error=abs(total - self.initial_energy - work + dissipated),
             flows=[w for _, _, w in flows],
         )
+
+    def _work_and_dissipation(self) -> tuple[float, float]:
+        """W and D of the energy balance so far: the counted effects' work, dissipative effects'
+        (their work negated) apart."""
+        assert self.integrator is not None
+        flows = self.integrator.energy_flows
+        work = sum(w for _, role, w in flows if role != "dissipative")
+        dissipated = 0.0 - sum(w for _, role, w in flows if role == "dissipative")
+        return work, dissipated
 
     def energy_flow_labels(self) -> list[str]:
         """History column names of the effects whose work is counted (dynamic runs):

@@ -79,6 +79,11 @@ void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, con
 /// the end points.
 int end_cp(const Beam& b, double s);
 
+/// The sliding joint an effect on beam `slider`'s slider acts on (friction, a drive): the last
+/// effect before `self` whose slider is that beam (the model creates constraints first:
+/// model.py), or nullptr.
+const Effect* sliding_joint_of(const Model& m, int slider, const Effect* self);
+
 /// The spans on both sides of knot i of a director beam (-1: none).
 inline void knot_spans(const Beam& b, int i, int& left, int& right) {
   left = i >= 1 ? i - 1 : -1;

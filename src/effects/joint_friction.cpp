@@ -55,11 +55,7 @@ class JointFriction final : public Effect {
   PetscInt n_extra() const override { return 1; }
 
   void distribute(const Model& m) override {
-    // the sliding joint whose slider is this beam (the model creates constraints first: model.py)
-    for (const auto& e : m.effects()) {
-      if (e.get() == this) break;
-      if (e->slider_beam() == slider_) joint_ = e.get();
-    }
+    joint_ = sliding_joint_of(m, slider_, this);
     if (!joint_)
       throw std::invalid_argument("friction: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
     label_ = "friction[" + m.beam(slider_).name() + "]";
@@ -67,9 +63,8 @@ class JointFriction final : public Effect {
   }
   /// F sits with the joint's own extras: after s, whose row holds F's pivot in stick.
   PetscInt elimination_anchor(const Model& m) const override {
-    for (const auto& e : m.effects())
-      if (e->slider_beam() == slider_) return e->elimination_anchor(m);
-    return -1;
+    const Effect* joint = sliding_joint_of(m, slider_, this);
+    return joint ? joint->elimination_anchor(m) : -1;
   }
   /// What N reads is the joint's own unknowns, ghosted by the joint on the rank that evaluates it;
   /// s (and its step start) is among them.

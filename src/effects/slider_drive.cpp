@@ -50,11 +50,7 @@ class SliderDrive final : public Effect {
   bool time_dependent() const override { return true; }
 
   void distribute(const Model& m) override {
-    // the sliding joint whose slider is this beam (the model creates constraints first: model.py)
-    for (const auto& e : m.effects()) {
-      if (e.get() == this) break;
-      if (e->slider_beam() == slider_) joint_ = e.get();
-    }
+    joint_ = sliding_joint_of(m, slider_, this);
     if (!joint_)
       throw std::invalid_argument("slider_drive: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
     label_ = "slider_drive[" + m.beam(slider_).name() + "]";
@@ -67,9 +63,8 @@ class SliderDrive final : public Effect {
   }
   PetscInt elimination_anchor(const Model& m) const override {
     // with the joint's own extras: the multiplier sits next to the s it prescribes
-    for (const auto& e : m.effects())
-      if (e->slider_beam() == slider_) return e->elimination_anchor(m);
-    return -1;
+    const Effect* joint = sliding_joint_of(m, slider_, this);
+    return joint ? joint->elimination_anchor(m) : -1;
   }
   void needed_dofs(const Model&, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;

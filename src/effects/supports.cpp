@@ -87,6 +87,18 @@ struct SupportMotion {
     if (a == 0.0) return Eigen::Matrix3d::Identity();
     return Eigen::AngleAxisd(a, th / a).toRotationMatrix();
   }
+  /// A control point's coordinates q (nq of them: the position, then 3-blocks that turn: the
+  /// directors, an ANCF node's r') moved rigidly at time t about pivot: X -> pivot + f U +
+  /// R (X - pivot), each block -> R block.
+  void move(double* q, int nq, const Eigen::Vector3d& pivot, double t) const {
+    const Eigen::Matrix3d R = rotation(t);
+    Eigen::Map<Eigen::Vector3d> x(q);
+    x = pivot + displacement(t) + R * (Eigen::Vector3d(x) - pivot);
+    for (int blk = 1; blk < nq / 3; ++blk) {
+      Eigen::Map<Eigen::Vector3d> d(q + 3 * blk);
+      d = R * Eigen::Vector3d(d);
+    }
+  }
 };
 
 /// Base of effects with no residual of their own (pure elimination).
@@ -120,14 +132,9 @@ class Clamp final : public PrescribingSupport {
     const Beam& b = m.beam(beam_);
     const int nq = b.coordinates_per_cp();
     std::vector<double> q(b.q_ref().begin() + nq * cp_, b.q_ref().begin() + nq * (cp_ + 1));
-    if (motion_.active) {
-      const Eigen::Vector3d u = motion_.displacement(t);
-      const Eigen::Matrix3d R = motion_.rotation(t);
-      for (int k = 0; k < 3; ++k) q[static_cast<size_t>(k)] += u(k);
-      for (int blk = 1; blk < nq / 3; ++blk) {
-        Eigen::Map<Eigen::Vector3d> d(q.data() + 3 * blk);
-        d = R * Eigen::Vector3d(d);
-      }
+    if (motion_.active) {  // about the held point itself: displaced, its directors turned
+      const Eigen::Vector3d held = Eigen::Map<const Eigen::Vector3d>(q.data());
+      motion_.move(q.data(), nq, held, t);
     }
     prescribe_cp(m, b, cp_, 0, nq, q.data(), true, rows, vals);
   }
@@ -167,17 +174,11 @@ class Fixed final : public PrescribingSupport {
       for (int c = 0; c < b.n_cp(); ++c) prescribe_cp(m, b, c, 0, nq, b.q_ref().data() + nq * c, true, rows, vals);
       return;
     }
-    const Eigen::Vector3d X0 = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data()), u = motion_.displacement(t);
-    const Eigen::Matrix3d R = motion_.rotation(t);
+    const Eigen::Vector3d X0 = Eigen::Map<const Eigen::Vector3d>(b.q_ref().data());
     std::vector<double> q(static_cast<size_t>(nq));
     for (int c = 0; c < b.n_cp(); ++c) {
       std::copy(b.q_ref().begin() + nq * c, b.q_ref().begin() + nq * (c + 1), q.begin());
-      Eigen::Map<Eigen::Vector3d> x(q.data());
-      x = X0 + u + R * (Eigen::Vector3d(x) - X0);
-      for (int blk = 1; blk < nq / 3; ++blk) {
-        Eigen::Map<Eigen::Vector3d> d(q.data() + 3 * blk);
-        d = R * Eigen::Vector3d(d);
-      }
+      motion_.move(q.data(), nq, X0, t);
       prescribe_cp(m, b, c, 0, nq, q.data(), true, rows, vals);
     }
   }

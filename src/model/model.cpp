@@ -523,16 +523,11 @@ PetscErrorCode Model::assemble_residual_of(const StepEval& ev, Vec x, Vec F, lon
       // the rate forces first, into the zeroed array, then scaled; the others add to that
       for (size_t k = 0; k < effects_.size(); ++k)
         if (rate_force_[k]) PetscCall(add(k));
-      PetscCall(VecRestoreArray(r_local_, &ra));
-      PetscCall(VecScale(r_local_, ev.rate_weight));
-      PetscCall(VecGetArray(r_local_, &ra));
-      const LocalValues rest(ghost_dofs_, ra);
+      PetscInt n = 0;
+      PetscCall(VecGetLocalSize(r_local_, &n));
+      for (PetscInt i = 0; i < n; ++i) ra[i] *= ev.rate_weight;
       for (size_t k = 0; k < effects_.size(); ++k)
-        if (!rate_force_[k] && (only < 0 || k == static_cast<size_t>(only))) {
-          PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
-          PetscCall(effects_[k]->residual(ctx, rest));
-          PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
-        }
+        if (!rate_force_[k]) PetscCall(add(k));
     } else {
       for (size_t k = 0; k < effects_.size(); ++k) PetscCall(add(k));
     }
