@@ -241,7 +241,19 @@ PYBIND11_MODULE(_core, m) {
 
   py::class_<StaticSolver>(m, "StaticSolver")
       .def(py::init<Model&>(), py::arg("model"), py::keep_alive<1, 2>())
-      .def("solve", &StaticSolver::solve, py::arg("t"))
+      .def(
+          "solve",
+          [](StaticSolver& s, double t, const std::string& attempts) {
+            using A = ManifoldNewton::Attempts;
+            if (attempts == "all") return s.solve(t, A::all);
+            if (attempts == "first") return s.solve(t, A::first);
+            if (attempts == "fallbacks") return s.solve(t, A::fallbacks);
+            throw py::value_error("attempts: 'all', 'first' or 'fallbacks', got '" + attempts + "'");
+          },
+          py::arg("t"), py::arg("attempts") = "all",
+          "Newton from the model's x at load time t: 'first' (Newton on the director manifold alone, "
+          "ended by a zero pivot or a third of the iteration limit), 'fallbacks' (only what follows it: "
+          "Newton's multipliers, then plain Newton, on the full system) or 'all'")
       .def_property("time", &StaticSolver::time, &StaticSolver::set_time)
       .def_property_readonly("snes", &StaticSolver::snes, "the SNES (petsc4py, shared with the core)");
 

@@ -403,7 +403,8 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
     def progress(rec) -> None:
         if not args.quiet:
             _say(rank, f"  step {rec.step:4d}/{scene.analysis.steps}  t = {rec.t:.6g}  newton {rec.newton_iterations:2d}"
-                       f"  |F| = {rec.residual_norm:.3e}  {'' if rec.converged else 'FAILED: ' + rec.reason}")
+                       f"  |F| = {rec.residual_norm:.3e}  {'' if rec.converged else 'FAILED: ' + rec.reason}"
+                       f"{'(Newton failed: solved by continuation)' if rec.reason == 'CONVERGED_BY_CONTINUATION' else ''}")
         if rec.converged:
             output.write(rec.t, rec.joints)  # the record's joints: not computed again
 

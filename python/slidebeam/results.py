@@ -161,6 +161,7 @@ def static_summary(sim: Simulation, records: list[StepRecord], wall_time: float 
         "newton_iterations": sum(r.newton_iterations for r in records),
         "newton_iterations_per_step": [r.newton_iterations for r in records[1:]],
         "load_step_cuts": sim.load_step_cuts,
+        "load_step_continuations": sim.load_step_continuations,
         "unknowns": sim.x.getSize(), "ranks": sim.x.getComm().getSize(), "wall_time_s": wall_time,
         "final_energy": {"strain": good[-1].strain_energy, "potential": good[-1].potential_energy},
         "reactions": [r.as_dict() for r in good[-1].reactions],

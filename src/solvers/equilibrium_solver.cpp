@@ -219,7 +219,7 @@ EquilibriumResult EquilibriumSolver::solve(double t, double h0, double rtol, int
       SB_CHECK(VecCopy(x_k_, x));
     }
     // The polish (c = 0) meets the tangent of a mechanism, singular or nearly so: a pivoting LU.
-    const SolveResult s = manifold_->solve(x, c == 0.0, !fast_only);
+    const SolveResult s = manifold_->solve(x, c == 0.0, fast_only ? ManifoldNewton::Attempts::first_and_pivoting_lu : ManifoldNewton::Attempts::all);
     res.newton_iterations += s.iterations;
     return s.converged() && std::isfinite(s.residual_norm);
   };

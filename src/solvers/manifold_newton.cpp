@@ -99,7 +99,7 @@ SolveResult ManifoldNewton::attempt(Vec x, PetscInt max_it) {
   return r;
 }
 
-SolveResult ManifoldNewton::solve(Vec x, bool pivoting, bool fallbacks) {
+SolveResult ManifoldNewton::solve(Vec x, bool pivoting, Attempts attempts) {
   if (!active_) {
     ++full_system_attempts_;
     SB_CHECK(SNESSolve(snes_, nullptr, x));
@@ -127,20 +127,23 @@ SolveResult ManifoldNewton::solve(Vec x, bool pivoting, bool fallbacks) {
   auto restore = [&]() {  // the condensed LU for the next solve, unless it met a zero pivot
     if (serial_ && !condensed_failed_ && !condensed_) SB_CHECK(use_condensed());
   };
-  SolveResult r = attempt(x, first_limit);
-  if (add(r)) {
-    restore();
-    return total;
-  }
-  if (condensed_ && r.reason == SNES_DIVERGED_LINEAR_SOLVE) {
-    SB_CHECK(PetscInfo(snes_, "Condensed LU failed (zero pivot): the pivoting LU on the full system from now on\n"));
-    condensed_failed_ = true;
-    SB_CHECK(use_full_lu());
-    if (add(attempt(x, first_limit))) return total;
-  }
-  if (!fallbacks) {
-    restore();
-    return total;
+  if (attempts != Attempts::fallbacks) {
+    SolveResult r = attempt(x, first_limit);
+    if (add(r)) {
+      restore();
+      return total;
+    }
+    if (condensed_ && r.reason == SNES_DIVERGED_LINEAR_SOLVE) {
+      SB_CHECK(PetscInfo(snes_, "Condensed LU failed (zero pivot): the pivoting LU on the full system from now on\n"));
+      condensed_failed_ = true;
+      SB_CHECK(use_full_lu());
+      if (attempts == Attempts::first) return total;
+      if (add(attempt(x, first_limit))) return total;
+    }
+    if (attempts != Attempts::all) {
+      restore();
+      return total;
+    }
   }
   // 2. Newton's multipliers, directors still rotated (full system)
   SB_CHECK(PetscInfo(snes_, "Manifold Newton failed (%s): once more with Newton's multipliers on the full system\n",

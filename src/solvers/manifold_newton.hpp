@@ -53,12 +53,17 @@ class ManifoldNewton {
   bool condensed() const { return condensed_; }
   /// Replace every free triad of x by its closest orthonormal frame (a predictor's may be off).
   PetscErrorCode project(Vec x) const;
-  /// Newton from x (projected first); after a failure the fall-backs above, each from the same
-  /// x. The iterations of every attempt count. pivoting: the pivoting LU on the full system
-  /// instead of the condensed LU for this solve (a tangent that may be singular). fallbacks
-  /// false: the first attempt only (a zero pivot still moves to the pivoting LU), for a caller
-  /// that has a cheaper remedy than a solve on the full system (a continuation cuts its step).
-  SolveResult solve(Vec x, bool pivoting = false, bool fallbacks = true);
+  /// The attempts of a solve: all (the first; after a zero pivot of the condensed LU, the first
+  /// again on the pivoting LU; the fall-backs); first_and_pivoting_lu (no fall-backs: a
+  /// continuation step, whose caller cuts the step instead); first (the first alone, ended by a
+  /// zero pivot too: a static load step, whose caller takes a singular tangent to the
+  /// continuation); fallbacks (the fall-backs alone, after the caller saw the first fail).
+  /// After a zero pivot the condensed LU is dropped for good.
+  enum class Attempts { all, first_and_pivoting_lu, first, fallbacks };
+  /// Newton from x (projected first); the attempts asked for, each from the same x. The
+  /// iterations of every attempt count. pivoting: the pivoting LU on the full system instead of
+  /// the condensed LU for this solve (a tangent that may be singular).
+  SolveResult solve(Vec x, bool pivoting = false, Attempts attempts = Attempts::all);
   /// Newton attempts so far on the full saddle-point system (the pivoting LU: SuperLU serially,
   /// MUMPS on several ranks), not on the condensed LU.
   long full_system_attempts() const { return full_system_attempts_; }

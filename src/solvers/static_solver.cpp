@@ -38,11 +38,11 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec x, Mat J, Mat, void* c
   PetscFunctionReturn(0);
 }
 
-SolveResult StaticSolver::solve(double t) {
+SolveResult StaticSolver::solve(double t, ManifoldNewton::Attempts attempts) {
   t_ = t;
   model_.set_prescribed_time(t);
   model_.apply_prescribed(model_.x());
-  return manifold_->solve(model_.x());
+  return manifold_->solve(model_.x(), false, attempts);
 }
 
 }  // namespace slidebeam

@@ -20,8 +20,11 @@ class StaticSolver {
   StaticSolver(const StaticSolver&) = delete;
   StaticSolver& operator=(const StaticSolver&) = delete;
 
-  /// Solve F(x; t) = 0 starting from the model's current x (updated in place).
-  SolveResult solve(double t);
+  /// Solve F(x; t) = 0 starting from the model's current x (updated in place), with the
+  /// attempts asked for (ManifoldNewton::Attempts): `first` alone ends at a zero pivot or a
+  /// third of the iteration limit, so that the caller can take the step to the pseudo-transient
+  /// continuation before the `fallbacks`.
+  SolveResult solve(double t, ManifoldNewton::Attempts attempts = ManifoldNewton::Attempts::all);
   SNES snes() const { return snes_; }
   /// Newton on the manifold with the condensed LU (false: the full system's LU, or plain Newton).
   bool condensed() const { return manifold_ && manifold_->condensed(); }

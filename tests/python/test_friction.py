@@ -21,7 +21,12 @@ from test_dynamics import INTEGRATORS
 BLOCK = "runs/effects/friction_block.toml"
 SEED = "runs/seed/free_fall_1+4.toml"
 G, ALPHA = 9.80665, math.radians(30.0)
-BLOCK_SECTION = {"EA": 1e6, "kGA": 1e6, "GJ": 1e2, "EI2": 1e2, "EI3": 1e2, "rhoA": 0.1, "rhoI2": 1e-5, "rhoI3": 1e-5}
+# The block: a beam 2 cm long whose middle slides and carries 1 kg, with the rotary inertia of a
+# 1 kg block of that length (m L^2 / 12 about its middle, per unit length m L / 12). With the beam's
+# own (1e-5, a point mass on a stick) it turns about its slider with almost no inertia, and that
+# soft mode, not friction, took Newton 5-6 iterations in one step in ten (frictionless alike).
+BLOCK_SECTION = {"EA": 1e6, "kGA": 1e6, "GJ": 1e2, "EI2": 1e2, "EI3": 1e2, "rhoA": 0.1,
+                 "rhoI2": 1.0 * 0.02 / 12, "rhoI3": 1.0 * 0.02 / 12}
 RAIL_SECTION = {"EA": 1e7, "kGA": 1e7, "GJ": 1e4, "EI2": 1e4, "EI3": 1e4, "rhoA": 1.0, "rhoI2": 1e-3, "rhoI3": 1e-3}
 
 
@@ -80,7 +85,7 @@ def arc_rail(mu: float, t_end: float, integrator: str = "energy-momentum", dt: f
     if pendulum:
         slider = {"name": "block", "start": list(p), "end": list(p + [0.0, -0.5, 0.0]), "d2": [0.0, 0.0, 1.0],
                   "spans": 4, "section": {**BLOCK_SECTION, "EA": 1e5, "kGA": 1e5, "GJ": 10.0, "EI2": 10.0,
-                                          "EI3": 10.0, "rhoA": 0.5}}
+                                          "EI3": 10.0, "rhoA": 0.5, "rhoI2": 1e-5, "rhoI3": 1e-5}}
         joint_at, mass_at = 0.0, 0.5
     else:
         slider = {"name": "block", "start": list(p - 0.01 * tangent), "end": list(p + 0.01 * tangent),
@@ -147,8 +152,11 @@ def test_a_block_held_by_friction_stays_put(root, integrator):
 
 
 def test_a_load_exactly_at_the_limit_sticks(root):
-    """tan(alpha) = mu from the equilibrium start (the load at the limit from the first step)."""
-    _, s, records = s_history(block(root, math.tan(ALPHA), t_end=0.3, start="equilibrium"))
+    """tan(alpha) = mu from the equilibrium start (the load at the limit from the first step),
+    for 1 s: with a tie of 1e-8 mu N the block alternated between stick and slip at t = 0.357 s
+    until Newton gave up."""
+    _, s, records = s_history(block(root, math.tan(ALPHA), t_end=1.0, start="equilibrium"))
+    assert records[-1].t == pytest.approx(1.0)
     assert np.abs(s - s[0]).max() <= 1e-12
     assert records[-1].dissipated == 0.0
 
@@ -189,13 +197,19 @@ def test_tilting_the_rail_past_mu_starts_the_slide():
 
 
 @pytest.mark.skip_in_parallel  # a closed form; the pendulum on this rail runs on 2 ranks below
-def test_a_block_on_a_circular_rail_comes_to_rest_where_the_closed_form_says():
+@pytest.mark.parametrize("floor_stop", [False, True], ids=["", "floor_stop"])
+def test_a_block_on_a_circular_rail_comes_to_rest_where_the_closed_form_says(floor_stop):
     """mu = 0.1, released at -40 degrees: swings to 26.0, back to -13.6, on to 2.08 degrees and
     stays there (tan 2.08 deg < mu) from t = 3.03 s. The rest angle within 1e-5 rad of the closed form (the
-    rail's 32-span spline and dt = 2 ms), each turning point passed, 3-4 Newton iterations per
-    step on average, and the balance at the Newton tolerance."""
+    rail's 32-span spline and dt = 2 ms), each turning point passed, and the balance at the
+    Newton tolerance. Newton: 3.16 iterations per step, 6 at the first reversal (where |F|
+    needs two iterations at its roundoff floor to be seen stagnating); with -sb_floor_stop
+    (the floor measured on earlier steps) 2.89, at most 5."""
+    from test_condensation import petsc_options
+
     points = arc_turning_points(math.radians(-40.0), 0.1, G)
-    _, s, records = s_history(arc_rail(0.1, 3.3))
+    with petsc_options(**({"sb_floor_stop": "true"} if floor_stop else {})):
+        _, s, records = s_history(arc_rail(0.1, 3.3))
     theta = math.radians(-45.0) + s  # R = 1 m
     assert len(points) == 4
     assert theta.max() == pytest.approx(points[1], abs=1e-4)
@@ -203,7 +217,7 @@ def test_a_block_on_a_circular_rail_comes_to_rest_where_the_closed_form_says():
     assert theta[-1] == pytest.approx(points[3], abs=1e-5)
     assert np.abs(theta[-100:] - theta[-1]).max() == 0.0  # at rest, not creeping
     its = [r.newton_iterations for r in records[1:]]
-    assert np.mean(its) <= 4.0 and max(its) <= 7
+    assert np.mean(its) <= (3.0 if floor_stop else 3.3) and max(its) <= (5 if floor_stop else 6)
     K = max(r.kinetic_energy for r in records)
     assert max(r.energy_balance_error for r in records) <= 1e-10 * K
 
