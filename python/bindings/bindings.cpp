@@ -10,6 +10,7 @@
 #include "solvers/solver_options.hpp"
 #include "solvers/static_solver.hpp"
 #include "solvers/time_integrator.hpp"
+#include "time/stepper.hpp"
 #include "util/petsc_check.hpp"
 #include "util/stop_signal.hpp"
 #include "io/beam_series.hpp"
@@ -416,6 +417,41 @@ PYBIND11_MODULE(_core, m) {
            "residual_norm); RuntimeError before the first step")
       .def("step_jacobian", [](TimeIntegrator& s, Vec x, Mat J) { SB_CHECK(s.step_jacobian(x, J)); });
 
+
+  py::class_<StepAdvance>(m, "StepAdvance", "how one Stepper.advance ended")
+      .def_property_readonly("status",
+                             [](const StepAdvance& a) {
+                               switch (a.status) {
+                                 case StepAdvance::Status::Accepted: return "accepted";
+                                 case StepAdvance::Status::Cut: return "cut";
+                                 case StepAdvance::Status::Failed: return "failed";
+                                 default: return "event";
+                               }
+                             },
+                             "'accepted', 'cut' (Newton failed: the next step is half as long), 'failed' (failed at "
+                             "dt_min) or 'event' (an indicator crossed: the step shortened to it is the run's last)")
+      .def_readonly("result", &StepAdvance::result, "the accepted step's solve, or the failed attempt's")
+      .def_readonly("h", &StepAdvance::h, "its step size")
+      .def_readonly("rejected_attempts", &StepAdvance::rejected_attempts)
+      .def_readonly("newton_iterations", &StepAdvance::newton_iterations, "over every attempt")
+      .def_readonly("wall_time", &StepAdvance::wall_time, "seconds in the step's first attempt")
+      .def_readonly("event", &StepAdvance::event, "'event': index into Stepper.events")
+      .def_readonly("event_step_taken", &StepAdvance::event_step_taken,
+                    "'event': a shortened step was taken (else the state is at t_n)");
+
+  py::class_<Stepper>(m, "Stepper", "step control of a dynamic run: sizes, cuts and events (src/time/stepper.hpp)")
+      .def(py::init<Model&, TimeIntegrator&, double, double>(), py::arg("model"), py::arg("integrator"),
+           py::arg("dt"), py::arg("dt_min"), py::keep_alive<1, 2>(), py::keep_alive<1, 3>())
+      .def("advance", &Stepper::advance, py::arg("t_end"), "take the next step towards t_end (collective)")
+      .def_property("dt", &Stepper::dt, &Stepper::set_dt, "the step size the next advance tries")
+      .def_property_readonly(
+          "events",
+          [](const Stepper& s) {
+            py::list out;
+            for (const auto& e : s.events()) out.append(py::make_tuple(e.effect, e.index, e.scale));
+            return out;
+          },
+          "(model effect index, indicator index, scale) of every event indicator");
   py::class_<io::RecordWriter>(m, "RecordWriter",
                                "records of an XDMF time series written into an existing HDF5 file by a "
                                "background thread, one dataset /<field>/<record> per array")

@@ -1,20 +1,20 @@
 # SPDX-License-Identifier: MIT
-"""Time stepping of a dynamic scene: initial rigid motion, the step loop with step-size cuts
-on Newton failure, and the per-step record that goes to history.csv.
+"""Time stepping of a dynamic scene: initial rigid motion, the run loop (records, checkpoints,
+signals, how the run ended) and the per-step record that goes to history.csv.
 
-The numerics (one SNES solve per step, the four integrators) live in the C++ core
-(``_core.TimeIntegrator``); this module is the policy around it.
+The numerics (one SNES solve per step, the four integrators: ``_core.TimeIntegrator``) and the
+step control (step sizes, cuts on Newton failure, events such as a slider reaching its
+carrier's end: ``_core.Stepper``) live in the C++ core; this module calls it once per step.
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 from petsc4py import PETSc
 
-from . import interrupts
+from . import _core, interrupts
 
 if TYPE_CHECKING:
     from .simulation import Simulation
@@ -156,37 +156,6 @@ class RunOutcome:
     signal: int | None = None     # the signal (SIGINT, SIGTERM) that stopped it
 
 
-class _Snapshot:
-    """The integrator's state at t_n (taken before each step), to take a step again with another
-    size: buffers allocated once, filled by take()."""
-
-    def __init__(self, sim: "Simulation") -> None:
-        from .checkpoint import VECTORS
-
-        self._integ = sim.integrator
-        self._vecs = {name: getattr(self._integ, name) for name in VECTORS}
-        self.copies = {name: vec.duplicate() for name, vec in self._vecs.items()}
-        self._time: tuple = ()
-
-    def take(self) -> None:
-        integ = self._integ
-        for name, vec in self._vecs.items():
-            vec.copy(self.copies[name])
-        self._time = (integ.time, integ.h_prev, bool(integ.pivoting_lu), *integ.time_segment)
-        self._flows = [w for _, _, w in integ.energy_flows]
-
-    def restore(self) -> None:
-        for name, vec in self._vecs.items():
-            self.copies[name].copy(vec)
-        t, h_prev, pivoting, seg_start, seg_steps = self._time
-        self._integ.restore(t, h_prev, pivoting, seg_start, seg_steps)
-        self._integ.set_energy_flows(self._flows)
-
-    def destroy(self) -> None:
-        for vec in self.copies.values():
-            vec.destroy()
-
-
 def carrier_end(sim: "Simulation", joints: list[JointState]) -> tuple[int, float] | None:
     """(joint, the end's s) of the first sliding joint whose slider is beyond an end of its
     carrier, else None."""
@@ -207,65 +176,19 @@ def carrier_end_message(sim: "Simulation", joint: int, s: float, when: str) -> s
             f"run stopped (at_carrier_end = '{j.at_carrier_end}')")
 
 
-# An arrival at a carrier end is accepted within this fraction of the carrier's length
-ARRIVAL_TOLERANCE = 1e-9
-
-
-def _arrive(sim: "Simulation", snapshot: _Snapshot, h: float, joint: int, s_end: float, s_out: float,
-            st: RunState) -> tuple[object | None, float]:
-    """Take the step that ended beyond a carrier end again, shortened so that the slider arrives
-    at the end (Illinois regula falsi on the step size, from the state at t_n). Returns the
-    accepted step's result and size, with the slider on the carrier within ARRIVAL_TOLERANCE of
-    its length from the end, or the closest inside try; (None, 0) if no try stayed inside (the
-    state at t_n is kept)."""
-    integ = sim.integrator
-    k = sim.sliding_joint_effects()[joint]
-    length = sim.scene.beams[sim.scene.sliding_joints[joint].carrier].geometry.length
-    s0 = float(sim._model.extra_values(k, snapshot.copies["x"])[3])
-    inward = 1.0 if s0 <= s_end else -1.0  # distance to the end is inward * (s_end - s)
-
-    h_in, d_in = 0.0, inward * (s_end - s0)        # d >= 0 on the carrier
-    h_out, d_out = h, inward * (s_end - s_out)     # < 0 beyond the end
-    best: float | None = None
-    side = 0
-    for _ in range(16):
-        snapshot.restore()
-        h_try = h_in + (h_out - h_in) * d_in / (d_in - d_out)
-        h_try = min(max(h_try, h_in + 1e-4 * (h_out - h_in)), h_out - 1e-4 * (h_out - h_in))
-        result = integ.step(h_try)
-        st.newton += result.iterations
-        st.rejected += 0 if result.converged else 1
-        d = inward * (s_end - float(sim._model.extra_values(k, integ.x)[3])) if result.converged else -1.0
-        if d >= 0:
-            best = h_try
-            if d <= ARRIVAL_TOLERANCE * length:
-                return result, h_try
-            h_in, d_in = h_try, d
-            d_out *= 0.5 if side == 1 else 1.0  # Illinois: the same side twice halves the other end
-            side = 1
-        else:
-            h_out, d_out = h_try, (d if result.converged else 0.5 * d_out)
-            d_in *= 0.5 if side == -1 else 1.0
-            side = -1
-    snapshot.restore()
-    if best is None:
-        return None, 0.0
-    result = integ.step(best)
-    st.newton += result.iterations
-    return result, best
-
-
 def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None,
                 state: RunState | None = None,
                 on_checkpoint: Callable[[RunState], None] | None = None) -> RunOutcome:
     """Step from the current time to t_end with the scene's integrator.
 
-    A step whose Newton solve fails (or produces NaN/Inf) is retried from the last good state
-    with half the step, down to ``dt_min``; after a success the step grows back (doubling) to
-    ``dt``. If even ``dt_min`` fails, the run stops with the last good state kept. Records are
-    taken every ``output.every`` steps and at the end. ``state`` resumes a run (restart; the
-    integrator already holds its vectors); ``on_checkpoint`` is called every
-    ``output.checkpoint_every`` accepted steps.
+    The core's Stepper (src/time/stepper.hpp) chooses the steps: a step whose Newton solve fails
+    (or produces NaN/Inf) is retried from the last good state with half the step, down to
+    ``dt_min``; after a success the step grows back (doubling) to ``dt``. If even ``dt_min``
+    fails, the run stops with the last good state kept. A slider that passes its carrier's end
+    ends the run with a last step shortened to the arrival. Records are taken every
+    ``output.every`` steps and at the end. ``state`` resumes a run (restart; the integrator
+    already holds its vectors); ``on_checkpoint`` is called every ``output.checkpoint_every``
+    accepted steps.
     """
     a = sim.scene.analysis
     assert a.dt is not None and a.dt_min is not None
@@ -279,15 +202,13 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
     def outcome(complete: bool, message: str, failed: bool = False, extra: list[DynamicRecord] | None = None):
         return RunOutcome(st.records + (extra or []), complete, message, st.step, st.rejected, st.newton, failed, st)
 
-    snapshot = _Snapshot(sim) if sim.scene.sliding_joints else None
-    try:
-        return _step_loop(sim, st, on_step, on_checkpoint, outcome, snapshot)
-    finally:
-        if snapshot is not None:
-            snapshot.destroy()
+    stepper = _core.Stepper(sim._model, sim.integrator, a.dt, a.dt_min)
+    stepper.dt = st.dt
+    return _step_loop(sim, stepper, st, on_step, on_checkpoint, outcome)
 
 
-def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome, snapshot) -> RunOutcome:
+def _step_loop(sim: "Simulation", stepper: "_core.Stepper", st: RunState, on_step, on_checkpoint,
+               outcome) -> RunOutcome:
     a = sim.scene.analysis
     integ = sim.integrator
     every = max(1, sim.scene.output.every)
@@ -295,13 +216,16 @@ def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome,
     t_end = a.t_end
     last_accepted: tuple[object, float] | None = None  # (result, h) of the last accepted step, if not recorded
 
-    def interrupted(signum: int) -> RunOutcome:
+    def record_last_accepted() -> None:
         if last_accepted is not None:  # the last good state goes to the history
             rec = sim.record_dynamic(st.step, last_accepted[0], last_accepted[1], st.rejected_since_record)
             st.rejected_since_record = 0
             st.records.append(rec)
             if on_step:
                 on_step(rec)
+
+    def interrupted(signum: int) -> RunOutcome:
+        record_last_accepted()
         reason = f"interrupted by {interrupts.describe(signum)}"
         res = outcome(False, f"{reason} at t = {integ.time:.6g} (step {st.step}); results hold the state at "
                              f"t = {integ.time:.6g} and are marked incomplete")
@@ -309,49 +233,37 @@ def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome,
         return res
 
     while t_end - integ.time > 1e-9 * a.dt:
-        # The step is dt unless less remains; a remainder within roundoff of dt is taken as dt,
-        # so that a run stopped at t_end and restarted takes exactly the steps of one that went on.
-        remaining = t_end - integ.time
-        h = st.dt if remaining >= st.dt * (1 - 1e-9) else remaining
-        if snapshot is not None:
-            snapshot.take()
-        t_step = time.perf_counter()
-        result = integ.step(h)
-        sim.step_wall_times.append(time.perf_counter() - t_step)
-        st.newton += result.iterations
-        if result.converged:  # the core already counts NaN/Inf in F or x as a failure
-            joints = sim.joint_states(gaps=False, reactions=False) if sim.scene.sliding_joints else []
-            ended = carrier_end(sim, joints) if joints else None
-            if ended:
-                # end the run with the slider at the carrier end: the step again, shortened
-                joint, s_end = ended
-                result, h = _arrive(sim, snapshot, h, joint, s_end, joints[joint].s, st)
-                if result is None:  # no shortened step stayed on the carrier: t_n is the arrival
-                    if last_accepted is not None:
-                        st.records.append(sim.record_dynamic(st.step, last_accepted[0], last_accepted[1],
-                                                             st.rejected_since_record))
-                        if on_step:
-                            on_step(st.records[-1])
-                    joints = sim.joint_states(gaps=False, reactions=False)
-                else:
-                    st.step += 1
-                    joints = sim.joint_states(gaps=False, reactions=False)
-                    st.records.append(sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints))
-                    if on_step:
-                        on_step(st.records[-1])
-                st.rejected_since_record = 0
-                j = sim.scene.sliding_joints[joint]
-                message = carrier_end_message(sim, joint, joints[joint].s,
-                                              f"at t = {integ.time:.9g} (step {st.step}, a shortened last step)")
-                res = outcome(False, message, failed=j.at_carrier_end == "fail")
-                res.stopped = message
-                return res
+        adv = stepper.advance(t_end)
+        sim.step_wall_times.append(adv.wall_time)
+        st.newton += adv.newton_iterations
+        st.rejected += adv.rejected_attempts
+        st.dt = stepper.dt
+        result, h = adv.result, adv.h
+        if adv.status == "event":  # a slider passed its carrier's end: the run ends there
+            joint = sim.sliding_joint_effects().index(stepper.events[adv.event][0])
+            if adv.event_step_taken:
+                st.step += 1
+                joints = sim.joint_states(gaps=False, reactions=False)
+                st.records.append(sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints))
+                if on_step:
+                    on_step(st.records[-1])
+            else:  # no shortened step stayed on the carrier: t_n is the arrival
+                record_last_accepted()
+                joints = sim.joint_states(gaps=False, reactions=False)
+            st.rejected_since_record = 0
+            j = sim.scene.sliding_joints[joint]
+            message = carrier_end_message(sim, joint, joints[joint].s,
+                                          f"at t = {integ.time:.9g} (step {st.step}, a shortened last step)")
+            res = outcome(False, message, failed=j.at_carrier_end == "fail")
+            res.stopped = message
+            return res
+        if adv.status == "accepted":
             st.step += 1
             if st.step == 1:
                 sim.count_initial_snap()
             last = t_end - integ.time <= 1e-9 * a.dt
             if st.step % every == 0 or last:
-                rec = sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints)
+                rec = sim.record_dynamic(st.step, result, h, st.rejected_since_record)
                 st.rejected_since_record = 0
                 st.records.append(rec)
                 last_accepted = None
@@ -359,16 +271,14 @@ def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome,
                     on_step(rec)
             else:
                 last_accepted = (result, h)
-            st.dt = min(2 * st.dt, a.dt)
             signum = interrupts.requested()
             if signum:
                 return interrupted(signum)
             if on_checkpoint and ckpt_every and st.step % ckpt_every == 0 and not last:
                 on_checkpoint(st)
             continue
-        st.rejected += 1
-        st.rejected_since_record += 1
-        if h / 2 < a.dt_min * (1 - 1e-12):
+        st.rejected_since_record += 1  # a cut or the failure
+        if adv.status == "failed":
             # the failed attempt, with the values of the last good state that is kept
             fail = sim.record_dynamic(st.step + 1, result, h, st.rejected_since_record)
             fail.converged = False
@@ -379,8 +289,7 @@ def _step_loop(sim: "Simulation", st: RunState, on_step, on_checkpoint, outcome,
                        f"residual norm {result.residual_norm:.3e}; results hold the last good state "
                        f"(t = {integ.time:.6g}) and are marked incomplete")
             return outcome(False, message, failed=True, extra=[fail])
-        st.dt = h / 2
-        signum = interrupts.requested()
+        signum = interrupts.requested()  # a cut: the next advance tries half the step
         if signum:
             return interrupted(signum)
     return outcome(True, "completed")

@@ -38,6 +38,7 @@
 
 #include "effects/common.hpp"
 #include "kernels/sliding.hpp"
+#include "model/event_source.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -48,7 +49,7 @@
 
 namespace slidebeam::effects {
 
-class SlidingJoint final : public Effect {
+class SlidingJoint final : public Effect, public EventSource {
  public:
   SlidingJoint(const Model& m, const EffectParams& p)
       : slider_(static_cast<int>(p.number("slider"))), carrier_(static_cast<int>(p.number("carrier"))) {
@@ -620,6 +621,18 @@ class SlidingJoint final : public Effect {
     return {x.at(extra_offset()), x.at(extra_offset() + 1), x.at(extra_offset() + 2)};
   }
   PetscInt s_index() const { return extra_offset() + 3; }
+
+  /// Events: the slider passes the carrier's start (g = s) or its end (g = L - s), L the
+  /// carrier's reference length.
+  int n_events() const override { return 2; }
+  void event_values(const Model& m, const PetscScalar* x, PetscInt lo, PetscInt hi, double* g) const override {
+    const PetscInt row = s_index();
+    if (row < lo || row >= hi) return;
+    g[0] = x[row - lo];
+    g[1] = m.beam(carrier_).length() - x[row - lo];
+  }
+  double event_scale(const Model& m, int) const override { return m.beam(carrier_).length(); }
+
   /// Global index of the slider stencil's control point (node) j.
   PetscInt slider_cp(const Model& m, int j) const { return m.beam(slider_).first_cp() + stencil_.cp[j]; }
   /// Slider stencil blocks (3 each), carrier curve blocks [c0, c1) (3 each), s, mu.

@@ -103,3 +103,28 @@ def test_every_integrator_runs_the_joint(integrator):
 def test_slider_off_its_carrier_is_a_scene_error():
     with pytest.raises(slidebeam.SceneError, match=r"sliding_joint\]\] #1.*from carrier 'AB'"):
         slidebeam.Simulation(seed_scene("free_fall_1+4", **{"beam.CM.start": "[0.4, 0.01, 0.0]"}))
+
+
+def test_the_stepper_locates_the_carrier_end_as_an_event():
+    """The core's Stepper knows the sliding joint's two indicators (s and L - s, scale L) without
+    being told of sliding joints, takes steps until one crosses, and ends with a step shortened
+    so that the slider lies within 1e-9 L inside the carrier's end (the inclined seed: C reaches
+    B at t = 0.8137 s, in its 814th step). Before the crossing every call is one accepted step of dt."""
+    from slidebeam import _core
+
+    sim = slidebeam.Simulation(seed_scene(**{"analysis.t_end": 2.0}))
+    (joint,) = sim.sliding_joint_effects()
+    length = sim.scene.beams[sim.scene.sliding_joints[0].carrier].geometry.length
+    stepper = _core.Stepper(sim._model, sim.integrator, 1e-3, 1e-3 / 16)
+    assert stepper.events == [(joint, 0, length), (joint, 1, length)]
+    steps = 0
+    while True:
+        adv = stepper.advance(2.0)
+        if adv.status != "accepted":
+            break
+        assert adv.h == 1e-3 and adv.newton_iterations == adv.result.iterations
+        steps += 1
+    assert adv.status == "event" and stepper.events[adv.event][1] == 1 and adv.event_step_taken
+    assert 0.0 < adv.h < 1e-3 and steps == 813
+    s = sim.joint_states()[0].s
+    assert 0.0 <= length - s <= 1e-9 * length

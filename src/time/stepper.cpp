@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+#include "time/stepper.hpp"
+
+#include "util/petsc_check.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace slidebeam {
+
+namespace {
+// An indicator below this fraction of its scale has crossed (roundoff of s near the end is not).
+constexpr double kCrossed = 1e-12;
+// A shortened step ends on the boundary once its indicator is within [0, this] of its scale.
+constexpr double kArrival = 1e-9;
+// Regula falsi rounds on the step size before the closest inside try is taken.
+constexpr int kArrivalRounds = 16;
+}  // namespace
+
+Stepper::Stepper(Model& model, TimeIntegrator& integrator, double dt, double dt_min)
+    : model_(model), integ_(integrator), dt_nominal_(dt), dt_min_(dt_min), dt_(dt) {
+  const auto& effects = model.effects();
+  for (size_t e = 0; e < effects.size(); ++e) {
+    const auto* source = dynamic_cast<const EventSource*>(effects[e].get());
+    if (!source) continue;
+    for (int i = 0; i < source->n_events(); ++i) {
+      events_.push_back({static_cast<int>(e), i, source->event_scale(model, i)});
+      sources_.push_back(source);
+    }
+  }
+  if (!events_.empty())
+    for (Vec* v : {&snap_.x, &snap_.v, &snap_.a, &snap_.v_prev, &snap_.sdot}) SB_CHECK(VecDuplicate(integ_.x(), v));
+}
+
+Stepper::~Stepper() {
+  for (Vec* v : {&snap_.x, &snap_.v, &snap_.a, &snap_.v_prev, &snap_.sdot}) VecDestroy(v);
+}
+
+void Stepper::take() {
+  SB_CHECK(VecCopy(integ_.x(), snap_.x));
+  SB_CHECK(VecCopy(integ_.v(), snap_.v));
+  SB_CHECK(VecCopy(integ_.a(), snap_.a));
+  SB_CHECK(VecCopy(integ_.v_prev(), snap_.v_prev));
+  SB_CHECK(VecCopy(integ_.sliding_rate(), snap_.sdot));
+  snap_.t = integ_.time();
+  snap_.h_prev = integ_.h_prev();
+  snap_.pivoting = integ_.pivoting_lu();
+  std::tie(snap_.segment_start, snap_.segment_steps) = integ_.time_segment();
+  snap_.flows.clear();
+  for (const auto& f : integ_.energy_flows()) snap_.flows.push_back(f.work);
+}
+
+void Stepper::restore() {
+  SB_CHECK(VecCopy(snap_.x, integ_.x()));
+  SB_CHECK(VecCopy(snap_.v, integ_.v()));
+  SB_CHECK(VecCopy(snap_.a, integ_.a()));
+  SB_CHECK(VecCopy(snap_.v_prev, integ_.v_prev()));
+  SB_CHECK(VecCopy(snap_.sdot, integ_.sliding_rate()));
+  integ_.restore(snap_.t, snap_.h_prev, snap_.pivoting, snap_.segment_start, snap_.segment_steps);
+  integ_.set_energy_flows(snap_.flows);
+}
+
+std::vector<double> Stepper::indicators() const {
+  std::vector<double> g(events_.size(), 0.0);
+  if (g.empty()) return g;
+  PetscInt lo = 0, hi = 0;
+  SB_CHECK(VecGetOwnershipRange(integ_.x(), &lo, &hi));
+  const PetscScalar* x = nullptr;
+  SB_CHECK(VecGetArrayRead(integ_.x(), &x));
+  for (size_t k = 0; k < events_.size();) {  // one call per effect for all its indicators
+    const EventSource* source = sources_[k];
+    sources_[k]->event_values(model_, x, lo, hi, g.data() + k);
+    k += static_cast<size_t>(source->n_events());
+  }
+  SB_CHECK(VecRestoreArrayRead(integ_.x(), &x));
+  MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, model_.comm());
+  return g;
+}
+
+StepAdvance Stepper::advance(double t_end) {
+  StepAdvance adv;
+  // The step is dt unless less remains; a remainder within roundoff of dt is taken as dt, so
+  // that a run stopped at t_end and restarted takes exactly the steps of one that went on.
+  const double remaining = t_end - integ_.time();
+  const double h = remaining >= dt_ * (1 - 1e-9) ? dt_ : remaining;
+  std::vector<double> g_in;
+  if (!events_.empty()) {
+    take();
+    g_in = indicators();
+  }
+  const auto started = std::chrono::steady_clock::now();
+  adv.result = integ_.step(h);
+  adv.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  adv.h = h;
+  adv.newton_iterations = adv.result.iterations;
+  if (adv.result.converged()) {  // the integrator already counts NaN/Inf in F or x as a failure
+    if (!events_.empty()) {
+      const std::vector<double> g = indicators();
+      for (size_t k = 0; k < events_.size(); ++k)
+        if (g[k] < -kCrossed * events_[k].scale) {
+          arrive(static_cast<int>(k), h, g_in[k], g[k], adv);
+          return adv;
+        }
+    }
+    dt_ = std::min(2 * dt_, dt_nominal_);
+    return adv;
+  }
+  adv.rejected_attempts = 1;
+  if (h / 2 < dt_min_ * (1 - 1e-12)) {
+    adv.status = StepAdvance::Status::Failed;
+    return adv;
+  }
+  adv.status = StepAdvance::Status::Cut;
+  dt_ = h / 2;
+  return adv;
+}
+
+void Stepper::arrive(int k, double h, double g_in, double g_out, StepAdvance& adv) {
+  adv.status = StepAdvance::Status::Event;
+  adv.event = k;
+  const double tolerance = kArrival * events_[static_cast<size_t>(k)].scale;
+  double h_in = 0.0, h_out = h;
+  double best = -1.0;
+  int side = 0;
+  for (int round = 0; round < kArrivalRounds; ++round) {
+    restore();
+    double h_try = h_in + (h_out - h_in) * g_in / (g_in - g_out);
+    h_try = std::min(std::max(h_try, h_in + 1e-4 * (h_out - h_in)), h_out - 1e-4 * (h_out - h_in));
+    const SolveResult r = integ_.step(h_try);
+    adv.newton_iterations += r.iterations;
+    adv.rejected_attempts += r.converged() ? 0 : 1;
+    const double g = r.converged() ? indicators()[static_cast<size_t>(k)] : -1.0;
+    if (g >= 0) {
+      best = h_try;
+      if (g <= tolerance) {
+        adv.result = r;
+        adv.h = h_try;
+        adv.event_step_taken = true;
+        return;
+      }
+      h_in = h_try;
+      g_in = g;
+      g_out *= side == 1 ? 0.5 : 1.0;  // Illinois: the same side twice halves the other end's value
+      side = 1;
+    } else {
+      h_out = h_try;
+      g_out = r.converged() ? g : 0.5 * g_out;
+      g_in *= side == -1 ? 0.5 : 1.0;
+      side = -1;
+    }
+  }
+  restore();
+  if (best < 0) return;  // no shortened step stayed inside: the event is at t_n
+  adv.result = integ_.step(best);
+  adv.newton_iterations += adv.result.iterations;
+  adv.h = best;
+  adv.event_step_taken = true;
+}
+
+}  // namespace slidebeam
