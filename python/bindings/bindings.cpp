@@ -168,7 +168,9 @@ PYBIND11_MODULE(_core, m) {
           py::arg("type"), py::arg("num") = std::map<std::string, double>{},
           py::arg("vec") = std::map<std::string, std::vector<double>>{},
           py::arg("str") = std::map<std::string, std::string>{})
-      .def("finalize", &Model::finalize)
+      .def(
+          "finalize", [](Model& m) { m.finalize(core_options(m.comm()).partition); },
+          "number and distribute the model, spread over the ranks as -sb_serial_below and -sb_serial_above_cut say")
       .def_property_readonly("finalized", &Model::finalized)
       .def_property_readonly("x", &Model::x, "global unknowns (petsc4py Vec, shared with the core)")
       .def_property_readonly("residual_vector", &Model::residual_vector)
@@ -284,9 +286,9 @@ PYBIND11_MODULE(_core, m) {
         "a solver's prefix (sb_static_snes_rtol) when it was created");
   m.attr("SOLVER_PREFIXES") = py::dict(py::arg("static") = kStaticPrefix, py::arg("equilibrium") = kEquilibriumPrefix,
                                        py::arg("time_steps") = kStepPrefix, py::arg("mass") = kMassPrefix);
-  m.attr("SERIAL_ABOVE_CUT") = CoreOptions{}.serial_above_cut;
+  m.attr("SERIAL_ABOVE_CUT") = PartitionPolicy{}.serial_above_cut;
   // -sb_serial_below's default: the CLI decides by it before any model exists
-  m.attr("SERIAL_BELOW") = CoreOptions{}.serial_below;
+  m.attr("SERIAL_BELOW") = PartitionPolicy{}.serial_below;
   // -sb_statics_on_rank_0's default: the CLI and Simulation.settle decide by it
   m.attr("STATICS_ON_RANK_0") = static_cast<bool>(CoreOptions{}.statics_on_rank_0);
   m.attr("EQUILIBRIUM_ON_RANK_0") = static_cast<bool>(CoreOptions{}.equilibrium_on_rank_0);

@@ -2,7 +2,6 @@
 #include "model/model.hpp"
 
 #include "kernels/beam_kernels.hpp"
-#include "solvers/solver_options.hpp"
 
 #include "util/petsc_check.hpp"
 
@@ -82,7 +81,7 @@ int Model::add_effect(const std::string& type, const EffectParams& params) {
   return static_cast<int>(effects_.size()) - 1;
 }
 
-void Model::finalize() {
+void Model::finalize(const PartitionPolicy& partition) {
   if (finalized_) return;
   if (beams_.empty()) throw std::invalid_argument("the model has no beams");
   std::vector<int> coordinates, multipliers;
@@ -112,16 +111,15 @@ void Model::finalize() {
   PetscInt total = n_tail;
   for (size_t c = 0; c < coordinates.size(); ++c) total += coordinates[c] + multipliers[c] + attached[c];
   // a model too small to gain from distribution is owned and solved by rank 0 alone
-  const CoreOptions& options = core_options(comm_);
   const std::vector<PetscInt> order = numbering_order();
   const std::vector<char> joined = joined_positions(order);
-  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < options.serial_below ? 1 : 0, order,
+  map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, total < partition.serial_below ? 1 : 0, order,
                 joined);
   if (map_.owners() > 1) {
     // A split that cuts wide (a net cut across dozens of ropes) costs the parallel solve more in
     // interface set-up than it saves: such a model is owned by rank 0 alone.
     cut_points_ = largest_cut();
-    if (options.serial_above_cut > 0 && cut_points_ > options.serial_above_cut)
+    if (partition.serial_above_cut > 0 && cut_points_ > partition.serial_above_cut)
       map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, 1, order, joined);
   }
   for (size_t k = 0; k < effects_.size(); ++k)

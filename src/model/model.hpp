@@ -6,6 +6,7 @@
 #include "model/beam.hpp"
 #include "model/dof_map.hpp"
 #include "model/effect.hpp"
+#include "model/partition_policy.hpp"
 
 #include <petscmat.h>
 #include <petscvec.h>
@@ -54,7 +55,7 @@ class Model {
   int add_effect(const std::string& type, const EffectParams& params);
 
   /// Number unknowns, distribute effects, build ghost scatter, vectors and the preallocated Jacobian.
-  void finalize();
+  void finalize(const PartitionPolicy& partition = {});
   bool finalized() const { return finalized_; }
 
   const std::vector<Beam>& beams() const { return beams_; }

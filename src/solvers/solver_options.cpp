@@ -171,11 +171,11 @@ PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
                              "", o->equilibrium_blocks, &o->equilibrium_blocks, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_below",
                             "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
-                            "", o->serial_below, &o->serial_below, nullptr));
+                            "", o->partition.serial_below, &o->partition.serial_below, nullptr));
   PetscCall(PetscOptionsInt("-sb_serial_above_cut",
                             "a model whose split over ranks leaves a rank more control points next to another "
                             "rank's is owned and solved by rank 0 alone (0: no limit)",
-                            "", o->serial_above_cut, &o->serial_above_cut, nullptr));
+                            "", o->partition.serial_above_cut, &o->partition.serial_above_cut, nullptr));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }

@@ -18,6 +18,8 @@
 /// objects PETSc creates only at the first solve (MUMPS's workspace, the Schwarz blocks'
 /// solvers) go into the database under the solver's prefix, unless given.
 
+#include "model/partition_policy.hpp"
+
 #include <petscsnes.h>
 
 #include <string>
@@ -69,14 +71,8 @@ struct CoreOptions {
   /// to another rank (GMRES otherwise); false: GMRES always
   PetscBool schwarz_exact = PETSC_TRUE;
   PetscInt schwarz_exact_max_interface = 1024;
-  /// a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute).
-  /// Measured on 2 ranks (scripts/bench_ranks.py, docs/performance.md): the distributed run
-  /// costs 1.9x the serial one at 166 unknowns, 1.8x on the 64-span pendulum (1188); sliding
-  /// scenes gain from about 800 unknowns, every scene measured from 1832 on.
-  PetscInt serial_below = 1500;
-  // measured: nets cut across 10 ropes (20 points a side) ran 0.9-1.0x the serial time on 2
-  // ranks, across 20 ropes 2x (docs/performance.md, "Coupled ranks")
-  PetscInt serial_above_cut = 30;
+  /// -sb_serial_below, -sb_serial_above_cut: how the model spreads over the ranks
+  PartitionPolicy partition;
   /// static analyses of a distributed run solved on rank 0 alone by the serial solver (the
   /// manifold Newton on the condensed system): `slidebeam run` runs a static analysis there;
   /// Simulation.solve_static hands its state to every rank; false: on all ranks (MUMPS on the
