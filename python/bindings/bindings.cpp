@@ -262,7 +262,7 @@ PYBIND11_MODULE(_core, m) {
 
   m.def("effect_specs_json", [] { return EffectRegistry::instance().specs_json(); },
         "every registered effect type: its scene table, parameters (kind, unit, default, bounds), role in "
-        "the energy balance and reports, as JSON");
+        "the energy balance, as JSON");
   m.def("install_stop_handlers", &install_stop_handlers,
         "SIGINT/SIGTERM: the first is recorded (see stop_signal), the second ends the process at once");
   m.def("stop_signal", py::overload_cast<>(&stop_signal), "the signal received since install_stop_handlers, or 0");

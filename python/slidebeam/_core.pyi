@@ -328,7 +328,7 @@ def csv_rows(values: np.ndarray, kinds: str, text: list[str] = []) -> str:
 
 def effect_specs_json() -> str:
     """every registered effect type: its scene table, parameters (kind, unit, default, bounds), role
-    in the energy balance and reports, as JSON
+    in the energy balance, as JSON
     """
     ...
 

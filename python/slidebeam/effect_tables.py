@@ -46,7 +46,6 @@ class EffectSpec:
     meaning: str
     role: str          # stored, constraint, external, dissipative, driving
     stored: str        # for stored effects: strain, potential or kinetic energy
-    reports: tuple[str, ...]
     params: tuple[ParamSpec, ...]
 
 
@@ -80,7 +79,7 @@ def effect_specs() -> dict[str, EffectSpec]:
                                  _bound(p["max"]), p["min_open"], p["size"], tuple(p["choices"]), p["optional"], p["on"])
                        for p in d["params"])
         out[d["type"]] = EffectSpec(d["type"], d["table"], d["variant"], d["single"], d["meaning"], d["role"],
-                                    d.get("stored", ""), tuple(d["reports"]), params)
+                                    d.get("stored", ""), params)
     return out
 
 

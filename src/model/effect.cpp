@@ -232,9 +232,7 @@ std::string EffectRegistry::specs_json() const {
     out += "  {\"type\": " + json_string(s.type) + ", \"table\": " + json_string(s.table) +
            ", \"variant\": " + json_string(s.variant) + ", \"single\": " + (s.single ? "true" : "false") +
            ", \"meaning\": " + json_string(s.meaning) + ", \"role\": " + json_string(energy_role_name(s.role)) + ", \"stored\": " + json_string(s.stored) +
-           ", \"reports\": [";
-    for (size_t i = 0; i < s.reports.size(); ++i) out += (i ? ", " : "") + json_string(s.reports[i]);
-    out += "], \"params\": [";
+           ", \"params\": [";
     for (size_t i = 0; i < s.params.size(); ++i) {
       const ParamSpec& p = s.params[i];
       out += std::string(i ? "," : "") + "\n    {\"key\": " + json_string(p.key) + ", \"kind\": " +

@@ -193,9 +193,6 @@ struct EffectSpec {
   /// A force from the step's mean rates, none outside a step (damping, drag): HHT weights it by
   /// 1, not by 1 + alpha, since its history term at the step start (h = 0) is zero.
   bool rate_force = false;
-  /// Quantities the effect reports per step besides its energy flow (history columns
-  /// "<label>.<name>"); see Effect::report.
-  std::vector<std::string> reports;
 };
 
 /// Fast repeated assembly of one matrix in PETSc's coordinate (COO) format: the first assembly
@@ -355,8 +352,6 @@ class Effect {
   /// True if the effect depends on time explicitly (a load with a time function): its stored
   /// energy then changes with time alone, and the energy balance counts that change as work.
   virtual bool time_dependent() const { return false; }
-  /// Values of the spec's `reports` after a step (this rank's share; summed over ranks).
-  virtual void report(const EvalContext&, std::vector<double>& /*values*/) const {}
 
   /// A sliding joint's force on its slider in the global frame under the evaluation's rule (the
   /// step's force under the midpoint-type rules), on the rank that evaluates the joint (true);
