@@ -25,7 +25,7 @@ constexpr int kPairs[3][2] = {{0, 1}, {1, 2}, {2, 0}};
 /// Rigid connection of two beam ends (formulation: position coincidence, plus e_a . dB_b = 0 for
 /// three pairs, where e = A's triad turned into B's reference orientation). All constraints are
 /// linear or bilinear in q, so the midpoint gradient is their exact discrete gradient.
-class RigidJoint final : public Effect {
+class RigidJoint final : public Effect, public ReactionSource {
  public:
   RigidJoint(const Model& m, const EffectParams& p)
       : a_(static_cast<int>(p.number("beam_a"))), b_(static_cast<int>(p.number("beam_b"))) {
@@ -58,7 +58,6 @@ class RigidJoint final : public Effect {
 
   // evaluated where its multipliers live
   void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(anchor()); }
-  bool has_reaction() const override { return true; }
   bool reaction_reads_own() const override { return true; }
   /// The force and moment on beam A's end: minus the joint's own constraint forces there.
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {

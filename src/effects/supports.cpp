@@ -114,7 +114,7 @@ class PrescribingSupport : public Effect {
 
 /// Clamp at a beam end: position and directors of the end control point fixed. Its orthonormality
 /// multipliers are dropped too (fixed orthonormal directors satisfy the constraints identically).
-class Clamp final : public PrescribingSupport {
+class Clamp final : public PrescribingSupport, public ReactionSource {
  public:
   Clamp(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), motion_(p) {
     const Beam& b = m.beam(beam_);
@@ -138,7 +138,6 @@ class Clamp final : public PrescribingSupport {
     }
     prescribe_cp(m, b, cp_, 0, nq, q.data(), true, rows, vals);
   }
-  bool has_reaction() const override { return true; }
   /// The force and the moment about the held point (where it is now).
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
     const Beam& b = m.beam(beam_);
@@ -158,7 +157,7 @@ class Clamp final : public PrescribingSupport {
 /// Every control point of a beam prescribed: a rigid rail. At its reference state, or moved
 /// rigidly: displaced by f(t) U and turned by the rotation vector f(t) Theta about the beam's
 /// start (its points X -> X_0 + f U + R (X - X_0), its directors, ANCF: r', turned by R).
-class Fixed final : public PrescribingSupport {
+class Fixed final : public PrescribingSupport, public ReactionSource {
  public:
   Fixed(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), motion_(p) {}
   std::string type() const override { return "fixed"; }
@@ -182,7 +181,6 @@ class Fixed final : public PrescribingSupport {
       prescribe_cp(m, b, c, 0, nq, q.data(), true, rows, vals);
     }
   }
-  bool has_reaction() const override { return true; }
   /// The force, and the moment about the beam's start in the reference configuration (the
   /// same point on every rank).
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
@@ -197,7 +195,7 @@ class Fixed final : public PrescribingSupport {
 };
 
 /// Spherical support: the centre line passes through X at beam point s; directors free.
-class Spherical final : public Effect {
+class Spherical final : public Effect, public ReactionSource {
  public:
   Spherical(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), s_(p.number("s")), motion_(p) {
     const Beam& b = m.beam(beam_);
@@ -225,7 +223,6 @@ class Spherical final : public Effect {
     if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X.data(), false, rows, vals);
   }
   void distribute(const Model& m) override { owned_ = cp_ < 0 && owns_span(m, m.beam(beam_), stencil_.span); }
-  bool has_reaction() const override { return true; }
   /// At a beam end the prescribed position rows' force; inside, -mu (the multipliers are the
   /// force of the beam on the support).
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {

@@ -37,6 +37,18 @@ struct ReactionInput {
   std::function<double(PetscInt)> raw, own, x;
 };
 
+/// An effect's opt-in part: a reaction (supports and joints). An effect that also derives from
+/// ReactionSource is listed in Model::reactions; nothing else needs to know it.
+class ReactionSource {
+ public:
+  virtual ~ReactionSource() = default;
+  /// The force (and moment) it exerts on the structure, summed over ranks by the model: add the
+  /// terms of owned rows only.
+  virtual void reaction(const Model& model, const ReactionInput& in, Reaction& out) const = 0;
+  /// Whether reaction() reads ReactionInput::own (assembling it costs a pass over the state).
+  virtual bool reaction_reads_own() const { return false; }
+};
+
 /// Parameters of an effect, as given by the scene (numbers, vectors, strings).
 struct EffectParams {
   std::map<std::string, double> num;
@@ -366,12 +378,6 @@ class Effect {
     return false;
   }
 
-  /// Supports and joints: their reaction (summed over ranks by the model: add the terms of
-  /// owned rows only).
-  virtual bool has_reaction() const { return false; }
-  /// Whether reaction() reads ReactionInput::own (assembling it costs a pass over the state).
-  virtual bool reaction_reads_own() const { return false; }
-  virtual void reaction(const Model&, const ReactionInput&, Reaction&) const {}
 
  private:
   PetscInt extra_offset_ = -1;

@@ -646,17 +646,18 @@ std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x
   const PetscScalar *raw = nullptr, *xa = nullptr, *ow = nullptr;
   auto at = [lo, hi](const PetscScalar* a, PetscInt i) { return i >= lo && i < hi ? a[i - lo] : 0.0; };
   for (size_t k = 0; k < effects_.size(); ++k) {
-    if (!effects_[k]->has_reaction()) continue;
+    const auto* source = dynamic_cast<const ReactionSource*>(effects_[k].get());
+    if (!source) continue;
     // the effect's own residual, assembled alone (only for effects that read it)
     SB_CHECK(VecZeroEntries(own));
-    if (effects_[k]->reaction_reads_own()) SB_CHECK(effect_residual(k, ev, x, own));
+    if (source->reaction_reads_own()) SB_CHECK(effect_residual(k, ev, x, own));
     SB_CHECK(VecGetArrayRead(F_raw, &raw));
     SB_CHECK(VecGetArrayRead(x, &xa));
     SB_CHECK(VecGetArrayRead(own, &ow));
     const ReactionInput in{[&](PetscInt i) { return at(raw, i); }, [&](PetscInt i) { return scale * at(ow, i); },
                            [&](PetscInt i) { return at(xa, i); }};
     Reaction r;
-    effects_[k]->reaction(*this, in, r);
+    source->reaction(*this, in, r);
     SB_CHECK(VecRestoreArrayRead(own, &ow));
     SB_CHECK(VecRestoreArrayRead(x, &xa));
     SB_CHECK(VecRestoreArrayRead(F_raw, &raw));

@@ -129,7 +129,7 @@ class Model {
   std::vector<double> effect_energies(double t, Vec x) const;
   /// The energies of the effects `which` only (collective).
   std::vector<double> effect_energies(double t, Vec x, const std::vector<size_t>& which) const;
-  /// Reactions of the effects that have one (Effect::has_reaction), as (effect index, reaction),
+  /// Reactions of the effects that have one (ReactionSource), as (effect index, reaction),
   /// in the state x under the step rule ev; F_raw: the residual of all effects (and the step's
   /// inertia) before prescribed rows are replaced; scale multiplies the effects' own residuals as
   /// it does theirs in F_raw (HHT's 1 + alpha). Collective.
