@@ -169,7 +169,7 @@ PYBIND11_MODULE(_core, m) {
           py::arg("vec") = std::map<std::string, std::vector<double>>{},
           py::arg("str") = std::map<std::string, std::string>{})
       .def(
-          "finalize", [](Model& m) { m.finalize(core_options(m.comm()).partition); },
+          "finalize", [](Model& m) { finalize_from_options(m); },
           "number and distribute the model, spread over the ranks as -sb_serial_below and -sb_serial_above_cut say")
       .def_property_readonly("finalized", &Model::finalized)
       .def_property_readonly("x", &Model::x, "global unknowns (petsc4py Vec, shared with the core)")

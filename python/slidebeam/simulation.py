@@ -336,10 +336,14 @@ class Simulation:
         solver = _core.EquilibriumSolver(model)
         held = [self.sliding_coordinate_index(k) for k, j in enumerate(self.scene.sliding_joints) if j.static == "held"]
         solver.set_held(held)
-        free = [k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"]
-        solver.set_bounds([self.sliding_coordinate_index(k) for k in free], [0.0] * len(free),
-                          [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in free])
+        self._keep_on_carriers(solver, [k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"])
         return EquilibriumOutcome.of(solver.solve(0.0, self.scene.analysis.dt))
+
+    def _keep_on_carriers(self, solver: "_core.EquilibriumSolver", joints: list[int]) -> None:
+        """Bound the sliding coordinates of the sliding joints `joints` (scene indices) to their
+        carriers, [0, L], in a continuation."""
+        solver.set_bounds([self.sliding_coordinate_index(k) for k in joints], [0.0] * len(joints),
+                          [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in joints])
 
     def _distributed_and(self, option: bool) -> bool:
         """True if the model is distributed over several ranks and option (-sb_statics_on_rank_0
@@ -643,10 +647,7 @@ class Simulation:
         use), with every slider free within its carrier."""
         if self._continuation is None:
             self._continuation = _core.EquilibriumSolver(self._model)
-            free = range(len(self.scene.sliding_joints))
-            self._continuation.set_bounds(
-                [self.sliding_coordinate_index(k) for k in free], [0.0] * len(free),
-                [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in free])
+            self._keep_on_carriers(self._continuation, list(range(len(self.scene.sliding_joints))))
         return self._continuation
 
     def record(self, step: int, result: _core.SolveResult | ContinuedSolve | None) -> StepRecord:

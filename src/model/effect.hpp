@@ -378,7 +378,6 @@ class Effect {
     return false;
   }
 
-
  private:
   PetscInt extra_offset_ = -1;
   PetscInt anchor_ = -1;

@@ -11,7 +11,7 @@
 namespace slidebeam {
 
 EquilibriumSolver::EquilibriumSolver(Model& model) : model_(model) {
-  if (!model.finalized()) model.finalize(core_options(model.comm()).partition);
+  finalize_from_options(model);
   M_ = model.create_mass_matrix();
   SB_CHECK(MatDuplicate(model.jacobian(), MAT_DO_NOT_COPY_VALUES, &J_));
   SB_CHECK(VecDuplicate(model.x(), &x_k_));

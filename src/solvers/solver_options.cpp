@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "solvers/solver_options.hpp"
 
+#include "model/model.hpp"
+
 #include "util/petsc_check.hpp"
 
 #include <algorithm>
@@ -199,6 +201,10 @@ std::vector<std::pair<std::string, std::string>> plain_option_copies() {
   std::vector<std::pair<std::string, std::string>> out;
   for (const auto& c : copies()) out.emplace_back(c.copy, c.source);
   return out;
+}
+
+void finalize_from_options(Model& model) {
+  if (!model.finalized()) model.finalize(core_options(model.comm()).partition);
 }
 
 CoreOptions core_options(MPI_Comm comm) {

@@ -28,6 +28,8 @@
 
 namespace slidebeam {
 
+class Model;
+
 inline constexpr const char* kStaticPrefix = "sb_static_";
 inline constexpr const char* kEquilibriumPrefix = "sb_eq_";
 inline constexpr const char* kStepPrefix = "sb_ts_";
@@ -89,5 +91,8 @@ struct CoreOptions {
 
 /// Read the -sb_ options (collective on comm).
 CoreOptions core_options(MPI_Comm comm);
+/// Finalize the model, unless it is already, spread over the ranks as -sb_serial_below and
+/// -sb_serial_above_cut say (collective).
+void finalize_from_options(Model& model);
 
 }  // namespace slidebeam

@@ -7,7 +7,7 @@
 namespace slidebeam {
 
 StaticSolver::StaticSolver(Model& model) : model_(model) {
-  if (!model.finalized()) model.finalize(core_options(model.comm()).partition);
+  finalize_from_options(model);
   SB_CHECK(SNESCreate(model.comm(), &snes_));
   SB_CHECK(set_solver_prefix(snes_, kStaticPrefix));  // -sb_static_snes_rtol, or plain -snes_rtol
   SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &StaticSolver::form_function, this));

@@ -26,7 +26,7 @@ bool is_midpoint_type(IntegratorKind k) { return k == IntegratorKind::EnergyMome
 }  // namespace
 
 TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : model_(model), params_(params) {
-  if (!model.finalized()) model.finalize(core_options(model.comm()).partition);
+  finalize_from_options(model);
   if (!model.has_inertia()) throw std::invalid_argument("a dynamic model needs inertia (beam_inertia or point_mass)");
   if (!(params.dissipation >= 0.0 && params.dissipation <= 1.0))
     throw std::invalid_argument("energy-momentum dissipation must lie in [0, 1]");
