@@ -138,7 +138,7 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
       const Dofs d = element_dofs(ctx.map, b, e);
       PetscCall(J.add(kNqEl, d.data(), kNqEl, d.data(), Kr.data()));
     }
-    for (int i : patches_.knots) PetscCall(knot_tangent(ctx, b, i, J));
+    PetscCall(knot_tangents(ctx, b, J));
     PetscFunctionReturn(0);
   }
 
@@ -197,15 +197,20 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
         }
   }
 
-  /// Knot i's material tangent: tau C / (h m_i) G(q_f)^T G(q1), G the gradient of the knot's
+  /// The knots' material tangents: tau C / (h m_i) G(q_f)^T G(q1), G the gradient of a knot's
   /// Gamma moment (its spans' moments toward it).
-  PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {
+  PetscErrorCode knot_tangents(const EvalContext& ctx, const Beam& b, const MatSink& J) const {
+    PetscFunctionBeginUser;
     const auto q0 = [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); };
     const auto q1 = [&](int f) { return gather_span(ctx.x, ctx.map, b, f); };
-    const KnotGradient Gf =
-        knot_moment_gradient(b, i, [&](int f) { return VecEl((1.0 - ctx.theta) * q0(f) + ctx.theta * q1(f)); });
-    const Eigen::Vector3d w = c_.head<3>() / (ctx.h * b.knot_mass(i));
-    return add_knot_tangent(ctx.map, b, i, Gf, w, knot_moment_gradient(b, i, q1), J);
+    grad_f_.compute(b, patches_.moment_spans,
+                    [&](int f) { return VecEl((1.0 - ctx.theta) * q0(f) + ctx.theta * q1(f)); });
+    grad_1_.compute(b, patches_.moment_spans, q1);
+    for (int i : patches_.knots) {
+      const Eigen::Vector3d w = c_.head<3>() / (ctx.h * b.knot_mass(i));
+      PetscCall(add_knot_tangent(ctx.map, b, i, grad_f_.knot(b, i), w, grad_1_.knot(b, i), J));
+    }
+    PetscFunctionReturn(0);
   }
 
   double alpha_;
@@ -213,6 +218,7 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   std::array<double, 4> rho_{};
   KnotPatches patches_;
   mutable std::vector<Vec3> knot_sigma_;
+  mutable SpanMomentGradients grad_f_, grad_1_;
 };
 
 /// The same damping of an ANCF cable: Kelvin-Voigt on its two strains, the Green axial strain

@@ -107,7 +107,7 @@ class BeamElastic final : public SpanEffect {
       PetscCall(J.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), Kr.data()));
     }
     if (knots)
-      for (int i : patches_.knots) PetscCall(knot_tangent(ctx, b, i, J));
+      PetscCall(knot_tangents(ctx, b, J));
     PetscFunctionReturn(0);
   }
   double energy(const EvalContext& ctx) const override {
@@ -171,22 +171,23 @@ class BeamElastic final : public SpanEffect {
       for (int k = 0; k < 3; ++k) lanes[k][g] = v(k);
     }
   }
-  /// The material tangent of knot i's Gamma energy, s / m_i Gbar_a^T C Gbar_b, with Gbar the
-  /// gradient of the knot's moment: at the force state (statics), or the midpoint and the end of
+  /// The material tangents of the knots' Gamma energy, s / m_i Gbar_a^T C Gbar_b, with Gbar the
+  /// gradient of a knot's moment: at the force state (statics), or the midpoint and the end of
   /// the step (energy-momentum, s = (1 + xi) / 2).
-  PetscErrorCode knot_tangent(const EvalContext& ctx, const Beam& b, int i, const MatSink& J) const {
+  PetscErrorCode knot_tangents(const EvalContext& ctx, const Beam& b, const MatSink& J) const {
     PetscFunctionBeginUser;
     const auto q0 = [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); };
     const auto q1 = [&](int f) { return gather_span(ctx.x, ctx.map, b, f); };
     const bool em = ctx.rule == StepRule::EnergyMomentum;
-    const double s = (em ? 0.5 * (1.0 + ctx.dissipation) : ctx.theta) / b.knot_mass(i);
-    const Eigen::Vector3d w = s * b.stiffness().head<3>();
     if (em) {
-      const KnotGradient Gmid = knot_moment_gradient(b, i, [&](int f) { return VecEl(0.5 * (q0(f) + q1(f))); });
-      PetscCall(add_knot_tangent(ctx.map, b, i, Gmid, w, knot_moment_gradient(b, i, q1), J));
-    } else {
-      const KnotGradient G = knot_moment_gradient(b, i, [&](int f) { return gather_span(ctx.xf, ctx.map, b, f); });
-      PetscCall(add_knot_tangent(ctx.map, b, i, G, w, G, J));
+      grad_a_.compute(b, patches_.moment_spans, [&](int f) { return VecEl(0.5 * (q0(f) + q1(f))); });
+      grad_b_.compute(b, patches_.moment_spans, q1);
+    } else
+      grad_a_.compute(b, patches_.moment_spans, [&](int f) { return gather_span(ctx.xf, ctx.map, b, f); });
+    const SpanMomentGradients& gb = em ? grad_b_ : grad_a_;
+    for (int i : patches_.knots) {
+      const double s = (em ? 0.5 * (1.0 + ctx.dissipation) : ctx.theta) / b.knot_mass(i);
+      PetscCall(add_knot_tangent(ctx.map, b, i, grad_a_.knot(b, i), s * b.stiffness().head<3>(), gb.knot(b, i), J));
     }
     PetscFunctionReturn(0);
   }
@@ -194,6 +195,7 @@ class BeamElastic final : public SpanEffect {
   // assumed strains: the spans whose moments the owned spans' knots need, and the knots this rank assembles
   KnotPatches patches_;
   mutable std::vector<Vec3> knot_start_, knot_now_, knot_sigma_;
+  mutable SpanMomentGradients grad_a_, grad_b_;
   // energy-momentum: the state of every owned span at the step start
   mutable std::vector<kernels::SpanEmState> start_;
   mutable unsigned long start_key_ = 0;

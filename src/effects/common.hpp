@@ -105,31 +105,44 @@ void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>
 
 /// A knot's moment gradient: 3 x the coordinates of its 3 (end knot) or 4 control points.
 using KnotGradient = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 4 * kernels::kNq>;
-/// The gradient of knot i's assumed-strain moment (its spans' Gamma moments toward it), 3 x the
-/// coordinates of knot_dofs, with span f's coordinates span_q(f).
-template <class SpanCoordinates>
-KnotGradient knot_moment_gradient(const Beam& b, int i, SpanCoordinates&& span_q) {
-  int left, right;
-  knot_spans(b, i, left, right);
-  const int cp0 = left >= 0 ? left : right;
-  KnotGradient G = KnotGradient::Zero(3, kernels::kNq * ((right >= 0 ? right : left) + 3 - cp0));
-  for (const int f : {left, right}) {
-    if (f < 0) continue;
-    const bool toward_right = f == left;  // the left span's moment toward its right knot
-    G.middleCols(kernels::kNq * (f - cp0), kernels::kNqEl) +=
-        kernels::span_gamma_moment_gradient(b.strain_table(), &b.gp(f, 0), b.n_gp(), span_q(f), toward_right);
+/// The gradients of the spans' Gamma moments toward their left and right knots in one state,
+/// by span (filled for the spans a rank's knots read: KnotPatches::moment_spans).
+struct SpanMomentGradients {
+  std::vector<kernels::Mat3El> left, right;
+  template <class SpanCoordinates>
+  void compute(const Beam& b, const std::vector<int>& spans, SpanCoordinates&& span_q) {
+    left.resize(static_cast<size_t>(b.n_spans()));
+    right.resize(static_cast<size_t>(b.n_spans()));
+    for (int f : spans)
+      kernels::span_gamma_moment_gradients(b.strain_table(), &b.gp(f, 0), b.n_gp(), span_q(f),
+                                           left[static_cast<size_t>(f)], right[static_cast<size_t>(f)]);
   }
-  return G;
-}
-/// J(knot i's coordinates) += Ga^T diag(w) Gb: a knot's material tangent.
+  /// Knot i's: its spans' moments toward it, 3 x the coordinates of knot_dofs.
+  KnotGradient knot(const Beam& b, int i) const {
+    int l, r;
+    knot_spans(b, i, l, r);
+    const int cp0 = l >= 0 ? l : r;
+    KnotGradient G = KnotGradient::Zero(3, kernels::kNq * ((r >= 0 ? r : l) + 3 - cp0));
+    if (l >= 0) G.middleCols(kernels::kNq * (l - cp0), kernels::kNqEl) += right[static_cast<size_t>(l)];
+    if (r >= 0) G.middleCols(kernels::kNq * (r - cp0), kernels::kNqEl) += left[static_cast<size_t>(r)];
+    return G;
+  }
+};
+/// J(knot i's coordinates) += Ga^T diag(w) Gb: a knot's material tangent (three outer products).
 inline PetscErrorCode add_knot_tangent(const DofMap& map, const Beam& b, int i, const KnotGradient& Ga,
                                        const Eigen::Vector3d& w, const KnotGradient& Gb, const MatSink& J) {
   constexpr int kMax = 4 * kernels::kNq;
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kMax, kMax>;
-  const RowMajor K = Ga.transpose() * w.asDiagonal() * Gb;
-  const std::vector<PetscInt> d = knot_dofs(map, b, i);
-  const auto n = static_cast<PetscInt>(d.size());
-  return J.add(n, d.data(), n, d.data(), K.data());
+  const auto n = static_cast<PetscInt>(Ga.cols());
+  RowMajor K(n, n);
+  K.noalias() = (w(0) * Ga.row(0).transpose()) * Gb.row(0);
+  for (int k = 1; k < 3; ++k) K.noalias() += (w(k) * Ga.row(k).transpose()) * Gb.row(k);
+  int l, r;
+  knot_spans(b, i, l, r);
+  PetscInt d[kMax];
+  for (int c = 0, cp = b.first_cp() + (l >= 0 ? l : r); c < n / kernels::kNq; ++c, ++cp)
+    for (int k = 0; k < kernels::kNq; ++k) d[kernels::kNq * c + k] = map.q(cp, k);
+  return J.add(n, d, n, d, K.data());
 }
 
 /// Which knots of a director beam's assumed-strain patches a rank assembles and which spans' moments

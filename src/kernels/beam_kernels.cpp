@@ -105,48 +105,131 @@ void add_Pt(const GaussPoint& gp, double w, const VecZ& g, VecEl& r) {
                                        gp.ddN[a] * g.segment<3>(3 * (6 + i)));
   }
 }
-// The entries of z a point's strains use: without the director correction, not d''.
-constexpr int kNzPlain = 3 * kD1SS;
-// K += w P^T Kz P, with Kz's first NZ rows and columns (the rest is zero)
-template <int NZ>
-void add_Pt_K_P_n(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
-  Eigen::Matrix<double, NZ, kNqEl> Y;  // Kz P
-  const auto Kn = Kz.topLeftCorner<NZ, NZ>();
-  for (int a = 0; a < 3; ++a) {
-    const int c = kNq * a;
-    Y.template middleCols<3>(c) = gp.dN[a] * Kn.template middleCols<3>(3 * kPhiS);
-    for (int i = 1; i <= 3; ++i) {
-      Y.template middleCols<3>(c + 3 * i) = gp.N[a] * Kn.template middleCols<3>(3 * i) + gp.dN[a] * Kn.template middleCols<3>(3 * (3 + i));
-      if constexpr (NZ > kNzPlain) Y.template middleCols<3>(c + 3 * i) += gp.ddN[a] * Kn.template middleCols<3>(3 * (6 + i));
+// A span's tangent K = sum over its points of w P^T Kz P, gathered point by point in two parts
+// (docs/developer.md, "The beam kernels"):
+// - the geometric part: every strain is a sum of c z_a . z_b, so sum_k sigma_k d^2 eps_k / dz^2
+//   is a 10 x 10 matrix of scalars times I3 (the turning term's constant part too), and P maps it
+//   to a 12 x 12 one over (control point, field), S, again times I3;
+// - the rest, the material part B_m^T C B_1 and the turning term's G^T [s]x G', is a sum of
+//   rank-one products a b^T. Their rows P^T a, P^T b are kept in a phi part (9) and a director part
+//   (27) and multiplied once per span: the curvature and turning rows have no phi part.
+// P is applied block by block: no 30 x 36 product is formed.
+typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
+// The rank-one rows of a span's tangent in a permuted order of its 36 coordinates: the director
+// part (27) first, then a zero, the phi part (9) and three zeros, so that rows are whole SIMD
+// vectors and a tangent without phi terms skips them.
+constexpr int kRowWidth = 40, kPhiOffset = 28;
+constexpr std::array<int, kNqEl> kPermuted = [] {
+  std::array<int, kNqEl> p{};
+  for (int q = 0; q < kNqEl; ++q) p[q] = q % kNq < 3 ? kPhiOffset + 3 * (q / kNq) + q % kNq : 9 * (q / kNq) + q % kNq - 3;
+  return p;
+}();
+// Kp(i, :) = sum_r U(r, i) V(r, :) over the rows i given, NV vectors of columns (Kp row-major)
+template <int NV>
+SB_HOT_KERNEL void add_rank_one_products(int n, const double (*U)[kRowWidth], const double (*V)[kRowWidth],
+                                         int first_row, int end_row, double (*Kp)[kRowWidth]) {
+  for (int i = first_row; i < end_row; ++i) {
+    Quad acc[NV] = {};
+    for (int r = 0; r < n; ++r) {
+      const double u = U[r][i];
+      for (int v = 0; v < NV; ++v) {
+        Quad x;
+        std::memcpy(&x, &V[r][4 * v], sizeof x);
+        acc[v] += u * x;
+      }
     }
-  }
-  for (int a = 0; a < 3; ++a) {
-    const int c = kNq * a;
-    K.middleRows<3>(c) += (w * gp.dN[a]) * Y.template middleRows<3>(3 * kPhiS);
-    for (int i = 1; i <= 3; ++i) {
-      K.middleRows<3>(c + 3 * i) += (w * gp.N[a]) * Y.template middleRows<3>(3 * i) + (w * gp.dN[a]) * Y.template middleRows<3>(3 * (3 + i));
-      if constexpr (NZ > kNzPlain) K.middleRows<3>(c + 3 * i) += (w * gp.ddN[a]) * Y.template middleRows<3>(3 * (6 + i));
-    }
+    for (int v = 0; v < NV; ++v) std::memcpy(&Kp[i][4 * v], &acc[v], sizeof(Quad));
   }
 }
-void add_Pt_K_P(const GaussPoint& gp, double w, const MatZ& Kz, MatEl& K) {
-  if (gp.corrected)
-    add_Pt_K_P_n<kNz>(gp, w, Kz, K);
-  else
-    add_Pt_K_P_n<kNzPlain>(gp, w, Kz, K);
+class SpanTangent {
+ public:
+  SpanTangent() {}  // (user-provided: value-initialization would zero the row buffers)
+  using Hessian = std::array<std::array<double, 10>, 10>;  ///< over z's 3-blocks, times I3
+  /// K += w P^T (H x I3) P
+  void add_geometric(const GaussPoint& gp, double w, const Hessian& H) {
+    double Y[10][12] = {};  // H P over (control point, field)
+    for (int u = 0; u < 10; ++u)
+      for (int v = 0; v < 10; ++v) {
+        if (H[u][v] == 0.0) continue;
+        for (int b = 0; b < 3; ++b) Y[u][4 * b + field(v)] += H[u][v] * coefficient(gp, v, b);
+      }
+    for (int u = 0; u < 10; ++u)
+      for (int a = 0; a < 3; ++a) {
+        const double c = w * coefficient(gp, u, a);
+        if (c == 0.0) continue;
+        double* row = S_[4 * a + field(u)];
+        for (int j = 0; j < 12; ++j) row[j] += c * Y[u][j];
+      }
+  }
+  /// K += w P^T a b^T P
+  void add_rank_one(const GaussPoint& gp, double w, const VecZ& a, const VecZ& b) {
+    map_row(gp, w, a, U_[n_]);
+    map_row(gp, 1.0, b, V_[n_]);
+    phi_ = phi_ || a.head<3>().squaredNorm() > 0.0 || b.head<3>().squaredNorm() > 0.0;
+    ++n_;
+  }
+  void add_to(MatEl& K) const {
+    for (int a = 0; a < 3; ++a)
+      for (int f = 0; f < 4; ++f)
+        for (int b = 0; b < 3; ++b)
+          for (int g = 0; g < 4; ++g) {
+            const double s = S_[4 * a + f][4 * b + g];
+            if (s == 0.0) continue;
+            for (int c = 0; c < 3; ++c) K(kNq * a + 3 * f + c, kNq * b + 3 * g + c) += s;
+          }
+    if (n_ == 0) return;
+    alignas(32) double Kp[kRowWidth][kRowWidth];
+    if (phi_) {
+      add_rank_one_products<kRowWidth / 4>(n_, U_, V_, 0, kRowWidth, Kp);
+      for (int j = 0; j < kNqEl; ++j)
+        for (int i = 0; i < kNqEl; ++i) K(i, j) += Kp[kPermuted[i]][kPermuted[j]];
+    } else {
+      add_rank_one_products<kPhiOffset / 4>(n_, U_, V_, 0, 27, Kp);
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          for (int j = 0; j < 9; ++j)
+            for (int i = 0; i < 9; ++i) K(kNq * a + 3 + i, kNq * b + 3 + j) += Kp[9 * a + i][9 * b + j];
+    }
+  }
+
+ private:
+  static constexpr int kMaxRows = 12 * kSpanLanes;  // per point: 6 material rows, 6 of the turning term
+  // z-block u takes field(u) of control point a times coefficient(u, a): phi' dN phi, d_i N d_i,
+  // d_i' dN d_i, d_i'' ddN d_i
+  static int field(int u) { return u == kPhiS ? 0 : (u - 1) % 3 + 1; }
+  static double coefficient(const GaussPoint& gp, int u, int a) {
+    return u == kPhiS || (u >= kD1S && u < kD1SS) ? gp.dN[a] : u < kD1S ? gp.N[a] : gp.ddN[a];
+  }
+  // row = w P^T z in the permuted order
+  static void map_row(const GaussPoint& gp, double w, const VecZ& z, double* row) {
+    for (int a = 0; a < 3; ++a) {
+      const double n = w * gp.N[a], dn = w * gp.dN[a], ddn = w * gp.ddN[a];
+      for (int c = 0; c < 3; ++c) row[kPhiOffset + 3 * a + c] = dn * z(3 * kPhiS + c);
+      for (int i = 0; i < 9; ++i) row[9 * a + i] = n * z(3 * kD1 + i) + dn * z(3 * kD1S + i) + ddn * z(3 * kD1SS + i);
+    }
+    row[27] = row[37] = row[38] = row[39] = 0.0;
+  }
+  double S_[12][12] = {};
+  alignas(32) double U_[kMaxRows][kRowWidth];
+  alignas(32) double V_[kMaxRows][kRowWidth];
+  int n_ = 0;
+  bool phi_ = false;
+};
+// The material part s Ba^T diag(C) Bb, row by row (rows of zero stiffness skipped: an
+// assumed-strain point's Gamma rows, whose stiffness acts through the knots).
+void add_material_rows(const GaussPoint& gp, const Mat6Z& Ba, const Stiffness& C, const Mat6Z& Bb, double s,
+                       SpanTangent& K) {
+  for (int k = 0; k < 6; ++k)
+    if (C(k) != 0.0) K.add_rank_one(gp, gp.w, VecZ((s * C(k)) * Ba.row(k).transpose()), VecZ(Bb.row(k).transpose()));
 }
-// s Ba^T diag(C) Bb over the entries of z the point uses
-MatZ weighted_product(const GaussPoint& gp, const Mat6Z& Ba, const Stiffness& C, const Mat6Z& Bb, double s) {
-  MatZ Kz = MatZ::Zero();
-  if (gp.corrected) {
-    // row by row, skipping the zero rows (an assumed-strain point's Gamma rows: their stiffness
-    // acts through the knots)
-    for (int k = 0; k < 6; ++k)
-      if (C(k) != 0.0) Kz.noalias() += (s * C(k)) * Ba.row(k).transpose() * Bb.row(k);
-  } else
-    Kz.topLeftCorner<kNzPlain, kNzPlain>().noalias() =
-        s * (Ba.leftCols<kNzPlain>().transpose() * C.asDiagonal() * Bb.leftCols<kNzPlain>());
-  return Kz;
+// H += sum_k f sigma_k d^2 eps_k / dz^2 over z's 3-blocks (the strains' Hessians, constant)
+void add_form_hessians(const StrainTable& T, const Vec6& sigma, double f, SpanTangent::Hessian& H) {
+  for (int k = 0; k < 6; ++k)
+    for (int t = 0; t < T[k].n_terms; ++t) {
+      const auto& term = T[k].terms[t];
+      H[term.a][term.b] += f * sigma(k) * term.c;
+      H[term.b][term.a] += f * sigma(k) * term.c;
+    }
 }
 // g = sum_k sigma_k d eps_k / dz at z, term by term (the 6 x 30 gradient is mostly zeros).
 VecZ weighted_gradient(const StrainTable& T, const Vec6& sigma, const VecZ& z) {
@@ -264,43 +347,47 @@ void add_turning_rows(double c, const Eigen::Vector3d& kbar, const Eigen::Vector
   B.block<3, 9>(3, 3 * kD1S) -= P * G.k.e;
   B.block<3, 9>(3, 3 * kD1SS) += A * G.kp.e;
 }
-// Kz += the derivative of turning_gradient(s, kbar, kpbar, c, zm) with s held, where kbar, kpbar
+// K += the derivative of turning_gradient(s, kbar, kpbar, c, zm) with s held, where kbar, kpbar
 // and zm move with z1 at the rate f (1 for the exact gradient, 1/2 for the step's averages):
 // f (c/2) [sum_i a_i H(K_i) + sum_i b_i H(K'_i) + G(zm)^T (-[s]x) G'(z1) + G'(zm)^T [s]x G(z1)]
-// with a = kpbar x s, b = s x kbar; Gm at zm, G1 at z1.
+// with a = kpbar x s, b = s x kbar; Gm at zm, G1 at z1. The curvature forms' Hessians go to H
+// (constant, times I3), the rest is six rank-one products.
 void add_turning_hessian(const Eigen::Vector3d& s, const Eigen::Vector3d& kbar, const Eigen::Vector3d& kpbar, double c,
-                         const TurningGradients& Gm, const TurningGradients& G1, double f, MatZ& Kz) {
+                         const TurningGradients& Gm, const TurningGradients& G1, double f, const GaussPoint& gp,
+                         SpanTangent::Hessian& H, SpanTangent& K) {
   const double w = 0.5 * c * f;
   const Eigen::Vector3d a = w * kpbar.cross(s), b = w * s.cross(kbar);
-  // the curvature forms' Hessians: constant, the terms of curvature_form_gradient with z's blocks as unit vectors
+  // the terms of curvature_form_gradient with z's blocks as unit vectors
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     for (int slot : {kD1S, kD1SS}) {
       const double h = 0.5 * (slot == kD1S ? a(i) : b(i));
-      for (int cc = 0; cc < 3; ++cc) {
-        Kz(3 * (kD1 + k) + cc, 3 * (slot + j) + cc) += h;
-        Kz(3 * (slot + j) + cc, 3 * (kD1 + k) + cc) += h;
-        Kz(3 * (kD1 + j) + cc, 3 * (slot + k) + cc) -= h;
-        Kz(3 * (slot + k) + cc, 3 * (kD1 + j) + cc) -= h;
-      }
+      H[kD1 + k][slot + j] += h;
+      H[slot + j][kD1 + k] += h;
+      H[kD1 + j][slot + k] -= h;
+      H[slot + k][kD1 + j] -= h;
     }
   }
-  // G'(zm)^T S G(z1) - G(zm)^T S G'(z1), block by block: G lives in the director and d' columns,
-  // G' in the director and d'' columns
-  // (one 27 x 6 by 6 x 27 product over the director, d' and d'' columns: G' has no d' part, G no
-  // d'' part)
+  // G'(zm)^T S G(z1) - G(zm)^T S G'(z1): columns of L times rows of R over z's director, d' and
+  // d'' blocks (G' has no d' part, G no d'' part)
   const Eigen::Matrix3d S = w * skew(s);
-  Eigen::Matrix<double, 27, 6> L = Eigen::Matrix<double, 27, 6>::Zero();
-  Eigen::Matrix<double, 6, 27> R = Eigen::Matrix<double, 6, 27>::Zero();
-  L.block<9, 3>(0, 0) = Gm.kp.d.transpose();
-  L.block<9, 3>(18, 0) = Gm.kp.e.transpose();
-  L.block<9, 3>(0, 3) = -Gm.k.d.transpose();
-  L.block<9, 3>(9, 3) = -Gm.k.e.transpose();
-  R.block<3, 9>(0, 0) = S * G1.k.d;
-  R.block<3, 9>(0, 9) = S * G1.k.e;
-  R.block<3, 9>(3, 0) = S * G1.kp.d;
-  R.block<3, 9>(3, 18) = S * G1.kp.e;
-  Kz.block<27, 27>(3 * kD1, 3 * kD1).noalias() += L * R;
+  const Eigen::Matrix<double, 3, 9> R[4] = {S * G1.k.d, S * G1.k.e, S * G1.kp.d, S * G1.kp.e};
+  for (int r = 0; r < 6; ++r) {
+    const int m = r % 3;
+    VecZ lc = VecZ::Zero(), rr = VecZ::Zero();
+    if (r < 3) {  // G'(zm)^T S G(z1)
+      lc.segment<9>(3 * kD1) = Gm.kp.d.row(m).transpose();
+      lc.segment<9>(3 * kD1SS) = Gm.kp.e.row(m).transpose();
+      rr.segment<9>(3 * kD1) = R[0].row(m).transpose();
+      rr.segment<9>(3 * kD1S) = R[1].row(m).transpose();
+    } else {  // - G(zm)^T S G'(z1)
+      lc.segment<9>(3 * kD1) = -Gm.k.d.row(m).transpose();
+      lc.segment<9>(3 * kD1S) = -Gm.k.e.row(m).transpose();
+      rr.segment<9>(3 * kD1) = R[2].row(m).transpose();
+      rr.segment<9>(3 * kD1SS) = R[3].row(m).transpose();
+    }
+    K.add_rank_one(gp, gp.w, lc, rr);
+  }
 }
 // K and K' at a z
 struct Curvatures {
@@ -340,8 +427,9 @@ Stiffness pointwise_stiffness(const Stiffness& C, const Eigen::Vector3d* gamma_s
 }
 }  // namespace
 
-void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C0, const Vec6& eps0, const GaussPoint& gp,
-                              const VecEl& q, VecEl& r, MatEl* K, const Eigen::Vector3d* gamma_sigma) {
+namespace {
+void gp_residual_tangent(const StrainTable& T0, const Stiffness& C0, const Vec6& eps0, const GaussPoint& gp,
+                         const VecEl& q, VecEl& r, SpanTangent* K, const Eigen::Vector3d* gamma_sigma) {
   const StrainTable T = point_table(T0, gp);
   const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z = apply_P(gp, q);
@@ -360,16 +448,17 @@ void beam_gp_residual_tangent(const StrainTable& T0, const Stiffness& C0, const 
     for (int i = 0; i < 6; ++i) form_gradient<kNz>(T[i], z, B.row(i));
     std::optional<TurningGradients> G;
     if (turns) add_turning_rows(c, k, kp, G.emplace(z), B);
-    MatZ Kz = weighted_product(gp, B, C, B, 1.0);
-    for (int i = 0; i < 6; ++i) form_add_hessian<kNz>(T[i], sigma(i), Kz);
-    if (turns) add_turning_hessian(sigma_k, k, kp, c, *G, *G, 1.0, Kz);
-    add_Pt_K_P(gp, gp.w, Kz, *K);
+    add_material_rows(gp, B, C, B, 1.0, *K);
+    SpanTangent::Hessian H{};
+    add_form_hessians(T, sigma, 1.0, H);
+    if (turns) add_turning_hessian(sigma_k, k, kp, c, *G, *G, 1.0, gp, H, *K);
+    K->add_geometric(gp, gp.w, H);
   }
 }
 
-void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, const Vec6& eps0, const GaussPoint& gp,
-                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi,
-                                 const Eigen::Vector3d* gamma_sigma) {
+void gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, const Vec6& eps0, const GaussPoint& gp,
+                            const VecEl& q0, const VecEl& q1, VecEl& r, SpanTangent* K, double xi,
+                            const Eigen::Vector3d* gamma_sigma) {
   const StrainTable T = point_table(T0, gp);
   const Stiffness C = pointwise_stiffness(C0, gamma_sigma);
   const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zm = 0.5 * (z0 + z1);
@@ -401,27 +490,25 @@ void beam_gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, con
       add_turning_rows(c, kbar, kpbar, Gm.emplace(zm), Bm);
       add_turning_rows(c, k1, kp1, G1.emplace(z1), B1);
     }
-    MatZ Kz = weighted_product(gp, Bm, C, B1, 0.5 * (1.0 + xi));
-    for (int i = 0; i < 6; ++i) form_add_hessian<kNz>(T[i], 0.5 * sigma(i), Kz);
-    if (turns) add_turning_hessian(sigma_k, kbar, kpbar, c, *Gm, *G1, 0.5, Kz);
-    add_Pt_K_P(gp, gp.w, Kz, *K);
+    add_material_rows(gp, Bm, C, B1, 0.5 * (1.0 + xi), *K);
+    SpanTangent::Hessian H{};
+    add_form_hessians(T, sigma, 0.5, H);
+    if (turns) add_turning_hessian(sigma_k, kbar, kpbar, c, *Gm, *G1, 0.5, gp, H, *K);
+    K->add_geometric(gp, gp.w, H);
   }
-}
-
-namespace {
-// The Gamma rows of d eps / dq at a point (3 x 36), from its z.
-Mat3El gamma_gradient(const StrainTable& T, const GaussPoint& gp, const VecZ& z) {
-  Mat3El G;
-  for (int k = 0; k < 3; ++k) {
-    Eigen::Matrix<double, 1, kNz> b;
-    form_gradient<kNz>(T[k], z, b);
-    VecEl row = VecEl::Zero();
-    add_Pt(gp, 1.0, b.transpose(), row);  // P^T b, block by block
-    G.row(k) = row.transpose();
-  }
-  return G;
 }
 }  // namespace
+
+void beam_gp_residual_tangent(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                              const VecEl& q, VecEl& r, MatEl* K, const Eigen::Vector3d* gamma_sigma) {
+  span_residual_tangent(T, C, &gp, &eps0, 1, gamma_sigma, q, r, K);
+}
+
+void beam_gp_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Vec6& eps0, const GaussPoint& gp,
+                                 const VecEl& q0, const VecEl& q1, VecEl& r, MatEl* K, double xi,
+                                 const Eigen::Vector3d* gamma_sigma) {
+  span_residual_tangent_em(T, C, &gp, &eps0, 1, gamma_sigma, q0, q1, r, K, xi);
+}
 
 StrainTable point_table(const StrainTable& T, const GaussPoint& gp) {
   if (!gp.corrected || &T != &kSimoReissner) return T;
@@ -453,12 +540,44 @@ GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, con
   return m;
 }
 
+void span_gamma_moment_gradients(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, Mat3El& left,
+                                 Mat3El& right) {
+  // The Gamma forms of both measures (and of a corrected point's table) read z's first four
+  // blocks only, phi' and the directors: z and the gradients are formed on those.
+  constexpr int kBlocks = kD3 + 1;
+  left.setZero();
+  right.setZero();
+  for (int g = 0; g < n; ++g) {
+    const GaussPoint& gp = gps[g];
+    const StrainTable Tg = point_table(T, gp);
+    Eigen::Matrix<double, 3 * kBlocks, 1> z = Eigen::Matrix<double, 3 * kBlocks, 1>::Zero();
+    for (int a = 0; a < 3; ++a) {
+      z.segment<3>(3 * kPhiS) += gp.dN[a] * q.segment<3>(kNq * a);
+      for (int i = 1; i <= 3; ++i) z.segment<3>(3 * i) += gp.N[a] * q.segment<3>(kNq * a + 3 * i);
+    }
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Matrix<double, 3 * kBlocks, 1> b = Eigen::Matrix<double, 3 * kBlocks, 1>::Zero();  // d Gamma_k / dz
+      for (int t = 0; t < Tg[k].n_terms; ++t) {
+        const auto& f = Tg[k].terms[t];
+        b.segment<3>(3 * f.a) += f.c * z.segment<3>(3 * f.b);
+        b.segment<3>(3 * f.b) += f.c * z.segment<3>(3 * f.a);
+      }
+      // P^T b, weighted toward either knot
+      for (int a = 0; a < 3; ++a) {
+        Eigen::Matrix<double, 1, kNq> row;
+        row.segment<3>(0) = gp.dN[a] * b.segment<3>(3 * kPhiS).transpose();
+        for (int i = 1; i <= 3; ++i) row.segment<3>(3 * i) = gp.N[a] * b.segment<3>(3 * i).transpose();
+        left.block<1, kNq>(k, kNq * a) += (gp.w * (1.0 - gp.t)) * row;
+        right.block<1, kNq>(k, kNq * a) += (gp.w * gp.t) * row;
+      }
+    }
+  }
+}
+
 Mat3El span_gamma_moment_gradient(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, bool right) {
-  Mat3El G = Mat3El::Zero();
-  for (int g = 0; g < n; ++g)
-    G += gps[g].w * (right ? gps[g].t : 1.0 - gps[g].t) *
-         gamma_gradient(point_table(T, gps[g]), gps[g], apply_P(gps[g], q));
-  return G;
+  Mat3El l, r;
+  span_gamma_moment_gradients(T, gps, n, q, l, r);
+  return right ? r : l;
 }
 
 double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
@@ -472,15 +591,22 @@ double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* g
 
 void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
                            const Eigen::Vector3d* gamma_sigma, const VecEl& q, VecEl& r, MatEl* K) {
+  std::optional<SpanTangent> Ks;
+  if (K) Ks.emplace();
   for (int g = 0; g < n; ++g)
-    beam_gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K, gamma_sigma ? gamma_sigma + g : nullptr);
+    gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K ? &*Ks : nullptr, gamma_sigma ? gamma_sigma + g : nullptr);
+  if (K) Ks->add_to(*K);
 }
 
 void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0,
                               int n, const Eigen::Vector3d* gamma_sigma, const VecEl& q0, const VecEl& q1, VecEl& r,
                               MatEl* K, double xi) {
+  std::optional<SpanTangent> Ks;
+  if (K) Ks.emplace();
   for (int g = 0; g < n; ++g)
-    beam_gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K, xi, gamma_sigma ? gamma_sigma + g : nullptr);
+    gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K ? &*Ks : nullptr, xi,
+                           gamma_sigma ? gamma_sigma + g : nullptr);
+  if (K) Ks->add_to(*K);
 }
 
 namespace {

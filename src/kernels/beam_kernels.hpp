@@ -178,6 +178,9 @@ GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, con
 /// The derivative d/dq of a span's moment toward its left (right = false) or right knot at q (3 x 36).
 using Mat3El = Eigen::Matrix<double, 3, kNqEl>;
 Mat3El span_gamma_moment_gradient(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, bool right);
+/// Both of them at once (they share the points' strain gradients).
+void span_gamma_moment_gradients(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, Mat3El& left,
+                                 Mat3El& right);
 
 /// Whole-span versions of the three point kernels above, over the span's n quadrature points.
 /// gamma_sigma (may be null): the Gamma stresses at the points, C_Gamma times the assumed strains
