@@ -100,16 +100,16 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   void distribute(const Model& m) override {
     ElementEffect::distribute(m);
     if (knots_used(m.beam(beam_))) patches_.distribute(m.beam(beam_), elements_);
+    band_.layout(m.beam(beam_), elements_, patches_.knots);
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     ElementEffect::needed_dofs(m, dofs);
     patches_.needed_dofs(m.dof_map(), m.beam(beam_), dofs);
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    PetscFunctionBeginUser;
-    PetscCall(ElementEffect::pattern(m, sink));
-    PetscCall(patches_.pattern(m.dof_map(), m.beam(beam_), sink));
-    PetscFunctionReturn(0);
+    ControlPointBand zero = band_;
+    zero.zero();
+    return zero.flush(m.dof_map(), m.beam(beam_), sink);
   }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
@@ -129,16 +129,15 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
     if (ctx.h <= 0.0) PetscFunctionReturn(0);
     const Beam& b = ctx.model.beam(beam_);
     knot_stresses(ctx, b);
-    using RowMajorEl = Eigen::Matrix<double, kNqEl, kNqEl, Eigen::RowMajor>;
+    band_.zero();
     for (int e : elements_) {
       VecEl re = VecEl::Zero();
       MatEl K = MatEl::Zero();
       element(ctx, b, e, re, &K);
-      const RowMajorEl Kr = K;
-      const Dofs d = element_dofs(ctx.map, b, e);
-      PetscCall(J.add(kNqEl, d.data(), kNqEl, d.data(), Kr.data()));
+      band_.add(e, 3, K.data());
     }
-    PetscCall(knot_tangents(ctx, b, J));
+    knot_tangents(ctx, b);
+    PetscCall(band_.flush(ctx.map, b, J));
     PetscFunctionReturn(0);
   }
 
@@ -197,10 +196,9 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
         }
   }
 
-  /// The knots' material tangents: tau C / (h m_i) G(q_f)^T G(q1), G the gradient of a knot's
-  /// Gamma moment (its spans' moments toward it).
-  PetscErrorCode knot_tangents(const EvalContext& ctx, const Beam& b, const MatSink& J) const {
-    PetscFunctionBeginUser;
+  /// band_ += the knots' material tangents: tau C / (h m_i) G(q_f)^T G(q1), G the gradient of a
+  /// knot's Gamma moment (its spans' moments toward it).
+  void knot_tangents(const EvalContext& ctx, const Beam& b) const {
     const auto q0 = [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); };
     const auto q1 = [&](int f) { return gather_span(ctx.x, ctx.map, b, f); };
     grad_f_.compute(b, patches_.moment_spans,
@@ -208,9 +206,9 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
     grad_1_.compute(b, patches_.moment_spans, q1);
     for (int i : patches_.knots) {
       const Eigen::Vector3d w = c_.head<3>() / (ctx.h * b.knot_mass(i));
-      PetscCall(add_knot_tangent(ctx.map, b, i, grad_f_.knot(b, i), w, grad_1_.knot(b, i), J));
+      const KnotGradient Gf = grad_f_.knot(b, i);
+      band_.add_outer(knot_first_cp(b, i), static_cast<int>(Gf.cols()) / kernels::kNq, Gf, w, grad_1_.knot(b, i));
     }
-    PetscFunctionReturn(0);
   }
 
   double alpha_;
@@ -219,6 +217,7 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   KnotPatches patches_;
   mutable std::vector<Vec3> knot_sigma_;
   mutable SpanMomentGradients grad_f_, grad_1_;
+  mutable ControlPointBand band_;  // the Jacobian's blocks by control point
 };
 
 /// The same damping of an ANCF cable: Kelvin-Voigt on its two strains, the Green axial strain

@@ -12,7 +12,6 @@ namespace slidebeam::effects {
 
 using kernels::MatEl;
 using kernels::VecEl;
-using RowMajorEl = Eigen::Matrix<double, kernels::kNqEl, kernels::kNqEl, Eigen::RowMajor>;
 
 /// An effect integrated span by span over one director beam: three control points, the 36 x 36
 /// block of their coordinates.
@@ -40,16 +39,16 @@ class BeamElastic final : public SpanEffect {
   void distribute(const Model& m) override {
     SpanEffect::distribute(m);
     if (m.beam(beam_).gamma_at_knots()) patches_.distribute(m.beam(beam_), elements_);
+    band_.layout(m.beam(beam_), elements_, patches_.knots);
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     SpanEffect::needed_dofs(m, dofs);
     patches_.needed_dofs(m.dof_map(), m.beam(beam_), dofs);
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    PetscFunctionBeginUser;
-    PetscCall(SpanEffect::pattern(m, sink));
-    PetscCall(patches_.pattern(m.dof_map(), m.beam(beam_), sink));
-    PetscFunctionReturn(0);
+    ControlPointBand zero = band_;
+    zero.zero();
+    return zero.flush(m.dof_map(), m.beam(beam_), sink);
   }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
@@ -98,16 +97,15 @@ class BeamElastic final : public SpanEffect {
       if (ctx.rule == StepRule::EnergyMomentum) knot_strains(ctx, ctx.x_old, b, knot_start_);
       update_knot_sigma(ctx, b);
     }
+    band_.zero();
     for (int e : elements_) {
       VecEl re = VecEl::Zero();
       MatEl K = MatEl::Zero();
       element(ctx, b, e, re, &K);
-      const RowMajorEl Kr = K;
-      const auto d = span_q_dofs(ctx.map, b, e);
-      PetscCall(J.add(kernels::kNqEl, d.data(), kernels::kNqEl, d.data(), Kr.data()));
+      band_.add(e, 3, K.data());
     }
-    if (knots)
-      PetscCall(knot_tangents(ctx, b, J));
+    if (knots) knot_tangents(ctx, b);
+    PetscCall(band_.flush(ctx.map, b, J));
     PetscFunctionReturn(0);
   }
   double energy(const EvalContext& ctx) const override {
@@ -171,11 +169,10 @@ class BeamElastic final : public SpanEffect {
       for (int k = 0; k < 3; ++k) lanes[k][g] = v(k);
     }
   }
-  /// The material tangents of the knots' Gamma energy, s / m_i Gbar_a^T C Gbar_b, with Gbar the
-  /// gradient of a knot's moment: at the force state (statics), or the midpoint and the end of
-  /// the step (energy-momentum, s = (1 + xi) / 2).
-  PetscErrorCode knot_tangents(const EvalContext& ctx, const Beam& b, const MatSink& J) const {
-    PetscFunctionBeginUser;
+  /// band_ += the material tangents of the knots' Gamma energy, s / m_i Gbar_a^T C Gbar_b, with
+  /// Gbar the gradient of a knot's moment: at the force state (statics), or the midpoint and the
+  /// end of the step (energy-momentum, s = (1 + xi) / 2).
+  void knot_tangents(const EvalContext& ctx, const Beam& b) const {
     const auto q0 = [&](int f) { return gather_span(ctx.x_old, ctx.map, b, f); };
     const auto q1 = [&](int f) { return gather_span(ctx.x, ctx.map, b, f); };
     const bool em = ctx.rule == StepRule::EnergyMomentum;
@@ -187,15 +184,17 @@ class BeamElastic final : public SpanEffect {
     const SpanMomentGradients& gb = em ? grad_b_ : grad_a_;
     for (int i : patches_.knots) {
       const double s = (em ? 0.5 * (1.0 + ctx.dissipation) : ctx.theta) / b.knot_mass(i);
-      PetscCall(add_knot_tangent(ctx.map, b, i, grad_a_.knot(b, i), s * b.stiffness().head<3>(), gb.knot(b, i), J));
+      const KnotGradient Ga = grad_a_.knot(b, i);
+      band_.add_outer(knot_first_cp(b, i), static_cast<int>(Ga.cols()) / kernels::kNq, Ga,
+                      s * b.stiffness().head<3>(), gb.knot(b, i));
     }
-    PetscFunctionReturn(0);
   }
 
   // assumed strains: the spans whose moments the owned spans' knots need, and the knots this rank assembles
   KnotPatches patches_;
   mutable std::vector<Vec3> knot_start_, knot_now_, knot_sigma_;
   mutable SpanMomentGradients grad_a_, grad_b_;
+  mutable ControlPointBand band_;  // the Jacobian's blocks by control point
   // energy-momentum: the state of every owned span at the step start
   mutable std::vector<kernels::SpanEmState> start_;
   mutable unsigned long start_key_ = 0;

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "effects/common.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include "model/time_function.hpp"
 
 #include <cmath>
@@ -113,6 +116,44 @@ int end_cp(const Beam& b, double s) {
   if (std::abs(s) <= tol) return 0;
   if (std::abs(s - b.length()) <= tol) return b.n_cp() - 1;
   return -1;
+}
+
+void ControlPointBand::layout(const Beam& b, const std::vector<int>& spans, const std::vector<int>& knots) {
+  reach_ = knots.empty() ? 2 : 3;
+  lo_ = std::numeric_limits<int>::max();
+  hi_ = -1;
+  for (int e : spans) {
+    lo_ = std::min(lo_, e);
+    hi_ = std::max(hi_, e + 2);
+  }
+  for (int i : knots) {
+    int l, r;
+    knot_spans(b, i, l, r);
+    lo_ = std::min(lo_, l >= 0 ? l : r);
+    hi_ = std::max(hi_, (r >= 0 ? r : l) + 2);
+  }
+  if (hi_ < lo_) lo_ = 0, hi_ = -1;
+  v_.assign(static_cast<size_t>(hi_ - lo_ + 1) * kernels::kNq * static_cast<size_t>(width()), 0.0);
+}
+
+PetscErrorCode ControlPointBand::flush(const DofMap& map, const Beam& b, const MatSink& J) const {
+  PetscFunctionBeginUser;
+  constexpr int kRowsMax = kernels::kNq, kColsMax = kernels::kNq * 7;
+  PetscInt rows[kRowsMax], cols[kColsMax];
+  double block[kRowsMax * kColsMax];
+  for (int cp = lo_; cp <= hi_; ++cp) {
+    const int c0 = std::max(lo_, cp - reach_), c1 = std::min(hi_, cp + reach_);
+    const int n = kernels::kNq * (c1 - c0 + 1);
+    for (int i = 0; i < kernels::kNq; ++i) rows[i] = map.q(b.first_cp() + cp, i);
+    for (int c = c0; c <= c1; ++c)
+      for (int j = 0; j < kernels::kNq; ++j) cols[kernels::kNq * (c - c0) + j] = map.q(b.first_cp() + c, j);
+    for (int i = 0; i < kernels::kNq; ++i) {
+      const double* src = &v_[row_offset(cp, i)] + kernels::kNq * (c0 - cp + reach_);
+      std::copy(src, src + n, block + static_cast<size_t>(i * n));
+    }
+    PetscCall(J.add(kernels::kNq, rows, n, cols, block));
+  }
+  PetscFunctionReturn(0);
 }
 
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs) {

@@ -89,17 +89,6 @@ inline void knot_spans(const Beam& b, int i, int& left, int& right) {
   left = i >= 1 ? i - 1 : -1;
   right = i < b.n_spans() ? i : -1;
 }
-/// The coordinates of the control points of knot i's spans (a knot's assumed-strain patch).
-inline std::vector<PetscInt> knot_dofs(const DofMap& map, const Beam& b, int i) {
-  int left, right;
-  knot_spans(b, i, left, right);
-  const int cp0 = left >= 0 ? left : right, cp1 = (right >= 0 ? right : left) + 2;
-  std::vector<PetscInt> d;
-  for (int cp = cp0; cp <= cp1; ++cp)
-    for (int k = 0; k < kernels::kNq; ++k) d.push_back(map.q(b.first_cp() + cp, k));
-  return d;
-}
-
 /// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
@@ -117,7 +106,7 @@ struct SpanMomentGradients {
       kernels::span_gamma_moment_gradients(b.strain_table(), &b.gp(f, 0), b.n_gp(), span_q(f),
                                            left[static_cast<size_t>(f)], right[static_cast<size_t>(f)]);
   }
-  /// Knot i's: its spans' moments toward it, 3 x the coordinates of knot_dofs.
+  /// Knot i's: its spans' moments toward it, 3 x the coordinates of its control points (knot_first_cp on).
   KnotGradient knot(const Beam& b, int i) const {
     int l, r;
     knot_spans(b, i, l, r);
@@ -128,22 +117,62 @@ struct SpanMomentGradients {
     return G;
   }
 };
-/// J(knot i's coordinates) += Ga^T diag(w) Gb: a knot's material tangent (three outer products).
-inline PetscErrorCode add_knot_tangent(const DofMap& map, const Beam& b, int i, const KnotGradient& Ga,
-                                       const Eigen::Vector3d& w, const KnotGradient& Gb, const MatSink& J) {
-  constexpr int kMax = 4 * kernels::kNq;
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kMax, kMax>;
-  const auto n = static_cast<PetscInt>(Ga.cols());
-  RowMajor K(n, n);
-  K.noalias() = (w(0) * Ga.row(0).transpose()) * Gb.row(0);
-  for (int k = 1; k < 3; ++k) K.noalias() += (w(k) * Ga.row(k).transpose()) * Gb.row(k);
+/// The first control point (beam-local) of knot i's patch.
+inline int knot_first_cp(const Beam& b, int i) {
   int l, r;
   knot_spans(b, i, l, r);
-  PetscInt d[kMax];
-  for (int c = 0, cp = b.first_cp() + (l >= 0 ? l : r); c < n / kernels::kNq; ++c, ++cp)
-    for (int k = 0; k < kernels::kNq; ++k) d[kernels::kNq * c + k] = map.q(cp, k);
-  return J.add(n, d, n, d, K.data());
+  return l >= 0 ? l : r;
 }
+
+/// A director beam's Jacobian blocks summed on this rank by control point before they go to the
+/// global matrix: one add per control point's 12 coordinate rows over the control points up to
+/// `reach` away. Spans and knot patches overlap, and added one by one their blocks repeat each
+/// entry up to seven times, all summed again by PETSc's COO assembly.
+class ControlPointBand {
+ public:
+  /// The control points (beam-local) that the spans and the knot patches given touch; they couple
+  /// up to 2 apart (spans), 3 with knots.
+  void layout(const Beam& b, const std::vector<int>& spans, const std::vector<int>& knots);
+  void zero() { std::fill(v_.begin(), v_.end(), 0.0); }
+  /// += the row-major (12 n) x (12 n) block K over control points cp0 .. cp0 + n - 1 (beam-local).
+  void add(int cp0, int n, const double* K) {
+    const int m = kernels::kNq * n;
+    for (int r = 0; r < m; ++r) {
+      double* dst = segment(cp0, r);
+      const double* src = K + static_cast<size_t>(r) * static_cast<size_t>(m);
+      for (int j = 0; j < m; ++j) dst[j] += src[j];
+    }
+  }
+  /// += Ga^T diag(w) Gb over control points cp0 .. cp0 + n - 1 (beam-local), Ga and Gb 3 x 12 n.
+  template <class Gradient>
+  void add_outer(int cp0, int n, const Gradient& Ga, const Eigen::Vector3d& w, const Gradient& Gb) {
+    constexpr int kMax = kernels::kNq * (2 * 3 + 1);
+    const int m = kernels::kNq * n;
+    double b[3][kMax];
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < m; ++j) b[k][j] = Gb(k, j);
+    for (int r = 0; r < m; ++r) {
+      double* dst = segment(cp0, r);
+      const double a0 = w(0) * Ga(0, r), a1 = w(1) * Ga(1, r), a2 = w(2) * Ga(2, r);
+      for (int j = 0; j < m; ++j) dst[j] += a0 * b[0][j] + a1 * b[1][j] + a2 * b[2][j];
+    }
+  }
+  /// J += the band, control point by control point (collective only as J.add is).
+  PetscErrorCode flush(const DofMap& map, const Beam& b, const MatSink& J) const;
+
+ private:
+  // row r of a block over control points cp0 on: its columns are contiguous in the band, from cp0
+  double* segment(int cp0, int r) {
+    const int a = r / kernels::kNq;
+    return &v_[row_offset(cp0 + a, r % kernels::kNq)] + kernels::kNq * (reach_ - a);
+  }
+  size_t row_offset(int cp, int i) const {
+    return (static_cast<size_t>(cp - lo_) * kernels::kNq + static_cast<size_t>(i)) * static_cast<size_t>(width());
+  }
+  int width() const { return kernels::kNq * (2 * reach_ + 1); }
+  int lo_ = 0, hi_ = -1, reach_ = 2;
+  std::vector<double> v_;  // row (cp - lo, i), column (cp' - cp + reach, j)
+};
 
 /// Which knots of a director beam's assumed-strain patches a rank assembles and which spans' moments
 /// it needs: knot i is assembled by the owner of span min(i, n - 1), and a knot's value takes the
@@ -163,15 +192,6 @@ struct KnotPatches {
   }
   void needed_dofs(const DofMap& map, const Beam& b, std::vector<PetscInt>& dofs) const {
     for (int f : moment_spans) add_cp_blocks(map, b.first_cp() + f, 3, dofs);
-  }
-  PetscErrorCode pattern(const DofMap& map, const Beam& b, const MatSink& sink) const {
-    PetscFunctionBeginUser;
-    for (int i : knots) {
-      const std::vector<PetscInt> d = knot_dofs(map, b, i);
-      const std::vector<double> zero(d.size() * d.size(), 0.0);
-      PetscCall(sink.add(static_cast<PetscInt>(d.size()), d.data(), static_cast<PetscInt>(d.size()), d.data(), zero.data()));
-    }
-    PetscFunctionReturn(0);
   }
 };
 

@@ -117,28 +117,34 @@ void add_Pt(const GaussPoint& gp, double w, const VecZ& g, VecEl& r) {
 typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
 // The rank-one rows of a span's tangent in a permuted order of its 36 coordinates: the director
 // part (27) first, then a zero, the phi part (9) and three zeros, so that rows are whole SIMD
-// vectors and a tangent without phi terms skips them.
+// vectors and rows without phi terms skip them.
 constexpr int kRowWidth = 40, kPhiOffset = 28;
-constexpr std::array<int, kNqEl> kPermuted = [] {
-  std::array<int, kNqEl> p{};
-  for (int q = 0; q < kNqEl; ++q) p[q] = q % kNq < 3 ? kPhiOffset + 3 * (q / kNq) + q % kNq : 9 * (q / kNq) + q % kNq - 3;
-  return p;
-}();
-// Kp(i, :) = sum_r U(r, i) V(r, :) over the rows i given, NV vectors of columns (Kp row-major)
-template <int NV>
-SB_HOT_KERNEL void add_rank_one_products(int n, const double (*U)[kRowWidth], const double (*V)[kRowWidth],
-                                         int first_row, int end_row, double (*Kp)[kRowWidth]) {
+// Kp(i, :) = sum_r Ud(r, i) Vd(r, :) + sum_r Um(r, i) Vm(r, :) over the rows i given (Kp
+// row-major): the director rows' first ND vectors of columns, the mixed rows' first NM.
+template <int ND, int NM>
+SB_HOT_KERNEL void add_rank_one_products(int nd, const double (*Ud)[kRowWidth], const double (*Vd)[kRowWidth], int nm,
+                                         const double (*Um)[kRowWidth], const double (*Vm)[kRowWidth], int first_row,
+                                         int end_row, double (*Kp)[kRowWidth]) {
+  constexpr int N = ND > NM ? ND : NM;
   for (int i = first_row; i < end_row; ++i) {
-    Quad acc[NV] = {};
-    for (int r = 0; r < n; ++r) {
-      const double u = U[r][i];
-      for (int v = 0; v < NV; ++v) {
+    Quad acc[N] = {};
+    for (int r = 0; r < nd; ++r) {
+      const double u = Ud[r][i];
+      for (int v = 0; v < ND; ++v) {
         Quad x;
-        std::memcpy(&x, &V[r][4 * v], sizeof x);
+        std::memcpy(&x, &Vd[r][4 * v], sizeof x);
         acc[v] += u * x;
       }
     }
-    for (int v = 0; v < NV; ++v) std::memcpy(&Kp[i][4 * v], &acc[v], sizeof(Quad));
+    for (int r = 0; r < nm; ++r) {
+      const double u = Um[r][i];
+      for (int v = 0; v < NM; ++v) {
+        Quad x;
+        std::memcpy(&x, &Vm[r][4 * v], sizeof x);
+        acc[v] += u * x;
+      }
+    }
+    for (int v = 0; v < N; ++v) std::memcpy(&Kp[i][4 * v], &acc[v], sizeof(Quad));
   }
 }
 class SpanTangent {
@@ -163,10 +169,11 @@ class SpanTangent {
   }
   /// K += w P^T a b^T P
   void add_rank_one(const GaussPoint& gp, double w, const VecZ& a, const VecZ& b) {
-    map_row(gp, w, a, U_[n_]);
-    map_row(gp, 1.0, b, V_[n_]);
-    phi_ = phi_ || a.head<3>().squaredNorm() > 0.0 || b.head<3>().squaredNorm() > 0.0;
-    ++n_;
+    const bool mixed = a.head<3>().squaredNorm() > 0.0 || b.head<3>().squaredNorm() > 0.0;
+    int& n = mixed ? nm_ : nd_;
+    map_row(gp, w, a, (mixed ? Um_ : Ud_)[n]);
+    map_row(gp, 1.0, b, (mixed ? Vm_ : Vd_)[n]);
+    ++n;
   }
   void add_to(MatEl& K) const {
     for (int a = 0; a < 3; ++a)
@@ -177,19 +184,28 @@ class SpanTangent {
             if (s == 0.0) continue;
             for (int c = 0; c < 3; ++c) K(kNq * a + 3 * f + c, kNq * b + 3 * g + c) += s;
           }
-    if (n_ == 0) return;
+    if (nd_ + nm_ == 0) return;
     alignas(32) double Kp[kRowWidth][kRowWidth];
-    if (phi_) {
-      add_rank_one_products<kRowWidth / 4>(n_, U_, V_, 0, kRowWidth, Kp);
-      for (int j = 0; j < kNqEl; ++j)
-        for (int i = 0; i < kNqEl; ++i) K(i, j) += Kp[kPermuted[i]][kPermuted[j]];
-    } else {
-      add_rank_one_products<kPhiOffset / 4>(n_, U_, V_, 0, 27, Kp);
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          for (int j = 0; j < 9; ++j)
-            for (int i = 0; i < 9; ++i) K(kNq * a + 3 + i, kNq * b + 3 + j) += Kp[9 * a + i][9 * b + j];
+    constexpr int kD = kPhiOffset / 4, kAll = kRowWidth / 4;  // vectors of director columns, of all
+    if (nm_ == 0)
+      add_rank_one_products<kD, 0>(nd_, Ud_, Vd_, 0, Um_, Vm_, 0, 27, Kp);
+    else {
+      add_rank_one_products<kD, kAll>(nd_, Ud_, Vd_, nm_, Um_, Vm_, 0, 27, Kp);
+      add_rank_one_products<0, kAll>(0, Ud_, Vd_, nm_, Um_, Vm_, kPhiOffset, kPhiOffset + 9, Kp);
     }
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        for (int j = 0; j < 9; ++j)
+          for (int i = 0; i < 9; ++i) K(kNq * a + 3 + i, kNq * b + 3 + j) += Kp[9 * a + i][9 * b + j];
+    if (nm_ == 0) return;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        for (int c = 0; c < 3; ++c) {
+          const double* phi_row = Kp[kPhiOffset + 3 * a + c];
+          for (int j = 0; j < 9; ++j) K(kNq * a + c, kNq * b + 3 + j) += phi_row[9 * b + j];
+          for (int j = 0; j < 3; ++j) K(kNq * a + c, kNq * b + j) += phi_row[kPhiOffset + 3 * b + j];
+          for (int i = 0; i < 9; ++i) K(kNq * a + 3 + i, kNq * b + c) += Kp[9 * a + i][kPhiOffset + 3 * b + c];
+        }
   }
 
  private:
@@ -210,10 +226,10 @@ class SpanTangent {
     row[27] = row[37] = row[38] = row[39] = 0.0;
   }
   double S_[12][12] = {};
-  alignas(32) double U_[kMaxRows][kRowWidth];
-  alignas(32) double V_[kMaxRows][kRowWidth];
-  int n_ = 0;
-  bool phi_ = false;
+  // the rows without a phi part (director rows) and with one (mixed rows)
+  alignas(32) double Ud_[kMaxRows][kRowWidth], Vd_[kMaxRows][kRowWidth];
+  alignas(32) double Um_[kMaxRows][kRowWidth], Vm_[kMaxRows][kRowWidth];
+  int nd_ = 0, nm_ = 0;
 };
 // The material part s Ba^T diag(C) Bb, row by row (rows of zero stiffness skipped: an
 // assumed-strain point's Gamma rows, whose stiffness acts through the knots).
@@ -591,22 +607,29 @@ double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* g
 
 void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
                            const Eigen::Vector3d* gamma_sigma, const VecEl& q, VecEl& r, MatEl* K) {
-  std::optional<SpanTangent> Ks;
-  if (K) Ks.emplace();
+  if (!K) {
+    for (int g = 0; g < n; ++g)
+      gp_residual_tangent(T, C, eps0[g], gps[g], q, r, nullptr, gamma_sigma ? gamma_sigma + g : nullptr);
+    return;
+  }
+  SpanTangent Ks;  // (not in a std::optional: that zeroes its 60 kB)
   for (int g = 0; g < n; ++g)
-    gp_residual_tangent(T, C, eps0[g], gps[g], q, r, K ? &*Ks : nullptr, gamma_sigma ? gamma_sigma + g : nullptr);
-  if (K) Ks->add_to(*K);
+    gp_residual_tangent(T, C, eps0[g], gps[g], q, r, &Ks, gamma_sigma ? gamma_sigma + g : nullptr);
+  Ks.add_to(*K);
 }
 
 void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0,
                               int n, const Eigen::Vector3d* gamma_sigma, const VecEl& q0, const VecEl& q1, VecEl& r,
                               MatEl* K, double xi) {
-  std::optional<SpanTangent> Ks;
-  if (K) Ks.emplace();
+  if (!K) {
+    for (int g = 0; g < n; ++g)
+      gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, nullptr, xi, gamma_sigma ? gamma_sigma + g : nullptr);
+    return;
+  }
+  SpanTangent Ks;  // (not in a std::optional: that zeroes its 60 kB)
   for (int g = 0; g < n; ++g)
-    gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, K ? &*Ks : nullptr, xi,
-                           gamma_sigma ? gamma_sigma + g : nullptr);
-  if (K) Ks->add_to(*K);
+    gp_residual_tangent_em(T, C, eps0[g], gps[g], q0, q1, r, &Ks, xi, gamma_sigma ? gamma_sigma + g : nullptr);
+  Ks.add_to(*K);
 }
 
 namespace {

@@ -37,7 +37,8 @@ using VecZ = Eigen::Matrix<double, kNz, 1>;
 using MatZ = Eigen::Matrix<double, kNz, kNz>;
 using Mat6Z = Eigen::Matrix<double, 6, kNz>;
 using VecEl = Eigen::Matrix<double, kNqEl, 1>;
-using MatEl = Eigen::Matrix<double, kNqEl, kNqEl>;
+/// (row-major: the layout the global assembly takes)
+using MatEl = Eigen::Matrix<double, kNqEl, kNqEl, Eigen::RowMajor>;
 using MatZEl = Eigen::Matrix<double, kNz, kNqEl>;
 using Vec12 = Eigen::Matrix<double, kNq, 1>;
 using Mat12 = Eigen::Matrix<double, kNq, kNq>;
