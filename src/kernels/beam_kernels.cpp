@@ -106,7 +106,7 @@ void add_Pt(const GaussPoint& gp, double w, const VecZ& g, VecEl& r) {
   }
 }
 // A span's tangent K = sum over its points of w P^T Kz P, gathered point by point in two parts
-// (docs/developer.md, "The beam kernels"):
+// (docs/developer.md, "Design notes"):
 // - the geometric part: every strain is a sum of c z_a . z_b, so sum_k sigma_k d^2 eps_k / dz^2
 //   is a 10 x 10 matrix of scalars times I3 (the turning term's constant part too), and P maps it
 //   to a 12 x 12 one over (control point, field), S, again times I3;
