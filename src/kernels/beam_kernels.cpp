@@ -542,14 +542,39 @@ StrainTable point_table(const StrainTable& T, const GaussPoint& gp) {
   return Tc;
 }
 
+namespace {
+// The Gamma forms of both measures (and of a corrected point's table) read z's first four blocks
+// only, phi' and the directors: the knots' strains and their gradients work on those.
+constexpr int kGammaBlocks = kD3 + 1;
+using VecZGamma = Eigen::Matrix<double, 3 * kGammaBlocks, 1>;
+using GammaForms = std::array<QuadraticForm, 3>;
+// the point's Gamma forms: point_table's first three (which do not depend on its correction weight)
+GammaForms gamma_forms(const StrainTable& T, const GaussPoint& gp) {
+  GammaForms G = {T[0], T[1], T[2]};
+  if (gp.corrected && &T == &kSimoReissner) {
+    G[0] = {1, {{{kPhiS, kPhiS, 0.5}, {0, 0, 0.0}}}};
+    for (int i = 1; i < 3; ++i) G[i].terms[G[i].n_terms++] = {kD1 + i, kD1, -0.5};
+  }
+  return G;
+}
+VecZGamma gamma_fields(const GaussPoint& gp, const VecEl& q) {
+  VecZGamma z = VecZGamma::Zero();
+  for (int a = 0; a < 3; ++a) {
+    z.segment<3>(3 * kPhiS) += gp.dN[a] * q.segment<3>(kNq * a);
+    for (int i = 1; i <= 3; ++i) z.segment<3>(3 * i) += gp.N[a] * q.segment<3>(kNq * a + 3 * i);
+  }
+  return z;
+}
+}  // namespace
+
 GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n,
                                 const VecEl& q) {
   GammaMoments m;
   for (int g = 0; g < n; ++g) {
-    const StrainTable Tg = point_table(T, gps[g]);
-    const VecZ z = apply_P(gps[g], q);
+    const GammaForms G = gamma_forms(T, gps[g]);
+    const VecZGamma z = gamma_fields(gps[g], q);
     Eigen::Vector3d d;
-    for (int k = 0; k < 3; ++k) d(k) = form_value<kNz>(Tg[k], z) - eps0[g](k);  // the Gamma rows only
+    for (int k = 0; k < 3; ++k) d(k) = form_value<3 * kGammaBlocks>(G[k], z) - eps0[g](k);
     m.left += gps[g].w * (1.0 - gps[g].t) * d;
     m.right += gps[g].w * gps[g].t * d;
   }
@@ -558,23 +583,16 @@ GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, con
 
 void span_gamma_moment_gradients(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, Mat3El& left,
                                  Mat3El& right) {
-  // The Gamma forms of both measures (and of a corrected point's table) read z's first four
-  // blocks only, phi' and the directors: z and the gradients are formed on those.
-  constexpr int kBlocks = kD3 + 1;
   left.setZero();
   right.setZero();
   for (int g = 0; g < n; ++g) {
     const GaussPoint& gp = gps[g];
-    const StrainTable Tg = point_table(T, gp);
-    Eigen::Matrix<double, 3 * kBlocks, 1> z = Eigen::Matrix<double, 3 * kBlocks, 1>::Zero();
-    for (int a = 0; a < 3; ++a) {
-      z.segment<3>(3 * kPhiS) += gp.dN[a] * q.segment<3>(kNq * a);
-      for (int i = 1; i <= 3; ++i) z.segment<3>(3 * i) += gp.N[a] * q.segment<3>(kNq * a + 3 * i);
-    }
+    const GammaForms G = gamma_forms(T, gp);
+    const VecZGamma z = gamma_fields(gp, q);
     for (int k = 0; k < 3; ++k) {
-      Eigen::Matrix<double, 3 * kBlocks, 1> b = Eigen::Matrix<double, 3 * kBlocks, 1>::Zero();  // d Gamma_k / dz
-      for (int t = 0; t < Tg[k].n_terms; ++t) {
-        const auto& f = Tg[k].terms[t];
+      VecZGamma b = VecZGamma::Zero();  // d Gamma_k / dz
+      for (int t = 0; t < G[k].n_terms; ++t) {
+        const auto& f = G[k].terms[t];
         b.segment<3>(3 * f.a) += f.c * z.segment<3>(3 * f.b);
         b.segment<3>(3 * f.b) += f.c * z.segment<3>(3 * f.a);
       }
