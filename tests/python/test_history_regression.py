@@ -39,3 +39,21 @@ def test_every_shipped_scene_is_listed():
     listed = {p.relative_to(ROOT / "runs").as_posix() for p in history_regression.scenes()}
     assert "seed/free_fall_1+4.toml" in listed and "cables/cable_swing.toml" in listed
     assert not any(p.startswith("studies/") for p in listed)  # study files have no [scene]
+
+
+def test_the_floor_judges_roundoff_columns_against_the_run(tmp_path):
+    """A column at roundoff level (here 1e-12 against values of order 1) differs by its own size
+    from one build to the next: against its own scale that is a difference of order 1, against
+    1e-3 of the run's largest value it is none."""
+    def run_with(error: float, name: str) -> Path:
+        folder = tmp_path / name
+        folder.mkdir()
+        (folder / "summary.json").write_text(json.dumps({"complete": True, "message": "completed"}))
+        (folder / "history.csv").write_text(f"t,kinetic_energy,energy_balance_error\n0.0,2.0,0.0\n0.1,2.5,{error!r}\n")
+        return folder
+
+    ref, new = run_with(1e-12, "ref"), run_with(-1e-12, "new")
+    same, what = history_regression.compare(ref, new, 1e-8)
+    assert not same and "energy_balance_error" in what
+    assert history_regression.compare(ref, new, 1e-8, floor=1e-3)[0]
+    assert not history_regression.compare(ref, run_with(1e-3, "big"), 1e-8, floor=1e-3)[0]
