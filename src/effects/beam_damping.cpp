@@ -30,38 +30,11 @@ namespace {
 using kernels::kNqEl;
 using kernels::kNz;
 using kernels::MatEl;
-using kernels::MatZ;
 using kernels::StrainTable;
 using kernels::Vec6;
 using kernels::VecEl;
 using kernels::VecZ;
 using Vec3 = Eigen::Vector3d;
-
-/// Kelvin-Voigt force (and tangent d r / d q1, without the material part of the strains flagged
-/// in `from_knots`) of one quadrature point: stresses sigma (viscous, given), c = tau C per
-/// strain, theta = d z_f / d z1.
-void kelvin_voigt_point(const StrainTable& T, const Vec6& sigma, const Vec6& c, bool from_knots, double w, double h,
-                        double theta, const kernels::GaussPoint& gp, const VecEl& q0, const VecEl& q1, VecEl& r,
-                        MatEl* K) {
-  const kernels::MatZEl P = kernels::field_map(gp);
-  const VecZ z0 = P * q0, z1 = P * q1;
-  const VecZ zf = (1.0 - theta) * z0 + theta * z1;
-  Eigen::Matrix<double, 1, kNz> gf, g1;
-  VecZ force = VecZ::Zero();
-  MatZ Kz = MatZ::Zero();
-  for (int i = 0; i < 6; ++i) {
-    if (c[i] == 0.0) continue;
-    kernels::form_gradient<kNz>(T[i], zf, gf);
-    force += sigma[i] * gf.transpose();
-    if (!K) continue;
-    kernels::form_add_hessian<kNz>(T[i], sigma[i] * theta, Kz);
-    if (from_knots && i < 3) continue;  // the knot's material part couples two spans: added per knot
-    kernels::form_gradient<kNz>(T[i], z1, g1);
-    Kz += (c[i] / h) * gf.transpose() * g1;
-  }
-  r += w * P.transpose() * force;
-  if (K) *K += w * P.transpose() * Kz * P;
-}
 
 /// The retardation time of each strain (axial, shear 2, shear 3, torsion, bending about d2, about
 /// d3): retardation_time for all, or retardation_times one by one; both given is a contradiction
@@ -161,18 +134,18 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
     const double h = ctx.h, theta = ctx.theta;
     const bool knots = knots_used(b);
     if (c_.maxCoeff() > 0.0) {
+      Vec6 sigma[kernels::kSpanLanes];  // the points' viscous stresses
       for (int g = 0; g < b.n_gp(); ++g) {
         const kernels::GaussPoint& gp = b.gp(e, g);
-        const StrainTable T = gp.corrected ? kernels::point_table(b.strain_table(), gp) : b.strain_table();
-        const kernels::MatZEl P = kernels::field_map(gp);
-        const VecZ z0 = P * q0, z1 = P * q1;
-        Vec6 sigma;
+        const StrainTable T = kernels::point_table(b.strain_table(), gp);
+        const VecZ z0 = kernels::field_values(gp, q0), z1 = kernels::field_values(gp, q1);
         for (int i = 0; i < 6; ++i)
-          sigma[i] = c_[i] * (kernels::form_value<kNz>(T[i], z1) - kernels::form_value<kNz>(T[i], z0)) / h;
+          sigma[g][i] = c_[i] * (kernels::form_value<kNz>(T[i], z1) - kernels::form_value<kNz>(T[i], z0)) / h;
         if (knots)
-          sigma.head<3>() = (1.0 - gp.t) * knot_sigma_[static_cast<size_t>(e)] + gp.t * knot_sigma_[static_cast<size_t>(e + 1)];
-        kelvin_voigt_point(T, sigma, c_, knots, gp.w, h, theta, gp, q0, q1, r, K);
+          sigma[g].head<3>() =
+              (1.0 - gp.t) * knot_sigma_[static_cast<size_t>(e)] + gp.t * knot_sigma_[static_cast<size_t>(e + 1)];
       }
+      kernels::span_kelvin_voigt(b.strain_table(), &b.gp(e, 0), b.n_gp(), sigma, c_, knots, h, theta, q0, q1, r, K);
     }
     if (alpha_ == 0.0) return;
     // alpha M (q1 - q0) / h, M the span's consistent mass (the inertia's blocks)
