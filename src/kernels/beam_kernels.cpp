@@ -119,6 +119,19 @@ typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
 // part (27) first, then a zero, the phi part (9) and three zeros, so that rows are whole SIMD
 // vectors and rows without phi terms skip them.
 constexpr int kRowWidth = 40, kPhiOffset = 28;
+// acc += sum_r U(r, i) V(r, :NV vectors) (always inlined: compiled into each clone of its caller)
+template <int NV>
+[[gnu::always_inline]] inline void add_row_products(int n, const double (*U)[kRowWidth], const double (*V)[kRowWidth],
+                                                    int i, Quad* acc) {
+  for (int r = 0; r < n; ++r) {
+    const double u = U[r][i];
+    for (int v = 0; v < NV; ++v) {
+      Quad x;
+      std::memcpy(&x, &V[r][4 * v], sizeof x);
+      acc[v] += u * x;
+    }
+  }
+}
 // Kp(i, :) = sum_r Ud(r, i) Vd(r, :) + sum_r Um(r, i) Vm(r, :) over the rows i given (Kp
 // row-major): the director rows' first ND vectors of columns, the mixed rows' first NM.
 template <int ND, int NM>
@@ -128,22 +141,8 @@ SB_HOT_KERNEL void add_rank_one_products(int nd, const double (*Ud)[kRowWidth], 
   constexpr int N = ND > NM ? ND : NM;
   for (int i = first_row; i < end_row; ++i) {
     Quad acc[N] = {};
-    for (int r = 0; r < nd; ++r) {
-      const double u = Ud[r][i];
-      for (int v = 0; v < ND; ++v) {
-        Quad x;
-        std::memcpy(&x, &Vd[r][4 * v], sizeof x);
-        acc[v] += u * x;
-      }
-    }
-    for (int r = 0; r < nm; ++r) {
-      const double u = Um[r][i];
-      for (int v = 0; v < NM; ++v) {
-        Quad x;
-        std::memcpy(&x, &Vm[r][4 * v], sizeof x);
-        acc[v] += u * x;
-      }
-    }
+    add_row_products<ND>(nd, Ud, Vd, i, acc);
+    add_row_products<NM>(nm, Um, Vm, i, acc);
     for (int v = 0; v < N; ++v) std::memcpy(&Kp[i][4 * v], &acc[v], sizeof(Quad));
   }
 }
