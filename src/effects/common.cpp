@@ -127,10 +127,8 @@ void ControlPointBand::layout(const Beam& b, const std::vector<int>& spans, cons
     hi_ = std::max(hi_, e + 2);
   }
   for (int i : knots) {
-    int l, r;
-    knot_spans(b, i, l, r);
-    lo_ = std::min(lo_, l >= 0 ? l : r);
-    hi_ = std::max(hi_, (r >= 0 ? r : l) + 2);
+    lo_ = std::min(lo_, knot_first_cp(b, i));
+    hi_ = std::max(hi_, knot_last_cp(b, i));
   }
   if (hi_ < lo_) lo_ = 0, hi_ = -1;
   v_.assign(static_cast<size_t>(hi_ - lo_ + 1) * kernels::kNq * static_cast<size_t>(width()), 0.0);

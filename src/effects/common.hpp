@@ -89,6 +89,19 @@ inline void knot_spans(const Beam& b, int i, int& left, int& right) {
   left = i >= 1 ? i - 1 : -1;
   right = i < b.n_spans() ? i : -1;
 }
+/// The first control point (beam-local) of knot i's patch.
+inline int knot_first_cp(const Beam& b, int i) {
+  int l, r;
+  knot_spans(b, i, l, r);
+  return l >= 0 ? l : r;
+}
+/// The last control point (beam-local) of knot i's patch.
+inline int knot_last_cp(const Beam& b, int i) {
+  int l, r;
+  knot_spans(b, i, l, r);
+  return (r >= 0 ? r : l) + 2;
+}
+
 /// Add all unknowns (coordinates and multipliers) of control points cp0 .. cp0+n-1 to a dof list.
 void add_cp_blocks(const DofMap& map, PetscInt cp0, int n, std::vector<PetscInt>& dofs);
 
@@ -110,19 +123,13 @@ struct SpanMomentGradients {
   KnotGradient knot(const Beam& b, int i) const {
     int l, r;
     knot_spans(b, i, l, r);
-    const int cp0 = l >= 0 ? l : r;
-    KnotGradient G = KnotGradient::Zero(3, kernels::kNq * ((r >= 0 ? r : l) + 3 - cp0));
+    const int cp0 = knot_first_cp(b, i);
+    KnotGradient G = KnotGradient::Zero(3, kernels::kNq * (knot_last_cp(b, i) + 1 - cp0));
     if (l >= 0) G.middleCols(kernels::kNq * (l - cp0), kernels::kNqEl) += right[static_cast<size_t>(l)];
     if (r >= 0) G.middleCols(kernels::kNq * (r - cp0), kernels::kNqEl) += left[static_cast<size_t>(r)];
     return G;
   }
 };
-/// The first control point (beam-local) of knot i's patch.
-inline int knot_first_cp(const Beam& b, int i) {
-  int l, r;
-  knot_spans(b, i, l, r);
-  return l >= 0 ? l : r;
-}
 
 /// A director beam's Jacobian blocks summed on this rank by control point before they go to the
 /// global matrix: one add per control point's 12 coordinate rows over the control points up to

@@ -639,12 +639,6 @@ void span_gamma_moment_gradients(const StrainTable& T, const GaussPoint* gps, in
   }
 }
 
-Mat3El span_gamma_moment_gradient(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, bool right) {
-  Mat3El l, r;
-  span_gamma_moment_gradients(T, gps, n, q, l, r);
-  return right ? r : l;
-}
-
 double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
                    bool gamma_from_knots, const VecEl& q) {
   Stiffness Ck = C;

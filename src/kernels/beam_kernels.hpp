@@ -34,7 +34,6 @@ constexpr int kNqEl = 3 * kNq;  ///< coordinates of a quadratic span (3 control 
 
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using VecZ = Eigen::Matrix<double, kNz, 1>;
-using MatZ = Eigen::Matrix<double, kNz, kNz>;
 using Mat6Z = Eigen::Matrix<double, 6, kNz>;
 using VecEl = Eigen::Matrix<double, kNqEl, 1>;
 /// (row-major: the layout the global assembly takes)
@@ -176,10 +175,8 @@ struct GammaMoments {
 };
 GammaMoments span_gamma_moments(const StrainTable& T, const GaussPoint* gps, const Vec6* eps0, int n,
                                 const VecEl& q);
-/// The derivative d/dq of a span's moment toward its left (right = false) or right knot at q (3 x 36).
+/// The derivatives d/dq of a span's moments toward its left and right knots at q (3 x 36 each).
 using Mat3El = Eigen::Matrix<double, 3, kNqEl>;
-Mat3El span_gamma_moment_gradient(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, bool right);
-/// Both of them at once (they share the points' strain gradients).
 void span_gamma_moment_gradients(const StrainTable& T, const GaussPoint* gps, int n, const VecEl& q, Mat3El& left,
                                  Mat3El& right);
 
@@ -187,7 +184,7 @@ void span_gamma_moment_gradients(const StrainTable& T, const GaussPoint* gps, in
 /// gamma_sigma (may be null): the Gamma stresses at the points, C_Gamma times the assumed strains
 /// interpolated from the knots; they replace the points' own, and the tangent then holds the
 /// Gamma part's geometric terms only (its material part couples the knot's spans:
-/// span_gamma_moment_gradient). span_energy with gamma_sigma counts torsion and bending only.
+/// span_gamma_moment_gradients). span_energy with gamma_sigma counts torsion and bending only.
 double span_energy(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,
                    bool gamma_from_knots, const VecEl& q);
 void span_residual_tangent(const StrainTable& T, const Stiffness& C, const GaussPoint* gps, const Vec6* eps0, int n,

@@ -228,7 +228,7 @@ INSTANTIATE_TEST_SUITE_P(MeasuresAndRules, KernelFD,
                                                               Quadrature::AssumedStrain)));
 
 // Spans of the assumed-strain beam, whose Gamma stresses come from the knots (held fixed here:
-// the knots' own derivative is span_gamma_moment_gradient): the tangent is the derivative of the
+// the knots' own derivative is span_gamma_moment_gradients): the tangent is the derivative of the
 // residual, statics and energy-momentum; the time steps' SIMD kernel gives the same force. The
 // knot moments' gradient is their FD derivative.
 class SpanFD : public ::testing::TestWithParam<StrainMeasure> {};
@@ -255,8 +255,10 @@ TEST_P(SpanFD, KnotStressesTangentsAndMoments) {
   VecEl r = VecEl::Zero();
   MatEl K = MatEl::Zero();
   span_residual_tangent(T, C, pts.data(), eps0.data(), n, gs, q, r, &K);
+  Mat3El G_left, G_right;
+  span_gamma_moment_gradients(T, pts.data(), n, q, G_left, G_right);
   for (bool right : {false, true}) {
-    const Mat3El G = span_gamma_moment_gradient(T, pts.data(), n, q, right);
+    const Mat3El& G = right ? G_right : G_left;
     for (int i = 0; i < kNqEl; ++i) {
       VecEl qp = q, qm = q;
       qp(i) += h;
