@@ -28,12 +28,9 @@ namespace slidebeam::effects {
 
 namespace {
 using kernels::kNqEl;
-using kernels::kNz;
 using kernels::MatEl;
-using kernels::StrainTable;
 using kernels::Vec6;
 using kernels::VecEl;
-using kernels::VecZ;
 using Vec3 = Eigen::Vector3d;
 
 /// The retardation time of each strain (axial, shear 2, shear 3, torsion, bending about d2, about
@@ -134,18 +131,14 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
     const double h = ctx.h, theta = ctx.theta;
     const bool knots = knots_used(b);
     if (c_.maxCoeff() > 0.0) {
-      Vec6 sigma[kernels::kSpanLanes];  // the points' viscous stresses
-      for (int g = 0; g < b.n_gp(); ++g) {
-        const kernels::GaussPoint& gp = b.gp(e, g);
-        const StrainTable T = kernels::point_table(b.strain_table(), gp);
-        const VecZ z0 = kernels::field_values(gp, q0), z1 = kernels::field_values(gp, q1);
-        for (int i = 0; i < 6; ++i)
-          sigma[g][i] = c_[i] * (kernels::form_value<kNz>(T[i], z1) - kernels::form_value<kNz>(T[i], z0)) / h;
-        if (knots)
-          sigma[g].head<3>() =
-              (1.0 - gp.t) * knot_sigma_[static_cast<size_t>(e)] + gp.t * knot_sigma_[static_cast<size_t>(e + 1)];
-      }
-      kernels::span_kelvin_voigt(b.strain_table(), &b.gp(e, 0), b.n_gp(), sigma, c_, knots, h, theta, q0, q1, r, K);
+      Vec3 gs[kernels::kSpanLanes];  // the knots' Gamma stresses at the points
+      if (knots)
+        for (int g = 0; g < b.n_gp(); ++g) {
+          const double t = b.gp(e, g).t;
+          gs[g] = (1.0 - t) * knot_sigma_[static_cast<size_t>(e)] + t * knot_sigma_[static_cast<size_t>(e + 1)];
+        }
+      kernels::span_kelvin_voigt(b.strain_table(), &b.gp(e, 0), b.n_gp(), c_, knots ? gs : nullptr, h, theta, q0, q1, r,
+                                 K);
     }
     if (alpha_ == 0.0) return;
     // alpha M (q1 - q0) / h, M the span's consistent mass (the inertia's blocks)

@@ -514,28 +514,30 @@ void gp_residual_tangent_em(const StrainTable& T0, const Stiffness& C0, const Ve
 }
 }  // namespace
 
-void span_kelvin_voigt(const StrainTable& T0, const GaussPoint* gps, int n, const Vec6* sigma, const Vec6& c,
-                       bool gamma_from_knots, double h, double theta, const VecEl& q0, const VecEl& q1, VecEl& r,
-                       MatEl* K) {
+void span_kelvin_voigt(const StrainTable& T0, const GaussPoint* gps, int n, const Vec6& c,
+                       const Eigen::Vector3d* gamma_sigma, double h, double theta, const VecEl& q0, const VecEl& q1,
+                       VecEl& r, MatEl* K) {
   SpanTangent Ks;
   for (int g = 0; g < n; ++g) {
     const GaussPoint& gp = gps[g];
     const StrainTable T = point_table(T0, gp);
-    const VecZ z1 = apply_P(gp, q1), zf = (1.0 - theta) * apply_P(gp, q0) + theta * z1;
+    const VecZ z0 = apply_P(gp, q0), z1 = apply_P(gp, q1), zf = (1.0 - theta) * z0 + theta * z1;
+    Vec6 sigma = c.cwiseProduct(strains(T, z1) - strains(T, z0)) / h;
+    if (gamma_sigma) sigma.head<3>() = gamma_sigma[g];
     VecZ force = VecZ::Zero();
     SpanTangent::Hessian H{};
     for (int k = 0; k < 6; ++k) {
       if (c(k) == 0.0) continue;
       Eigen::Matrix<double, 1, kNz> gf;
       form_gradient<kNz>(T[k], zf, gf);
-      force += sigma[g](k) * gf.transpose();
+      force += sigma(k) * gf.transpose();
       if (!K) continue;
       for (int t = 0; t < T[k].n_terms; ++t) {
         const auto& term = T[k].terms[t];
-        H[term.a][term.b] += theta * sigma[g](k) * term.c;
-        H[term.b][term.a] += theta * sigma[g](k) * term.c;
+        H[term.a][term.b] += theta * sigma(k) * term.c;
+        H[term.b][term.a] += theta * sigma(k) * term.c;
       }
-      if (gamma_from_knots && k < 3) continue;  // the knot's material part: added per knot
+      if (gamma_sigma && k < 3) continue;  // the knot's material part: added per knot
       Eigen::Matrix<double, 1, kNz> g1;
       form_gradient<kNz>(T[k], z1, g1);
       Ks.add_rank_one(gp, gp.w, VecZ((c(k) / h) * gf.transpose()), VecZ(g1.transpose()));

@@ -194,15 +194,16 @@ void span_residual_tangent_em(const StrainTable& T, const Stiffness& C, const Ga
                               int n, const Eigen::Vector3d* gamma_sigma, const VecEl& q0, const VecEl& q1, VecEl& r,
                               MatEl* K, double xi = 0.0);
 
-/// Kelvin-Voigt damping of a span's points: r += w P^T sum_k sigma_k d eps_k/dz at the force state
-/// z_f = (1 - theta) z(q0) + theta z(q1), with the points' viscous stresses sigma given, and (if K
-/// is given) K += d r / d q1 = w P^T [theta sum_k sigma_k d^2 eps_k/dz^2 + sum_k (c_k / h)
-/// (d eps_k/dz (z_f))^T d eps_k/dz (z(q1))] P, c the damping per strain (tau C). The material part
-/// of the Gamma strains is left out where gamma_from_knots (it couples a knot's spans). The
-/// points' strains are those of point_table (no turning term).
-void span_kelvin_voigt(const StrainTable& T, const GaussPoint* gps, int n, const Vec6* sigma, const Vec6& c,
-                       bool gamma_from_knots, double h, double theta, const VecEl& q0, const VecEl& q1, VecEl& r,
-                       MatEl* K);
+/// Kelvin-Voigt damping of a span's points: the viscous stresses sigma_k = c_k (eps_k(q1) -
+/// eps_k(q0)) / h, c the damping per strain (tau C), and r += w P^T sum_k sigma_k d eps_k/dz at the
+/// force state z_f = (1 - theta) z(q0) + theta z(q1); (if K is given) K += d r / d q1 = w P^T
+/// [theta sum_k sigma_k d^2 eps_k/dz^2 + sum_k (c_k / h) (d eps_k/dz (z_f))^T d eps_k/dz (z(q1))] P.
+/// gamma_sigma (may be null): the points' Gamma stresses given from outside (the knots'); they
+/// replace the points' own, and the tangent then leaves out their material part (it couples a
+/// knot's spans). The points' strains are those of point_table (no turning term).
+void span_kelvin_voigt(const StrainTable& T, const GaussPoint* gps, int n, const Vec6& c,
+                       const Eigen::Vector3d* gamma_sigma, double h, double theta, const VecEl& q0, const VecEl& q1,
+                       VecEl& r, MatEl* K);
 
 /// What an energy-momentum step needs of one span at q_n, for span_residual_em: its quadrature
 /// points' basis and weights, z(q_n), eps(q_n) and the reference strains, point g in lane g
