@@ -9,6 +9,12 @@
 
 namespace slidebeam::kernels {
 
+// The helpers of the SIMD span kernel are forced inline: called from an x86-64-v3 clone
+// (SB_HOT_KERNEL), a helper GCC leaves out of line runs its baseline code on every call, and
+// whether it does changes with the size of this file (a new kernel elsewhere in it made the
+// pendulum's steps 1.5x slower).
+#define SB_LANE_INLINE __attribute__((always_inline)) inline
+
 namespace {
 // Betsch & Steinmann (2002) objective director strains:
 //   Gamma_i = d_i . phi' (- delta_i1), K_1 = 1/2 (d3.d2' - d2.d3'), K_2 = 1/2 (d1.d3' - d3.d1'),
@@ -271,12 +277,12 @@ namespace {
 // a . b of two 3-blocks, for any arithmetic type: doubles, or SIMD lanes that hold several
 // quadrature points (the span kernels below)
 template <class T>
-inline T dot3(const T* a, const T* b) {
+SB_LANE_INLINE T dot3(const T* a, const T* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 // K_i = 1/2 (d_k . e_j - d_j . e_k), (i, j, k) cyclic, e the block of z at `slot` (d' or d'')
 template <class T>
-inline void curvature_form(const T* z, int slot, T* K) {
+SB_LANE_INLINE void curvature_form(const T* z, int slot, T* K) {
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     K[i] = 0.5 * (dot3(z + 3 * (kD1 + k), z + 3 * (slot + j)) - dot3(z + 3 * (kD1 + j), z + 3 * (slot + k)));
@@ -284,7 +290,7 @@ inline void curvature_form(const T* z, int slot, T* K) {
 }
 // g += sum_i s_i dK_i/dz of curvature_form(z, slot)
 template <class T>
-inline void curvature_form_gradient(const T* s, const T* z, int slot, T* g) {
+SB_LANE_INLINE void curvature_form_gradient(const T* s, const T* z, int slot, T* g) {
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     const T h = 0.5 * s[i];
@@ -297,7 +303,7 @@ inline void curvature_form_gradient(const T* s, const T* z, int slot, T* g) {
   }
 }
 template <class T>
-inline void cross3(const T* a, const T* b, T* c) {
+SB_LANE_INLINE void cross3(const T* a, const T* b, T* c) {
   c[0] = a[1] * b[2] - a[2] * b[1];
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
@@ -306,7 +312,7 @@ inline void cross3(const T* a, const T* b, T* c) {
 // gradients at z: the exact gradient where kbar = K(z), kpbar = K'(z); the product rule's discrete
 // gradient where they are the step's averages and z its midpoint.
 template <class T>
-inline void turning_gradient(const T* s, const T* kbar, const T* kpbar, const T& c, const T* z, T* g) {
+SB_LANE_INLINE void turning_gradient(const T* s, const T* kbar, const T* kpbar, const T& c, const T* z, T* g) {
   T a[3], b[3];
   cross3(kpbar, s, a);  // d(K x K') = dK x K' + K x dK': s . (dK x K') = (K' x s) . dK
   cross3(s, kbar, b);   //                                   s . (K x dK') = (s x K) . dK'
@@ -684,7 +690,7 @@ namespace {
 // several quadrature points. z blocks: 0 phi', 1-3 d1..d3, 4-6 d1'..d3'.
 struct SimoReissnerForms {
   template <class T>
-  static void strains(const T* z, T* e) {
+  SB_LANE_INLINE static void strains(const T* z, T* e) {
     const T *p = z + 3 * kPhiS, *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
     e[0] = dot3(d1, p);
@@ -695,7 +701,7 @@ struct SimoReissnerForms {
     e[5] = 0.5 * (dot3(d2, e1) - dot3(d1, e2));
   }
   template <class T>
-  static void gradient(const T* s, const T* z, T* g) {
+  SB_LANE_INLINE static void gradient(const T* s, const T* z, T* g) {
     const T h3 = 0.5 * s[3], h4 = 0.5 * s[4], h5 = 0.5 * s[5];
     const T *p = z + 3 * kPhiS, *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
@@ -712,7 +718,7 @@ struct SimoReissnerForms {
 };
 struct SeedForms {
   template <class T>
-  static void strains(const T* z, T* e) {
+  SB_LANE_INLINE static void strains(const T* z, T* e) {
     const T *p = z + 3 * kPhiS, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
     e[0] = 0.5 * dot3(p, p);
@@ -723,7 +729,7 @@ struct SeedForms {
     e[5] = dot3(p, e2);
   }
   template <class T>
-  static void gradient(const T* s, const T* z, T* g) {
+  SB_LANE_INLINE static void gradient(const T* s, const T* z, T* g) {
     const T h3 = 0.5 * s[3];
     const T *p = z + 3 * kPhiS, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
@@ -744,7 +750,7 @@ struct SeedForms {
 // out like the forms above (v: the point's correction weight).
 struct DirectorCorrection {
   template <class T>
-  static void strains(const T* z, const T& v, T* e) {
+  SB_LANE_INLINE static void strains(const T* z, const T& v, T* e) {
     const T *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
     const T *e1 = z + 3 * kD1S, *e2 = z + 3 * kD2S, *e3 = z + 3 * kD3S;
     const T *f1 = z + 3 * kD1SS, *f2 = z + 3 * kD2SS, *f3 = z + 3 * kD3SS;
@@ -757,7 +763,7 @@ struct DirectorCorrection {
     e[5] += 0.5 * v * (dot3(e2, f1) - dot3(e1, f2));
   }
   template <class T>
-  static void gradient(const T* s, const T* z, const T& v, T* g) {
+  SB_LANE_INLINE static void gradient(const T* s, const T* z, const T& v, T* g) {
     const T h3 = 0.5 * v * s[3], h4 = 0.5 * v * s[4], h5 = 0.5 * v * s[5];
     const T g1 = 0.5 * s[1], g2 = 0.5 * s[2];
     const T *d1 = z + 3 * kD1, *d2 = z + 3 * kD2, *d3 = z + 3 * kD3;
@@ -782,13 +788,13 @@ struct DirectorCorrection {
 // A span's quadrature points side by side in the lanes of one SIMD register (GCC vector
 // extension: AVX2 in the x86-64-v3 clone, SSE2 pairs otherwise).
 typedef double Lanes __attribute__((vector_size(sizeof(double) * kSpanLanes)));
-inline Lanes load(const double* p) {
+SB_LANE_INLINE Lanes load(const double* p) {
   Lanes v;
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-inline void store(Lanes v, double* p) { std::memcpy(p, &v, sizeof v); }
-inline double lane_sum(Lanes v) {
+SB_LANE_INLINE void store(Lanes v, double* p) { std::memcpy(p, &v, sizeof v); }
+SB_LANE_INLINE double lane_sum(Lanes v) {
   double s = 0.0;
   for (int l = 0; l < kSpanLanes; ++l) s += v[l];
   return s;
