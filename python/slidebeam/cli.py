@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Command line: ``slidebeam run SCENE``, ``slidebeam check SCENE`` and ``slidebeam plot RUN...``.
+"""Command line: ``slidebeam run SCENE``, ``check SCENE``, ``study``, ``plot RUN...`` and ``render RUN``.
 
 Exit codes: 0 success, 1 the solve failed (Newton), 2 bad input or unusable output folder,
 3 internal error. Anything after ``--`` goes to the PETSc options database.
@@ -20,6 +20,7 @@ from . import interrupts
 from .effect_tables import table_specs
 from .scene import Scene, SceneError, load_scene, scene_from_dict
 from .checkpoint import CheckpointError
+from .rundata import RunFolderError
 from .costs import output_phase
 from . import options_check
 from .parallel import release_waiting_ranks, running_alone, serial_below, statics_on_rank_0, wait_sleeping
@@ -76,15 +77,56 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("-j", "--jobs", type=int, default=None, help="runs at once (default 1, or the study file's jobs)")
     st.add_argument("--out", help="output folder (default: out/study_<name>)")
     st.add_argument("-q", "--quiet", action="store_true", help="no progress output")
-    plot = sub.add_parser("plot", help="plot energy and momentum of dynamic runs (PNG)",
-                          description="Draw total energy, its relative change, linear and angular momentum over "
-                                      "time for one or more run folders, one colour per run.",
-                          epilog="Example: slidebeam plot out/em out/midpoint --out energy.png")
+    plot = sub.add_parser("plot", help="plot runs: energy, paths, tension, reactions, sliders, solver (PNG/PDF)",
+                          description="Draw plots of one or more run folders (one line style per run): energy "
+                                      "(energy, energy balance, momenta), paths (tracked points and point masses), "
+                                      "tension (along every beam over time), reactions (supports and joints), "
+                                      "sliders (sliding joints' s and speed), solver (Newton iterations, step size, "
+                                      "rejected steps).",
+                          formatter_class=argparse.RawDescriptionHelpFormatter,
+                          epilog="Examples:\n"
+                                 "  slidebeam plot out/ropeway                        # out/ropeway/plots/<kind>.png\n"
+                                 "  slidebeam plot out/ropeway --what tension,reactions --format pdf\n"
+                                 "  slidebeam plot out/ropeway --out ropeway.pdf      # every plot, one page each\n"
+                                 "  slidebeam plot out/em out/midpoint --out energy.png")
     plot.add_argument("runs", nargs="+", help="run folders (with history.csv)")
-    plot.add_argument("--out", help="PNG file (default: <first run>/energy_momentum.png)")
+    plot.add_argument("--what", metavar="KINDS",
+                      help="comma-separated: energy, paths, tension, reactions, sliders, solver, or all "
+                           "(default: every kind the runs have; with --out FILE.png: energy)")
+    plot.add_argument("--out", help="a folder (one file per plot; default: <first run>/plots), a .png file "
+                                    "(one plot) or a .pdf file (one page per plot)")
+    plot.add_argument("--format", choices=("png", "pdf"), default="png", help="file format in a folder (default png)")
     plot.add_argument("--drift", action="store_true",
-                      help="momentum panels: the relative change |L(t) - L(0)| / |L(0)|, |J(t) - J(0)| / |J(0)| on a "
-                           "log scale instead of the components (for free-floating structures)")
+                      help="energy plot's momentum panels: the relative change |L(t) - L(0)| / |L(0)|, "
+                           "|J(t) - J(0)| / |J(0)| on a log scale instead of the components (free-floating structures)")
+    render = sub.add_parser("render", help="draw the deformed structure: pictures (PNG/PDF) or animations (GIF/MP4)",
+                            description="Draw a run's beams (coloured by a field), point masses and sliders at "
+                                        "chosen times, or the whole run as an animation, without a display "
+                                        "(matplotlib). The camera is fixed from the structure's extent over the run.",
+                            formatter_class=argparse.RawDescriptionHelpFormatter,
+                            epilog="Examples:\n"
+                                   "  slidebeam render out/ropeway                       # out/ropeway/render.png, last record\n"
+                                   "  slidebeam render out/ropeway --time 0 3 6 --view front\n"
+                                   "  slidebeam render out/ropeway --out ropeway.gif     # the whole run\n"
+                                   "  slidebeam render out/ropeway --out ropeway.mp4 --fps 30   # needs ffmpeg")
+    render.add_argument("run", help="run folder (with beams.xdmf)")
+    render.add_argument("--time", nargs="+", type=float, metavar="T",
+                        help="times to draw (the nearest records; default: the last record); one file per time "
+                             "when several are given to a .png")
+    render.add_argument("--out", help="file: .png or .pdf (pictures), .gif or .mp4 (animation of the whole run); "
+                                      "default <run>/render.png")
+    render.add_argument("--view", default="iso",
+                        help="iso, front (x-z), side (y-z), top (x-y), or ELEVATION,AZIMUTH in degrees (default iso)")
+    render.add_argument("--field", default="tension",
+                        help="colour of the beams: tension, velocity, displacement, s, or none (default tension)")
+    render.add_argument("--size", default="1280x720", metavar="WxH", help="pixels (default 1280x720)")
+    render.add_argument("--fps", type=float, default=20.0, help="animation frames per second (default 20)")
+    render.add_argument("--frames", type=int, default=None,
+                        help="animation: at most this many frames, evenly over the run (default: every record, "
+                             "up to 600)")
+    return p
+
+
     return p
 
 
@@ -577,12 +619,17 @@ def main(argv: list[str] | None = None) -> int:
     rank = _rank()
     try:
         if args.command == "plot":
-            from .plots import plot_energy_momentum
+            from .plots import parse_kinds, plot
 
-            runs = [Path(r) for r in args.runs]
-            png = plot_energy_momentum(runs, Path(args.out) if args.out else runs[0] / "energy_momentum.png",
-                                       drift=args.drift)
-            _say(rank, f"wrote {png}")
+            files = plot(args.runs, parse_kinds(args.what) if args.what else None, args.out, args.format, args.drift)
+            for f in files:
+                _say(rank, f"wrote {f}")
+            return EXIT_OK
+        if args.command == "render":
+            from .render import render_command
+
+            for f in render_command(args, lambda text: _say(rank, text)):
+                _say(rank, f"wrote {f}")
             return EXIT_OK
         if args.command == "study":
             from .study import main_study
@@ -596,7 +643,7 @@ def main(argv: list[str] | None = None) -> int:
     except SceneError as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
-    except (FileNotFoundError, CheckpointError) as err:
+    except (FileNotFoundError, CheckpointError, RunFolderError) as err:
         _say(rank, f"slidebeam: error: {err}", sys.stderr)
         return EXIT_INPUT
     except (ValueError, TypeError) as err:  # the core's invalid_argument arrives as ValueError

@@ -2,27 +2,12 @@
 """Energy and momentum over time for one or more run folders (history.csv of dynamic runs)."""
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 
 import numpy as np
 
-
-def read_history(run_dir: Path) -> dict[str, np.ndarray]:
-    """Columns of a run's history.csv as float arrays (text columns are skipped)."""
-    path = Path(run_dir) / "history.csv"
-    if not path.is_file():
-        raise FileNotFoundError(f"{path} does not exist (is {run_dir} a slidebeam run folder?)")
-    with path.open() as f:
-        rows = list(csv.DictReader(f))
-    out: dict[str, np.ndarray] = {}
-    for key in rows[0] if rows else []:
-        try:
-            out[key] = np.array([float(r[key]) for r in rows])
-        except ValueError:
-            continue
-    return out
+from ..rundata import RunFolderError, read_history
 
 
 def _label(run_dir: Path) -> str:
@@ -34,24 +19,21 @@ def _label(run_dir: Path) -> str:
     return Path(run_dir).name
 
 
-def plot_energy_momentum(run_dirs: list[Path], out_png: Path, drift: bool = False) -> Path:
+def energy_figure(run_dirs: list[Path], drift: bool = False):
     """Four panels: total energy, the energy balance's error |H - H0 - W + D| relative to the
     largest energy of the run (histories without it: the energy change per record), linear
     momentum and angular momentum (all components; drift: their relative change from the start
     on a log scale), one line style per run. Runs with the same label (integrator) are told
     apart by their folder's name."""
-    import matplotlib
+    from .style import new_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(2, 2, figsize=(12, 8), sharex=True)
+    fig, ax = new_figure(2, 2, figsize=(12, 8), sharex=True)
     typical = []
     labels = [_label(run) for run in run_dirs]
     for k, run in enumerate(run_dirs):
         h = read_history(run)
         if "total_energy" not in h:
-            raise ValueError(f"{run}: history.csv has no total_energy column (not a dynamic run)")
+            raise RunFolderError(f"{run}: history.csv has no total_energy column (not a dynamic run)")
         t, H = h["t"], h["total_energy"]
         ok = h["converged"] > 0
         t, H = t[ok], H[ok]
@@ -94,8 +76,4 @@ def plot_energy_momentum(run_dirs: list[Path], out_png: Path, drift: bool = Fals
     ax[0, 0].legend(fontsize=8)
     ax[1, 1].legend(fontsize=7, ncol=1 if drift else 2)
     fig.tight_layout()
-    out_png = Path(out_png)
-    out_png.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out_png, dpi=110)
-    plt.close(fig)
-    return out_png
+    return fig
