@@ -92,6 +92,28 @@ assert static > 1e3 * step
 print(summary["complete"], summary["final_energy"]["total"])
 ```
 
+## Plots and pictures of a run folder
+
+```python
+import slidebeam
+from slidebeam import plots, render
+from slidebeam.rundata import open_run
+
+scene = slidebeam.load_scene("runs/pendulum16.toml", ["analysis.t_end=0.02", "beam.0.spans=4"])
+sim = slidebeam.Simulation(scene)
+with slidebeam.ResultWriter(sim, "out/api_pendulum") as writer:   # as in the example above
+    writer.finish(sim.run_dynamic(on_step=writer.record))
+
+run = open_run("out/api_pendulum")
+print(plots.available(run))            # the kinds of plot it has data for
+files = plots.plot(["out/api_pendulum"], what=["energy", "solver"], out="out/api_pendulum/plots")
+fig = plots.figure("tension", [run])   # a matplotlib Figure, to adjust before saving
+fig.savefig("out/api_pendulum/tension.pdf")
+pictures = render.pictures("out/api_pendulum", times=[0.0, 0.02], out="out/api_pendulum/pendulum.png")
+assert [p.name for p in pictures] == ["pendulum_t0.png", "pendulum_t0.02.png"]
+run.close()
+```
+
 ## Load steps driven by the script
 
 ```python
@@ -147,6 +169,8 @@ ITEMS = [
     ("Restarts", ["checkpoint:write_checkpoint", "checkpoint:read_checkpoint", "checkpoint:CheckpointError"]),
     ("Warnings and errors", ["simulation:ConstraintWarning", "simulation:EquilibriumFailure"]),
     ("Comparisons", ["catenary:ElasticCatenary"]),
+    ("Plots and pictures", ["plots:plot", "plots:figure", "plots:available", "render:pictures", "render:animation",
+                            "rundata:open_run", "rundata:Run", "rundata:Series"]),
 ]
 
 ROLE = re.compile(r":(?:class|meth|func|attr|mod|data):`~?([^`]+)`")

@@ -159,9 +159,12 @@ class Renderer:
         ax.set_zlim(centre[2] - half[2], centre[2] + half[2])
         ax.set_box_aspect(tuple(span), zoom=1.1)  # equal scales on every axis
         ax.view_init(elev=self.elevation, azim=self.azimuth)
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.set_zlabel("z [m]")
+        from matplotlib.ticker import MaxNLocator
+
+        for axis, name in zip((ax.xaxis, ax.yaxis, ax.zaxis), "xyz"):
+            axis.set_major_locator(MaxNLocator(6 if axis is ax.xaxis else 4))
+            axis.set_label_text(f"{name} [m]")
+            axis.labelpad = 12
         for pane in (ax.xaxis, ax.yaxis, ax.zaxis):
             pane.set_pane_color((1.0, 1.0, 1.0, 0.0))
         along_view = {(0.0, -90.0): ax.yaxis, (0.0, 0.0): ax.xaxis, (90.0, -90.0): ax.zaxis}

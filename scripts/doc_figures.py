@@ -1,0 +1,51 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Redraw the user guide's plots and pictures (docs/figures/) from shipped scenes:
+``runs/effects/ropeway.toml`` (every kind of plot, pictures from two views) and a 7 x 7 rockfall
+net from ``scripts/make_cables.py`` (a picture of a 12 978-unknown structure). About a minute.
+
+    scripts/doc_figures.py [--out docs/figures] [--work out/doc_figures]
+"""
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "python"))
+
+from slidebeam import plots, render  # noqa: E402
+
+
+def run(*args: str) -> None:
+    subprocess.run([str(ROOT / "scripts" / "slidebeam"), *args], check=True)
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", type=Path, default=ROOT / "docs" / "figures", help="where the figures go")
+    p.add_argument("--work", type=Path, default=ROOT / "out" / "doc_figures", help="where the runs go")
+    args = p.parse_args()
+    ropeway, net = args.work / "ropeway", args.work / "net7"
+    run("run", str(ROOT / "runs" / "effects" / "ropeway.toml"), "--out", str(ropeway), "-q")
+    net_scene = args.work / "net7.toml"
+    net_scene.parent.mkdir(parents=True, exist_ok=True)
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cables.py"), "--net", "7", "--spans", "4",
+                    "--t-end", "0.5", "--dt", "0.01", "--out", str(net_scene)], check=True)
+    run("run", str(net_scene), "--out", str(net), "-q")
+    written = []
+    for kind in plots.KINDS:
+        written += plots.plot([ropeway], what=[kind], out=args.out / f"plot_{kind}.png")
+    written += render.pictures(ropeway, times=[3.0], out=args.out / "render_ropeway_iso.png", size=(1100, 600))
+    written += render.pictures(ropeway, times=[0.0, 3.0, 6.0], out=args.out / "render_ropeway_front.png",
+                               view="front", field="none", size=(1100, 450))
+    written += render.pictures(net, out=args.out / "render_net.png", size=(1100, 650))
+    for f in written:
+        print(f"wrote {f.relative_to(ROOT) if f.is_relative_to(ROOT) else f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
