@@ -39,8 +39,6 @@ def main() -> int:
     for kind in plots.KINDS:
         written += plots.plot([ropeway], what=[kind], out=args.out / f"plot_{kind}.png")
     written += render.pictures(ropeway, times=[3.0], out=args.out / "render_ropeway_iso.png", size=(1100, 600))
-    written += render.pictures(ropeway, times=[0.0, 3.0, 6.0], out=args.out / "render_ropeway_front.png",
-                               view="front", field="none", size=(1100, 450))
     written += render.pictures(net, out=args.out / "render_net.png", size=(1100, 650))
     for f in written:
         print(f"wrote {f.relative_to(ROOT) if f.is_relative_to(ROOT) else f}")
