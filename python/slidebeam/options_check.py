@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""Typos in PETSc options: every option a run was given that nothing ever read.
+"""A scene's PETSc options: put into the options database (:func:`apply_scene_options`), and
+typos in any option: every option a run was given that nothing ever read.
 
 PETSc accepts any name into its options database and ignores the ones no solver asks for, so
 ``-snes_monitr`` or ``snes_rtoll = 1e-8`` in a scene's [petsc] table have no effect and no
@@ -29,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from .parallel import run_comm
+from .scene import Scene, SceneError
 
 # Read at PetscFinalize or at start-up only, or harmless: never "unused" in a useful sense.
 READ_AT_FINALIZE = frozenset("""
@@ -140,8 +142,6 @@ def _file_tokens(path: Path) -> list[str]:
 def _sources(scene) -> list[tuple[str, set[str], bool]]:
     """(where, option names in lower case, written with a dash) in the order that wins: the
     command line over its options files over the scene's options file over its [petsc] table."""
-    from .simulation import options_file_of
-
     out: list[tuple[str, set[str], bool]] = []
     names = _option_tokens(_command_line)
     out.append(("the command line", {n.lower() for n in names if n.lower() != "options_file"}, True))
@@ -173,7 +173,6 @@ def unused_options(scene=None, comm=None) -> list[UnusedOption]:
     .petscrc (what the database held when remember_command_line was called) and the scene's
     [petsc] table and options file."""
     from . import _core
-    from .simulation import _scene_option_keys
 
     comm = comm or run_comm()
     left = {name.lower(): (name, value) for name, value in _core.options_left()}
@@ -231,3 +230,53 @@ def warnings_of_runs(summaries) -> list[str]:
             if line not in lines:
                 lines.append(line)
     return lines
+
+
+def options_file_of(scene: Scene) -> Path | None:
+    """The scene's PETSc options file: `[petsc] options_file`, else `<scene>.opts` beside it."""
+    if scene.petsc_options_file:
+        return Path(scene.petsc_options_file)
+    if scene.file and not scene.file.startswith("<"):
+        beside = Path(scene.file).with_suffix(".opts")
+        if beside.is_file():
+            return beside
+    return None
+
+
+# Options the last scene put into the database (not the user's): the next Simulation removes
+# them first, so that one scene's [petsc] table does not leak into the next scene of a script.
+_scene_option_keys: set[str] = set()
+
+
+def apply_scene_options(scene: Scene) -> None:
+    """Scene options (file first, then [petsc]) fill the options database; anything already set,
+    i.e. given on the command line, wins. They stay in place for the life of the Simulation
+    (solvers read some only at their first solve) until the next Simulation is built."""
+    from petsc4py import PETSc
+
+    opts = PETSc.Options()
+    for key in _scene_option_keys:
+        opts.delValue(key)
+    _scene_option_keys.clear()
+    pairs: list[tuple[str, str]] = []
+    options_file = options_file_of(scene)
+    if options_file:
+        tokens = []
+        for line in options_file.read_text().splitlines():
+            tokens += shlex.split(line.split("#", 1)[0])
+        i = 0
+        while i < len(tokens):
+            key = tokens[i]
+            if not key.startswith("-"):
+                raise SceneError(f"expected an option starting with '-', got {key!r}", file=str(options_file))
+            value = ""
+            if i + 1 < len(tokens) and not (tokens[i + 1].startswith("-") and not is_number(tokens[i + 1])):
+                value = tokens[i + 1]
+                i += 1
+            pairs.append((key[1:], value))
+            i += 1
+    pairs += list(scene.petsc_options.items())
+    for key, value in pairs:
+        if not opts.hasName(key):
+            opts.setValue(key, value)
+            _scene_option_keys.add(key)

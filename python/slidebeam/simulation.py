@@ -8,11 +8,9 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import shlex
 import time
 import warnings
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Callable, Iterator, NamedTuple
 
 import numpy as np
@@ -22,7 +20,7 @@ from . import _core, interrupts
 from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end, carrier_end_message,
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
-from .options_check import is_number
+from .options_check import apply_scene_options
 from .parallel import equilibrium_on_rank_0, statics_on_rank_0, wait_sleeping
 from .scene import Scene, SceneError
 
@@ -126,54 +124,6 @@ class ContinuedSolve:
     reason_name: str = "CONVERGED_BY_CONTINUATION"  # or the fall-backs' reason
 
 
-def options_file_of(scene: Scene) -> Path | None:
-    """The scene's PETSc options file: `[petsc] options_file`, else `<scene>.opts` beside it."""
-    if scene.petsc_options_file:
-        return Path(scene.petsc_options_file)
-    if scene.file and not scene.file.startswith("<"):
-        beside = Path(scene.file).with_suffix(".opts")
-        if beside.is_file():
-            return beside
-    return None
-
-
-# Options the last scene put into the database (not the user's): the next Simulation removes
-# them first, so that one scene's [petsc] table does not leak into the next scene of a script.
-_scene_option_keys: set[str] = set()
-
-
-def _apply_petsc_options(scene: Scene) -> None:
-    """Scene options (file first, then [petsc]) fill the options database; anything already set,
-    i.e. given on the command line, wins. They stay in place for the life of the Simulation
-    (solvers read some only at their first solve) until the next Simulation is built."""
-    opts = PETSc.Options()
-    for key in _scene_option_keys:
-        opts.delValue(key)
-    _scene_option_keys.clear()
-    pairs: list[tuple[str, str]] = []
-    options_file = options_file_of(scene)
-    if options_file:
-        tokens = []
-        for line in options_file.read_text().splitlines():
-            tokens += shlex.split(line.split("#", 1)[0])
-        i = 0
-        while i < len(tokens):
-            key = tokens[i]
-            if not key.startswith("-"):
-                raise SceneError(f"expected an option starting with '-', got {key!r}", file=str(options_file))
-            value = ""
-            if i + 1 < len(tokens) and not (tokens[i + 1].startswith("-") and not is_number(tokens[i + 1])):
-                value = tokens[i + 1]
-                i += 1
-            pairs.append((key[1:], value))
-            i += 1
-    pairs += list(scene.petsc_options.items())
-    for key, value in pairs:
-        if not opts.hasName(key):
-            opts.setValue(key, value)
-            _scene_option_keys.add(key)
-
-
 class Simulation:
     """Model + solver of a scene: build it, then solve (``solve_static``, ``solve_step``,
     ``run_dynamic``) and look at the state (``point``, ``evaluate``, ``energies``,
@@ -197,7 +147,7 @@ class Simulation:
 
     def __init__(self, scene: Scene, comm: object | None = None) -> None:
         self.scene = scene
-        _apply_petsc_options(scene)
+        apply_scene_options(scene)
         # the options the model is built with: a serial copy on rank 0 (_alone_on_rank_0) is
         # built with them too, whatever the database holds by then
         self._options: dict[str, str | None] = PETSc.Options().getAll()
