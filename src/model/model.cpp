@@ -26,6 +26,22 @@ const char* const kLoopOrdering = MATORDERINGQMD;
 // three consecutive points of a director beam's quadratic span, two nodes of an ANCF element.
 int span_reach(const Beam& b) { return b.is_ancf() ? 1 : 2; }
 
+// An effect's term: an exception from it leaves as a PETSc error that names the effect (the
+// assembly runs inside PETSc's callbacks; util/petsc_check.hpp says why nothing may unwind there).
+template <class Term>
+PetscErrorCode effect_term(const Effect& effect, Term&& term) noexcept {
+  try {
+    return term();
+  } catch (...) {
+    std::string label = "?";
+    try {
+      label = effect.label();
+    } catch (...) {
+    }
+    return current_exception_to_petsc(label.c_str());
+  }
+}
+
 PetscClassId slidebeam_classid() {
   static PetscClassId id = 0;
   if (!id) PetscClassIdRegister("slidebeam", &id);
@@ -513,7 +529,7 @@ PetscErrorCode Model::assemble_residual_of(const StepEval& ev, Vec x, Vec F, lon
       PetscFunctionBeginUser;
       if (only >= 0 && k != static_cast<size_t>(only)) PetscFunctionReturn(0);
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
-      PetscCall(effects_[k]->residual(ctx, rv));
+      PetscCall(effect_term(*effects_[k], [&] { return effects_[k]->residual(ctx, rv); }));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
       PetscFunctionReturn(0);
     };
@@ -575,8 +591,12 @@ PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J
     const MatSink mass_sink = coo ? MatSink(coo, mass_scale) : MatSink(J, mass_scale);
     for (size_t k = 0; k < effects_.size(); ++k) {
       PetscCall(PetscLogEventBegin(effect_events_[k], 0, 0, 0, 0));
-      PetscCall(effects_[k]->jacobian(ctx, rate_force_[k] ? rate_sink : sink));
-      if (mass_scale != 0.0) PetscCall(effects_[k]->mass(*this, mass_sink));
+      PetscCall(effect_term(*effects_[k], [&] {
+        PetscFunctionBeginUser;
+        PetscCall(effects_[k]->jacobian(ctx, rate_force_[k] ? rate_sink : sink));
+        if (mass_scale != 0.0) PetscCall(effects_[k]->mass(*this, mass_sink));
+        PetscFunctionReturn(0);
+      }));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
     }
     if (coo)  // every diagonal entry exists (identity rows of supports, pivoting LU)

@@ -2,6 +2,7 @@
 #include "solvers/coupling_correction.hpp"
 
 #include "solvers/director_condensation.hpp"
+#include "util/petsc_check.hpp"
 
 #include <algorithm>
 #include <iterator>
@@ -61,7 +62,7 @@ CouplingCorrection::~CouplingCorrection() {
 
 PetscErrorCode CouplingCorrection::attach(KSP ksp) {
   PetscFunctionBeginUser;
-  PetscCall(KSPSetPostSolve(ksp, &CouplingCorrection::post_solve, this));
+  PetscCall(KSPSetPostSolve(ksp, guarded<&CouplingCorrection::post_solve>, this));
   PetscFunctionReturn(0);
 }
 

@@ -111,8 +111,8 @@ PetscErrorCode DirectorCondensation::reattach(SNES snes) {
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PCShellSetContext(pc, this));
-  PetscCall(PCShellSetSetUp(pc, &DirectorCondensation::pc_setup));
-  PetscCall(PCShellSetApply(pc, &DirectorCondensation::pc_apply));
+  PetscCall(PCShellSetSetUp(pc, guarded<&DirectorCondensation::pc_setup>));
+  PetscCall(PCShellSetApply(pc, guarded<&DirectorCondensation::pc_apply>));
   PetscCall(PCShellSetName(pc, "director triads condensed to 6 unknowns per control point, then LU"));
   PetscCall(install_line_search(snes));
   snes_ = snes;
@@ -137,7 +137,7 @@ PetscErrorCode DirectorCondensation::install_line_search(SNES snes) {
   SNESLineSearch ls = nullptr;
   PetscCall(SNESGetLineSearch(snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
-  PetscCall(SNESLineSearchShellSetUserFunc(ls, &DirectorCondensation::line_search, this));
+  PetscCall(SNESLineSearchShellSetUserFunc(ls, guarded<&DirectorCondensation::line_search>, this));
   PetscFunctionReturn(0);
 }
 
@@ -145,8 +145,8 @@ PetscErrorCode DirectorCondensation::attach_to_block(PC pc) {
   PetscFunctionBeginUser;
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PCShellSetContext(pc, this));
-  PetscCall(PCShellSetSetUp(pc, &DirectorCondensation::pc_setup));
-  PetscCall(PCShellSetApply(pc, &DirectorCondensation::pc_apply));
+  PetscCall(PCShellSetSetUp(pc, guarded<&DirectorCondensation::pc_setup>));
+  PetscCall(PCShellSetApply(pc, guarded<&DirectorCondensation::pc_apply>));
   PetscCall(PCShellSetName(pc, "exact block solve, director triads condensed to 6 unknowns per control point"));
   PetscFunctionReturn(0);
 }

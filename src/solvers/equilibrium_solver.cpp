@@ -40,11 +40,11 @@ SNES EquilibriumSolver::newton_snes(PetscInt max_it) {
   SNES snes = nullptr;
   SB_CHECK(SNESCreate(model_.comm(), &snes));
   SB_CHECK(set_solver_prefix(snes, kEquilibriumPrefix));  // -sb_eq_snes_rtol, or plain -snes_rtol
-  SB_CHECK(SNESSetFunction(snes, model_.residual_vector(), &EquilibriumSolver::form_function, this));
-  SB_CHECK(SNESSetJacobian(snes, J_, J_, &EquilibriumSolver::form_jacobian, this));
+  SB_CHECK(SNESSetFunction(snes, model_.residual_vector(), guarded<&EquilibriumSolver::form_function>, this));
+  SB_CHECK(SNESSetJacobian(snes, J_, J_, guarded<&EquilibriumSolver::form_jacobian>, this));
   SB_CHECK(configure_newton(snes, &test_));
   SB_CHECK(SNESSetTolerances(snes, 1e-10, 1e-12, 1e-12, max_it, 10000));
-  SB_CHECK(SNESSetConvergenceTest(snes, &EquilibriumSolver::converged, this, nullptr));
+  SB_CHECK(SNESSetConvergenceTest(snes, guarded<&EquilibriumSolver::converged>, this, nullptr));
   return snes;
 }
 

@@ -23,7 +23,7 @@ PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
   // (linearised directors leave the constraint manifold) and then converges quadratically:
   // that is not divergence, so PETSc's dtol test is off. NaN/Inf and max_it still stop.
   PetscCall(SNESSetDivergenceTolerance(snes, -1.0));
-  PetscCall(SNESSetConvergenceTest(snes, &RoundoffTest::test, test, nullptr));
+  PetscCall(SNESSetConvergenceTest(snes, guarded<&RoundoffTest::test>, test, nullptr));
   // Sparse direct solve. The saddle-point matrix has zero diagonal entries (multipliers, and d1
   // for the seed's strains), so the factorisation must pivot: PETSc's own LU does not.
   // Serial: SuperLU; parallel: MUMPS. Both can be changed from the options database.

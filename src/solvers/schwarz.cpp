@@ -4,6 +4,7 @@
 #include "solvers/coupling_correction.hpp"
 #include "solvers/newton.hpp"
 #include "solvers/solver_options.hpp"
+#include "util/petsc_check.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -115,7 +116,7 @@ PetscErrorCode correction_of(KSP ksp, CouplingCorrection** c) {
     PetscContainer container = nullptr;
     PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &container));
     PetscCall(PetscContainerSetPointer(container, made));
-    PetscCall(PetscContainerSetUserDestroy(container, &destroy_correction));
+    PetscCall(PetscContainerSetUserDestroy(container, guarded<&destroy_correction>));
     PetscCall(PetscObjectCompose(reinterpret_cast<PetscObject>(ksp), kCorrectionKey,
                                  reinterpret_cast<PetscObject>(container)));
     PetscCall(PetscContainerDestroy(&container));  // ksp holds it
@@ -189,10 +190,10 @@ PetscErrorCode prepare_schwarz(KSP ksp, const Model& model, Mat J, bool pattern_
     } else if (CouplingCorrection* c = coupling_correction(ksp)) {
       PetscCall(c->detach(ksp));
     }
-    if (how == SchwarzSolve::Blocks) PetscCall(KSPSetPostSolve(ksp, &fail_together, nullptr));
+    if (how == SchwarzSolve::Blocks) PetscCall(KSPSetPostSolve(ksp, guarded<&fail_together>, nullptr));
   } else if (preonly) {
     how = SchwarzSolve::Blocks;  // one rank owns the model (-sb_serial_below), or the user's preonly
-    if (model.dof_map().owners() != 1) PetscCall(KSPSetPostSolve(ksp, &fail_together, nullptr));
+    if (model.dof_map().owners() != 1) PetscCall(KSPSetPostSolve(ksp, guarded<&fail_together>, nullptr));
   }
   if (solve) *solve = how;
   // Block Jacobi factors each rank's diagonal block (no copy) in the model's order restricted

@@ -10,8 +10,8 @@ StaticSolver::StaticSolver(Model& model) : model_(model) {
   finalize_from_options(model);
   SB_CHECK(SNESCreate(model.comm(), &snes_));
   SB_CHECK(set_solver_prefix(snes_, kStaticPrefix));  // -sb_static_snes_rtol, or plain -snes_rtol
-  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &StaticSolver::form_function, this));
-  SB_CHECK(SNESSetJacobian(snes_, model.jacobian(), model.jacobian(), &StaticSolver::form_jacobian, this));
+  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), guarded<&StaticSolver::form_function>, this));
+  SB_CHECK(SNESSetJacobian(snes_, model.jacobian(), model.jacobian(), guarded<&StaticSolver::form_jacobian>, this));
   SB_CHECK(configure_newton(snes_, &test_));
   manifold_ = std::make_unique<ManifoldNewton>(model, snes_);
   SB_CHECK(SNESSetFromOptions(snes_));

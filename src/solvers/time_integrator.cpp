@@ -75,10 +75,10 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(MatDuplicate(model.jacobian(), MAT_DO_NOT_COPY_VALUES, &J_));
   SB_CHECK(SNESCreate(model.comm(), &snes_));
   SB_CHECK(set_solver_prefix(snes_, kStepPrefix));  // -sb_ts_snes_rtol, or plain -snes_rtol
-  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), &TimeIntegrator::form_function, this));
-  SB_CHECK(SNESSetJacobian(snes_, J_, J_, &TimeIntegrator::form_jacobian, this));
+  SB_CHECK(SNESSetFunction(snes_, model.residual_vector(), guarded<&TimeIntegrator::form_function>, this));
+  SB_CHECK(SNESSetJacobian(snes_, J_, J_, guarded<&TimeIntegrator::form_jacobian>, this));
   SB_CHECK(configure_newton(snes_, &test_));
-  SB_CHECK(SNESSetConvergenceTest(snes_, &TimeIntegrator::converged, this, nullptr));
+  SB_CHECK(SNESSetConvergenceTest(snes_, guarded<&TimeIntegrator::converged>, this, nullptr));
   // Serial steps: PETSc's own LU in the natural order first. Coordinates come before their
   // multipliers, so c0 M + theta K is eliminated before the constraint rows and their pivots are
   // Schur complements, nonzero as long as the coordinate block is regular: 2-3x faster than
