@@ -135,7 +135,8 @@ PYBIND11_MODULE(_core, m) {
           "add_beam",
           [](Model& self, const std::string& name, int n_spans, double length, const std::map<std::string, double>& sec,
              const std::string& strain, const std::string& quadrature,
-             py::array_t<double, py::array::c_style | py::array::forcecast> q_ref, const std::string& formulation) {
+             py::array_t<double, py::array::c_style | py::array::forcecast> q_ref, const std::string& formulation,
+             double unstretched_length) {
             BeamSpec spec;
             spec.name = name;
             if (formulation == "ancf") spec.formulation = Formulation::Ancf;
@@ -153,11 +154,13 @@ PYBIND11_MODULE(_core, m) {
             spec.strain = strain_from(strain);
             spec.quadrature = quadrature_from(quadrature);
             spec.q_ref.assign(q_ref.data(), q_ref.data() + q_ref.size());
+            spec.unstretched_length = unstretched_length;
             return self.add_beam(spec);
           },
           py::arg("name"), py::arg("n_spans"), py::arg("length"), py::arg("section"), py::arg("strain"),
-          py::arg("quadrature"), py::arg("q_ref"), py::arg("formulation") = "director",
-          "add a beam: director (q_ref: (spans+2) x 12) or ANCF cable (q_ref: (spans+1) x 6, r and r')")
+          py::arg("quadrature"), py::arg("q_ref"), py::arg("formulation") = "director", py::arg("unstretched_length") = 0.0,
+          "add a beam: director (q_ref: (spans+2) x 12) or ANCF cable (q_ref: (spans+1) x 6, r and r'); "
+          "unstretched_length > 0: a rope's stress-free state is straight, of that length (q_ref: where it starts)")
       .def(
           "add_effect",
           [](Model& self, const std::string& type, const std::map<std::string, double>& num,

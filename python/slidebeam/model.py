@@ -49,7 +49,7 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             b.name, b.spans, b.geometry.length,
             {k: getattr(sec, k) for k in ("EA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI2", "rhoI3")},
             "simo-reissner" if b.formulation == "ancf" else b.strain, b.quadrature, reference,
-            b.formulation,
+            b.formulation, b.unstretched_length,
         )
     dynamic = scene.analysis.type == "dynamic"
     for b in scene.beams:

@@ -148,6 +148,9 @@ class Beam:
     velocity: Vec3
     angular_velocity: Vec3
     rotation_center: Vec3 | None  # point the angular velocity turns about; None: the beam's start
+    # > 0: the stress-free state is straight and untwisted, of this length (the drawing is where
+    # the beam starts); 0: the drawing is the stress-free state
+    unstretched_length: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -508,7 +511,7 @@ _ANALYSIS_KEYS = (
 _INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 _BEAM_KEYS = (
     "name", "start", "end", "polyline", "arc", "d2", "spans", "quadrature", "strain",
-    "formulation", "velocity", "angular_velocity", "rotation_center", "section",
+    "formulation", "velocity", "angular_velocity", "rotation_center", "section", "unstretched_length", "pretension",
 )
 _ARC_KEYS = ("center", "radius", "normal", "start", "angle")
 _SHAPE_KEYS = ("shape", "b", "h", "r", "E", "nu", "rho", "k")
@@ -517,7 +520,7 @@ _EXPLICIT_KEYS = ("EA", "kGA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI
 _ANCF_EXPLICIT_KEYS = ("EA", "EI", "rhoA")
 _ANCF_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "rho")
 # beam keys that describe what a cable does not have (section frame, director strains, B-spline quadrature)
-_DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain")
+_DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain", "unstretched_length", "pretension")
 _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
               "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
@@ -572,7 +575,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
     default_name = Path(file).stem if file != "<dict>" else "scene"
 
     analysis = _parse_analysis(_Table(top.raw("analysis", {}), file, "[analysis]", "analysis"))
-    beams = _parse_beams(_array_of_tables(data, "beam", file), file)
+    beams = _parse_beams(_array_of_tables(data, "beam", file), file, _sag_direction_hint(data))
     if analysis.type == "dynamic":
         for b in beams:
             if not b.section.rhoA > 0:
@@ -836,13 +839,23 @@ def _parse_track_point(t: _Table, beams: tuple[Beam, ...]) -> TrackPoint:
 # [[beam]]
 
 
-def _parse_beams(raws: list[Any], file: str) -> tuple[Beam, ...]:
+def _sag_direction_hint(data: dict[str, Any]) -> np.ndarray:
+    """Where a slack rope drawn straight sags: along [gravity] g when the scene has it (checked
+    later with the rest of [gravity]), else down (-z)."""
+    g = data.get("gravity", {}).get("g") if isinstance(data.get("gravity"), dict) else None
+    if isinstance(g, list) and len(g) == 3 and all(isinstance(v, (int, float)) and math.isfinite(v) for v in g):
+        if any(g):
+            return np.asarray(g, dtype=float)
+    return np.array([0.0, 0.0, -1.0])
+
+
+def _parse_beams(raws: list[Any], file: str, sag: np.ndarray | None = None) -> tuple[Beam, ...]:
     if not raws:
         raise SceneError("at least one [[beam]] is required", file, "top level", "beam")
     beams: list[Beam] = []
     for index, raw in enumerate(raws):
         t = _Table(raw, file, f"[[beam]] #{index + 1}", "beam")
-        beam = _parse_beam(t, index)
+        beam = _parse_beam(t, index, np.array([0.0, 0.0, -1.0]) if sag is None else sag)
         for other in beams:
             if other.name == beam.name:
                 raise t.error("name", f"duplicate beam name '{beam.name}' (also [[beam]] #{other.index + 1})")
@@ -850,7 +863,7 @@ def _parse_beams(raws: list[Any], file: str) -> tuple[Beam, ...]:
     return tuple(beams)
 
 
-def _parse_beam(t: _Table, index: int) -> Beam:
+def _parse_beam(t: _Table, index: int, sag: np.ndarray) -> Beam:
     name = t.string("name")
     if not name.strip():
         raise t.error("name", "must be a non-empty string")
@@ -867,6 +880,10 @@ def _parse_beam(t: _Table, index: int) -> Beam:
     quadrature = t.choice("quadrature", ("auto", "full", "reduced", "assumed_strain"), "auto")
     if quadrature == "auto":
         quadrature = auto_quadrature(section, geometry.length / max(spans, 1))
+    strain = t.choice("strain", ("simo-reissner", "seed"), "simo-reissner")
+    unstretched = _parse_unstretched_length(t, geometry, section, strain, quadrature)
+    if geometry.kind == "line" and unstretched > geometry.length:
+        geometry = sagging_arc(geometry, unstretched, sag)  # drawn straight it would be a compressed strut
     return Beam(
         name=name,
         index=index,
@@ -874,13 +891,51 @@ def _parse_beam(t: _Table, index: int) -> Beam:
         d2=_parse_d2(t, geometry),
         spans=spans,
         quadrature=quadrature,
-        strain=t.choice("strain", ("simo-reissner", "seed"), "simo-reissner"),
+        strain=strain,
         formulation=formulation,
         section=section,
         velocity=t.vec3("velocity", list(_ZERO)),
         angular_velocity=t.vec3("angular_velocity", list(_ZERO)),
         rotation_center=t.vec3("rotation_center") if t.has("rotation_center") else None,
+        unstretched_length=unstretched,
     )
+
+
+def _parse_unstretched_length(t: _Table, geometry: Geometry, section: Section, strain: str, quadrature: str) -> float:
+    """A rope given by its length at rest (``unstretched_length``) or by its tension where drawn
+    (``pretension``): its unstretched length, 0 when neither is given."""
+    given = [k for k in ("unstretched_length", "pretension") if t.has(k)]
+    if not given:
+        return 0.0
+    if len(given) == 2:
+        raise t.error("pretension", "give unstretched_length or pretension, not both (the one follows from the other)")
+    if strain != "simo-reissner":
+        raise t.error(given[0], "needs strain = \"simo-reissner\" (the seed measure is not linear in the stretch)")
+    if given[0] == "unstretched_length":
+        length = t.number("unstretched_length")
+        if not (length > 0.0 and math.isfinite(length)):
+            raise t.error("unstretched_length", f"must be a length > 0, got {_show(length)}")
+        return length
+    tension = t.number("pretension")
+    if not (math.isfinite(tension) and 0.0 <= tension < section.EA):
+        raise t.error("pretension", f"must be a tension >= 0 and below EA = {section.EA:g} N, got {_show(tension)}")
+    return geometry.length / stretch_at_tension(tension / section.EA, quadrature == "assumed_strain")
+
+
+def stretch_at_tension(tension_over_EA: float, centre_line_axial: bool) -> float:
+    """The stretch lambda (drawn over unstretched length) at which a straight rope carries the
+    tension T = tension_over_EA EA in the element's own law: T = EA (lambda - 1) for the strain
+    d1 . phi' - 1, T = EA lambda (lambda^2 - 1) / 2 for the centre line's 1/2 (phi'.phi' - 1) of
+    assumed strains (its force along the stretched tangent)."""
+    lam = 1.0 + tension_over_EA
+    if not centre_line_axial:
+        return lam
+    for _ in range(60):  # Newton on lam^3 - lam - 2 T / EA, from the linear law's lambda
+        step = (lam**3 - lam - 2.0 * tension_over_EA) / (3.0 * lam**2 - 1.0)
+        lam -= step
+        if abs(step) <= 1e-16 * lam:
+            break
+    return lam
 
 
 # Span slenderness EA h^2 / EI from which quadrature = "auto" takes assumed strains.
@@ -1015,6 +1070,39 @@ def _parse_arc(t: _Table) -> Geometry:
     if abs(float(np.dot(arm, n))) > 1e-9 * radius:
         raise t.error("start", "must lie in the plane through center normal to 'normal'")
     return Geometry("arc", (), center, radius, _vec(n), start, angle, radius * math.radians(abs(angle)))
+
+
+def sagging_arc(line: Geometry, length: float, sag: np.ndarray) -> Geometry:
+    """A circular arc of ``length`` on the chord of ``line``, bulging along ``sag`` made normal to
+    the chord (another normal where sag is along it): where a slack rope given by its unstretched
+    length starts. Drawn straight, it would start as a strut in compression, from which Newton
+    and the equilibrium start find the inverted catenary (an arch), not the hanging rope."""
+    a, b = (np.asarray(p, dtype=float) for p in (line.points[0], line.points[-1]))
+    chord = b - a
+    d = float(np.linalg.norm(chord))
+    c = chord / d
+    down = sag - np.dot(sag, c) * c
+    if float(np.linalg.norm(down)) < 1e-6 * float(np.linalg.norm(sag)):  # sag along the chord
+        down = np.cross(c, np.eye(3)[int(np.argmin(np.abs(c)))])
+    down /= np.linalg.norm(down)
+    # sin(x) / x = d / length for x the half angle, by Newton from the small-sag series
+    ratio = d / length
+    x = math.sqrt(6.0 * (1.0 - ratio))
+    for _ in range(50):
+        f, df = math.sin(x) - ratio * x, math.cos(x) - ratio
+        x_new = min(max(x - f / df, 1e-12), math.pi)
+        if abs(x_new - x) < 1e-15:
+            break
+        x = x_new
+    radius = length / (2.0 * x)
+    center = 0.5 * (a + b) - down * radius * math.cos(x)
+    normal = np.cross(a - center, c)
+    normal /= np.linalg.norm(normal)
+    angle = math.degrees(2.0 * x)
+    arc = Geometry("arc", (), _vec(center), radius, _vec(normal), _vec(a), angle, length)
+    if not np.allclose(arc.point_at(length), b, atol=1e-9 * length):
+        arc = dataclasses.replace(arc, angle_deg=-angle)
+    return arc
 
 
 def _parse_d2(t: _Table, geometry: Geometry) -> Vec3 | None:

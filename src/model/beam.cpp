@@ -44,6 +44,8 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
   if (spec.q_ref.size() != static_cast<size_t>(coordinates_per_cp() * n_cp()))
     throw std::invalid_argument("beam '" + spec.name + "': q_ref must hold " + std::to_string(coordinates_per_cp()) +
                                 " values per control point");
+  if (is_ancf() && spec.unstretched_length > 0.0)
+    throw std::invalid_argument("beam '" + spec.name + "': an unstretched length needs a director beam");
   if (is_ancf()) {
     // Equal elements of the reference arc length; each element's stress-free state is its slice
     // of q_ref (x = arc length, so r0' should be a unit vector).
@@ -53,7 +55,20 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
           Le, Eigen::Map<const kernels::ancf::ElVec>(spec.q_ref.data() + kernels::ancf::kNodeDofs * e)));
     return;
   }
-  const auto& s = spec.section;
+  if (spec.unstretched_length > 0.0) {
+    if (spec.strain != kernels::StrainMeasure::SimoReissner)
+      throw std::invalid_argument("beam '" + spec.name + "': an unstretched length needs the Simo-Reissner strains");
+    // A piece ds of the drawn parameter is ds / r of rope (r = stretch): the rope's strains are r
+    // times the parameter's, but the centre line's axial strain 1/2 (phi'.phi' - 1) of assumed
+    // strains, which is r^2 times; the energy per unit of s is 1/r of the rope's. So the
+    // stiffnesses are r (r^3 on that axial strain) times the rope's, the inertias 1/r times.
+    stretch_ = spec.length / spec.unstretched_length;
+    Section& s = spec_.section;
+    for (double* stiff : {&s.kGA2, &s.kGA3, &s.GJ, &s.EI2, &s.EI3}) *stiff *= stretch_;
+    s.EA *= centre_line_axial() ? stretch_ * stretch_ * stretch_ : stretch_;
+    for (double* inertia : {&s.rhoA, &s.rhoI2, &s.rhoI3}) *inertia /= stretch_;
+  }
+  const auto& s = spec_.section;
   stiffness_ << s.EA, s.kGA2, s.kGA3, s.GJ, s.EI2, s.EI3;
   gps_ = gauss_points(spec.n_spans, spec.length, spec.quadrature, corrected());
   gps_full_ = gauss_points(spec.n_spans, spec.length, kernels::Quadrature::Full, false);
@@ -70,8 +85,24 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
     const kernels::VecEl q = Eigen::Map<const kernels::VecEl>(spec.q_ref.data() + 12 * e);
     for (int g = 0; g < n_gp_; ++g)
       eps0_[e * n_gp_ + g] =
-          kernels::point_strains(strain_table(), gp(e, g), kernels::field_map(gp(e, g)) * q);
+          stress_free(kernels::point_strains(strain_table(), gp(e, g), kernels::field_map(gp(e, g)) * q));
   }
+}
+
+kernels::Vec6 Beam::stress_free(const kernels::Vec6& eps_drawn) const {
+  if (spec_.unstretched_length <= 0.0) return eps_drawn;
+  // Straight and untwisted: no shear, no curvature; the axial strain form's value at a rope of
+  // unit stretch, whose phi' is the drawing's (of unit length but for the spline's fit) over r:
+  // d1 . phi' scales with 1/r, 1/2 phi' . phi' with 1/r^2.
+  kernels::Vec6 eps = kernels::Vec6::Zero();
+  eps(0) = eps_drawn(0) / (centre_line_axial() ? stretch_ * stretch_ : stretch_);
+  return eps;
+}
+
+kernels::Vec6 Beam::rope_strains(const kernels::Vec6& eps) const {
+  kernels::Vec6 out = stretch_ * eps;
+  if (centre_line_axial()) out(0) *= stretch_;
+  return out;
 }
 
 PointBasis Beam::basis_on_span(int span, double s) const {
@@ -153,7 +184,8 @@ void Beam::sample_into(const std::vector<double>& q, const std::vector<double>& 
     put(out.force, n_sp);
     put(out.moment, m_sp);
     out.tension[static_cast<size_t>(i)] = axial_force;
-    for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = eps(k);
+    const kernels::Vec6 rope = rope_strains(eps);
+    for (int k = 0; k < 6; ++k) out.strain[static_cast<size_t>(6 * i + k)] = rope(k);
   }
 }
 
@@ -168,7 +200,7 @@ const std::vector<Beam::SamplePoint>& Beam::sample_points(int samples_per_span) 
     p.gp = basis_point(n_spans(), length(), p.basis.span, p.s / length(), 0.0, corrected());
     p.table = kernels::point_table(strain_table(), p.gp);
     const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * p.basis.span);
-    p.eps_ref = kernels::point_strains(strain_table(), p.gp, kernels::field_map(p.gp) * q0);
+    p.eps_ref = stress_free(kernels::point_strains(strain_table(), p.gp, kernels::field_map(p.gp) * q0));
     const auto& axial = p.table[0];
     p.centre_line_axial = axial.n_terms == 1 && axial.terms[0].a == kernels::kPhiS && axial.terms[0].b == kernels::kPhiS;
   }

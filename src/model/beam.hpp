@@ -40,6 +40,10 @@ struct BeamSpec {
   /// Reference coordinates of the control points, row-major: (n_spans+2) x 12 (phi, d1, d2, d3)
   /// for a director beam, (n_spans+1) x 6 (r, r') for an ANCF cable.
   std::vector<double> q_ref;
+  /// > 0 (director beams, Simo-Reissner strains): a rope's stress-free state is straight and
+  /// untwisted, of this length; q_ref (of arc length `length`) is only where it starts. 0: q_ref
+  /// is the stress-free state.
+  double unstretched_length = 0.0;
 };
 
 /// Basis at an arc-length coordinate: span, N and dN/ds of its three control points.
@@ -108,6 +112,11 @@ class Beam {
   kernels::StrainMeasure strain_measure() const { return spec_.strain; }
   const kernels::StrainTable& strain_table() const { return kernels::strain_table(spec_.strain); }
   const kernels::Stiffness& stiffness() const { return stiffness_; }
+  /// Drawn over unstretched length (1 unless BeamSpec::unstretched_length is set). The beam is
+  /// parametrised by the drawn arc length s; a piece ds of it is ds / stretch() of rope, so
+  /// section() holds the stiffnesses and inertias per unit of s, and the samples' strains are
+  /// converted to the rope's (docs/theory.md, "Ropes by their unstretched length").
+  double stretch() const { return stretch_; }
   const std::vector<double>& q_ref() const { return spec_.q_ref; }
 
   /// Quadrature of span e: n_gp() points (stiffness rule) with reference strains.
@@ -160,6 +169,13 @@ class Beam {
   int first_cp_;
   int n_gp_ = 0;
   kernels::Stiffness stiffness_;
+  double stretch_ = 1.0;
+  /// The stress-free strains at a point whose drawn strains are eps_drawn.
+  kernels::Vec6 stress_free(const kernels::Vec6& eps_drawn) const;
+  /// Strains per unit of s (minus the stress-free ones) as the rope's, per unit of its length.
+  kernels::Vec6 rope_strains(const kernels::Vec6& eps) const;
+  /// The axial strain is the centre line's 1/2 (phi'.phi' - 1) (assumed strains), not d1 . phi'.
+  bool centre_line_axial() const { return corrected(); }
   std::vector<kernels::GaussPoint> gps_, gps_full_;
   std::vector<kernels::Vec6> eps0_;
   std::vector<double> knot_mass_;
