@@ -65,9 +65,10 @@ class EquilibriumSolver:
 
 class Model:
     def __init__(self, comm: object = None) -> None: ...
-    def add_beam(self, name: str, n_spans: int, length: float, section: dict[str, float], strain: str, quadrature: str, q_ref: np.ndarray, formulation: str = 'director') -> int:
+    def add_beam(self, name: str, n_spans: int, length: float, section: dict[str, float], strain: str, quadrature: str, q_ref: np.ndarray, formulation: str = 'director', unstretched_length: float = 0.0) -> int:
         """add a beam: director (q_ref: (spans+2) x 12) or ANCF cable (q_ref: (spans+1) x 6, r and
-        r')
+        r'); unstretched_length > 0: a rope's stress-free state is straight, of that length
+        (q_ref: where it starts)
         """
         ...
     def add_effect(self, type: str, num: dict[str, float] = ..., vec: dict[str, list[float]] = ..., str: dict[str, str] = ...) -> int: ...
