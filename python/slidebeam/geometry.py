@@ -58,13 +58,12 @@ def _tangent(beam: Beam, s: float, h: float) -> np.ndarray:
 
 def ancf_reference_coordinates(beam: Beam) -> np.ndarray:
     """(spans+1) x 6 reference coordinates (r, r') of an ANCF cable's nodes: equal elements of a
-    straight line, r' the unit tangent (so the element coordinate is the arc length)."""
+    line or an arc, r' the unit tangent (so the element coordinate is the arc length)."""
     n, L = beam.spans, beam.geometry.length
-    t = np.asarray(beam.geometry.tangent_at_start())
     q = np.zeros((n + 1, 6))
     for a in range(n + 1):
         q[a, 0:3] = beam.geometry.point_at(L * a / n)
-        q[a, 3:6] = t
+        q[a, 3:6] = beam.geometry.tangent_at(L * a / n)
     return q
 
 

@@ -123,6 +123,14 @@ class Geometry:
             s -= seg
         return _vec(pts[-1])
 
+    def tangent_at(self, s: float) -> Vec3:
+        """Unit tangent of a line or an arc at arc length s."""
+        if self.kind == "arc":
+            assert self.radius is not None and self.angle_deg is not None
+            c, n = (np.asarray(v) for v in (self.center, self.normal))
+            return _vec(_rotate(np.asarray(self.tangent_at_start()), n, math.copysign(s / self.radius, self.angle_deg)))
+        return self.tangent_at_start()
+
     def tangent_at_start(self) -> Vec3:
         """Unit tangent of the centreline at s = 0."""
         if self.kind == "arc":
@@ -520,7 +528,7 @@ _EXPLICIT_KEYS = ("EA", "kGA", "kGA2", "kGA3", "GJ", "EI2", "EI3", "rhoA", "rhoI
 _ANCF_EXPLICIT_KEYS = ("EA", "EI", "rhoA")
 _ANCF_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "rho")
 # beam keys that describe what a cable does not have (section frame, director strains, B-spline quadrature)
-_DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain", "unstretched_length", "pretension")
+_DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain")
 _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
               "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
@@ -874,7 +882,7 @@ def _parse_beam(t: _Table, index: int, sag: np.ndarray) -> Beam:
         raise t.error("section", "missing required table [beam.section]")
     formulation = t.choice("formulation", ("director", "ancf"), "director")
     if formulation == "ancf":
-        return _parse_ancf_beam(t, index, name, geometry)
+        return _parse_ancf_beam(t, index, name, geometry, sag)
     section = _parse_section(t.sub("section", f"{t.label}.section"))
     spans = t.integer("spans")
     quadrature = t.choice("quadrature", ("auto", "full", "reduced", "assumed_strain"), "auto")
@@ -958,17 +966,24 @@ def auto_quadrature(section: Section, span_length: float) -> str:
     return "assumed_strain" if span_slenderness(section, span_length) >= AUTO_SLENDERNESS else "full"
 
 
-def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry) -> Beam:
+def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry, sag: np.ndarray) -> Beam:
     """A [[beam]] with formulation = "ancf": the gradient-deficient ANCF cable, `spans` equal
-    elements (spans + 1 nodes with r and r'), straight reference only."""
+    elements (spans + 1 nodes with r and r'), stress free when straight: drawn straight, or drawn
+    as an arc with its unstretched length given."""
     for key in _DIRECTOR_ONLY_BEAM_KEYS:
         if t.has(key):
             raise t.error(key, f"not used by formulation = 'ancf' (the cable has no section frame, director "
                                f"strains or B-spline quadrature); remove '{key}' or use formulation = 'director'")
-    if geometry.kind != "line":
-        raise t.error(geometry.kind, "formulation = 'ancf' needs a straight reference ('start' + 'end'): the "
-                                     "cable's bending energy |r'' - r0''|^2 is frame-indifferent only for a "
-                                     "straight stress-free state")
+    section = _parse_ancf_section(t.sub("section", f"{t.label}.section"))
+    # the cable's axial strain is the centre line's 1/2 (r'.r' - 1): its law is the assumed strains'
+    unstretched = _parse_unstretched_length(t, geometry, section, "simo-reissner", "assumed_strain")
+    if geometry.kind == "line" and unstretched > geometry.length:
+        geometry = sagging_arc(geometry, unstretched, sag)
+    if geometry.kind == "polyline" or (geometry.kind == "arc" and not unstretched):
+        raise t.error(geometry.kind, "formulation = 'ancf' needs a straight stress-free state: draw it straight "
+                                     "('start' + 'end'), or give unstretched_length or pretension, with which "
+                                     "an arc is only where the cable starts (its bending energy |r'' - r0''|^2 "
+                                     "is frame-indifferent only for a straight stress-free state)")
     return Beam(
         name=name,
         index=index,
@@ -978,10 +993,11 @@ def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry) -> Be
         quadrature="full",
         strain="green-cable",
         formulation="ancf",
-        section=_parse_ancf_section(t.sub("section", f"{t.label}.section")),
+        section=section,
         velocity=t.vec3("velocity", list(_ZERO)),
         angular_velocity=t.vec3("angular_velocity", list(_ZERO)),
         rotation_center=t.vec3("rotation_center") if t.has("rotation_center") else None,
+        unstretched_length=unstretched,
     )
 
 

@@ -84,18 +84,18 @@ BEAM = Table("beam", "[[beam]]", "One beam or cable. Give its reference centre l
     Key("strain", "strain measure: the objective director strains of Betsch & Steinmann, or the seed paper's "
                   "Green-Lagrange-type measure", "", '"simo-reissner"', '"simo-reissner", "seed"; director beams'),
     Key("formulation", "director: geometrically exact director beam; ancf: gradient-deficient ANCF cable "
-                       "(no torsion, shear or rotary inertia; straight reference only)", "", '"director"',
+                       "(no torsion, shear or rotary inertia; a straight stress-free state: drawn straight, or an arc with unstretched_length)", "", '"director"',
         '"director", "ancf"'),
     Key("unstretched_length", "a rope's length at rest: its stress-free state is then straight and untwisted, of "
                               "this length, and the drawn centre line only where it starts (a rope drawn straight "
                               "but longer than its chord starts as a circular arc of this length sagging along "
                               "gravity); with start = \"equilibrium\" the run finds the hanging shape "
                               "(docs/user-guide.md, \"Ropes by their unstretched length\")", "m", "the drawn length: the drawing is stress free",
-        "> 0; not with pretension; director beams, strain = \"simo-reissner\""),
+        "> 0; not with pretension; strain = \"simo-reissner\" (director beams)"),
     Key("pretension", "the tension the rope has where drawn (straight: its unstretched length is the drawn "
                       "length over the stretch at which the element's law gives this tension), stress-free "
                       "straight and untwisted", "N", "",
-        ">= 0, < EA; not with unstretched_length; director beams, strain = \"simo-reissner\""),
+        ">= 0, < EA; not with unstretched_length; strain = \"simo-reissner\" (director beams)"),
     Key("velocity", "initial velocity, a rigid translation (dynamic)", "m/s", "[0.0, 0.0, 0.0]", "3 numbers"),
     Key("angular_velocity", "initial angular velocity, a rigid rotation about rotation_center (dynamic)", "rad/s",
         "[0.0, 0.0, 0.0]", "3 numbers"),

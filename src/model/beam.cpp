@@ -44,15 +44,27 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
   if (spec.q_ref.size() != static_cast<size_t>(coordinates_per_cp() * n_cp()))
     throw std::invalid_argument("beam '" + spec.name + "': q_ref must hold " + std::to_string(coordinates_per_cp()) +
                                 " values per control point");
-  if (is_ancf() && spec.unstretched_length > 0.0)
-    throw std::invalid_argument("beam '" + spec.name + "': an unstretched length needs a director beam");
   if (is_ancf()) {
     // Equal elements of the reference arc length; each element's stress-free state is its slice
     // of q_ref (x = arc length, so r0' should be a unit vector).
     const double Le = spec.length / spec.n_spans;
-    for (int e = 0; e < spec.n_spans; ++e)
-      ancf_elements_.push_back(kernels::ancf::make_element(
-          Le, Eigen::Map<const kernels::ancf::ElVec>(spec.q_ref.data() + kernels::ancf::kNodeDofs * e)));
+    if (spec.unstretched_length > 0.0) {
+      // A rope of unit stretch has r' = r0' / r, no curvature; both strains are quadratic in the
+      // derivatives: EA and EI per unit of x are r^3 times the rope's, rhoA 1/r times (see below).
+      stretch_ = spec.length / spec.unstretched_length;
+      Section& s = spec_.section;
+      for (double* stiff : {&s.EA, &s.EI2, &s.EI3}) *stiff *= stretch_ * stretch_ * stretch_;
+      s.rhoA /= stretch_;
+    }
+    for (int e = 0; e < spec.n_spans; ++e) {
+      kernels::ancf::AncfElement el = kernels::ancf::make_element(
+          Le, Eigen::Map<const kernels::ancf::ElVec>(spec.q_ref.data() + kernels::ancf::kNodeDofs * e));
+      if (spec.unstretched_length > 0.0) {
+        for (auto& p : el.axial) p.half_s0s0 /= stretch_ * stretch_;
+        for (auto& p : el.bend) p.ddr0.setZero();
+      }
+      ancf_elements_.push_back(el);
+    }
     return;
   }
   if (spec.unstretched_length > 0.0) {
@@ -263,7 +275,12 @@ BeamSamples Beam::sample_ancf(const std::vector<double>& q, const std::vector<do
     const auto slice = [e](const std::vector<double>& v) {
       return ancf::ElVec(Eigen::Map<const ancf::ElVec>(v.data() + ancf::kNodeDofs * e));
     };
-    const ancf::CablePoint c = ancf::evaluate(Le, x, slice(q)), c0 = ancf::evaluate(Le, x, slice(spec_.q_ref));
+    const ancf::CablePoint c = ancf::evaluate(Le, x, slice(q));
+    ancf::CablePoint c0 = ancf::evaluate(Le, x, slice(spec_.q_ref));
+    if (spec_.unstretched_length > 0.0) {  // the stress-free rope: straight, r0' over the stretch
+      c0.dr /= stretch_;
+      c0.ddr.setZero();
+    }
     const double eps = 0.5 * (c.dr.squaredNorm() - c0.dr.squaredNorm());
     const double stretch = c.dr.norm();
     const Eigen::Vector3d t = c.dr / stretch;
@@ -278,8 +295,8 @@ BeamSamples Beam::sample_ancf(const std::vector<double>& q, const std::vector<do
     put(out.force, sec.EA * eps * c.dr);  // dW/dr' of W = EA/2 eps^2
     out.tension[static_cast<size_t>(i)] = sec.EA * eps * stretch;
     put(out.moment, sec.EI * c.dr.cross(c.ddr - c0.ddr));
-    out.strain[static_cast<size_t>(6 * i)] = eps;
-    for (int k = 0; k < 3; ++k) out.strain[static_cast<size_t>(6 * i + 3 + k)] = kappa(k);
+    out.strain[static_cast<size_t>(6 * i)] = stretch_ * stretch_ * eps;  // per unit of rope (x = r sigma)
+    for (int k = 0; k < 3; ++k) out.strain[static_cast<size_t>(6 * i + 3 + k)] = kappa(k);  // geometric: any parameter
   }
   return out;
 }

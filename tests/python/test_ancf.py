@@ -52,7 +52,7 @@ def test_scene_refuses_what_a_cable_does_not_have(change, key, words):
 def test_scene_refuses_curved_cables_moments_and_joints():
     arc = {k: v for k, v in cable().items() if k not in ("start", "end")}
     arc["arc"] = {"center": [0, 0, 0], "radius": 1.0, "normal": [0, 0, 1], "start": [1, 0, 0], "angle": 90}
-    with pytest.raises(slidebeam.SceneError, match="needs a straight reference"):
+    with pytest.raises(slidebeam.SceneError, match="needs a straight stress-free state"):
         scene(beam=[arc])
     with pytest.raises(slidebeam.SceneError, match="is an ANCF cable.*only forces act on it"):
         scene(load=[{"type": "moment", "beam": "c", "at": "end", "value": [0, 0, 1]}])

@@ -16,6 +16,9 @@ from slidebeam.scene import SceneError, stretch_at_tension
 EA, RHO_A, G = 1.0e7, 1.0, 9.81
 
 
+ANCF_SECTION = {"EA": EA, "EI": 10.0, "rhoA": RHO_A}
+
+
 def rope_scene(beam: dict, *, quadrature: str = "auto", gravity: bool = True, dynamic: bool = False,
                t_end: float = 0.02) -> dict:
     analysis = ({"type": "dynamic", "start": "equilibrium", "t_end": t_end, "dt": 0.01} if dynamic
@@ -32,6 +35,9 @@ def rope_scene(beam: dict, *, quadrature: str = "auto", gravity: bool = True, dy
     }
     if gravity:
         scene["gravity"] = {"g": [0.0, 0.0, -G]}
+    if beam.get("formulation") == "ancf":
+        scene["beam"][0].pop("quadrature")
+        scene["beam"][0]["section"] = ANCF_SECTION
     return scene
 
 
@@ -39,14 +45,17 @@ def reactions(sim: slidebeam.Simulation) -> dict[str, np.ndarray]:
     return {r.effect: np.asarray(r.force) for r in sim.reactions()}
 
 
-@pytest.mark.parametrize("quadrature", ["full", "assumed_strain"])
+@pytest.mark.parametrize("quadrature", ["full", "assumed_strain", "ancf"])
 def test_pretension_is_the_tension_of_the_straight_rope(quadrature):
     """A straight rope with pretension T between supports, no load: every section carries T, the
     supports T, and the strain output is the rope's own (lambda - 1, or (lambda^2 - 1) / 2 for the
-    assumed strains' centre-line measure) while the unknowns count along the drawing."""
+    centre line's measure of assumed strains and the ANCF cable) while the unknowns count along the
+    drawing."""
     T = 2.5e4
-    scene = slidebeam.scene_from_dict(rope_scene({"pretension": T}, quadrature=quadrature, gravity=False))
-    lam = stretch_at_tension(T / EA, quadrature == "assumed_strain")
+    ancf = quadrature == "ancf"
+    beam = {"pretension": T, **({"formulation": "ancf"} if ancf else {})}
+    scene = slidebeam.scene_from_dict(rope_scene(beam, quadrature="full" if ancf else quadrature, gravity=False))
+    lam = stretch_at_tension(T / EA, quadrature != "full")
     assert scene.beams[0].unstretched_length == pytest.approx(100.0 / lam, rel=1e-15)
     sim = slidebeam.Simulation(scene)
     sim.solve_static()
@@ -55,16 +64,20 @@ def test_pretension_is_the_tension_of_the_straight_rope(quadrature):
     samples = sim.sample_beam("rope", samples_per_span=3)
     assert np.allclose(samples["tension"], T, rtol=1e-9)
     axial = lam - 1.0 if quadrature == "full" else 0.5 * (lam * lam - 1.0)
+    if ancf:  # (the cable's samples are at its nodes and between them)
+        assert np.allclose(np.linalg.norm(samples["force"], axis=1), T, rtol=1e-9)
     assert np.allclose(samples["strain"][:, 0], axial, rtol=1e-9)
     assert samples["s"][-1] == pytest.approx(100.0)
 
 
-def test_unstretched_length_longer_than_the_chord_hangs_as_the_elastic_catenary():
+@pytest.mark.parametrize("formulation", ["director", "ancf"])
+def test_unstretched_length_longer_than_the_chord_hangs_as_the_elastic_catenary(formulation):
     """100.6 m of rope on a 100 m chord, drawn straight: it starts as an arc of that length sagging
     along gravity and settles on the elastic catenary (support tension within 1e-5; measured
-    3e-6), its weight the rope's (rho A L0 g, to roundoff)."""
+    3e-6 for the director beam), its weight the rope's (rho A L0 g, to roundoff)."""
     L0 = 100.6
-    scene = slidebeam.scene_from_dict(rope_scene({"unstretched_length": L0}, dynamic=True))
+    scene = slidebeam.scene_from_dict(rope_scene({"unstretched_length": L0, "formulation": formulation},
+                                                 dynamic=True))
     beam = scene.beams[0]
     assert beam.geometry.kind == "arc" and beam.geometry.length == pytest.approx(L0, rel=1e-14)
     assert beam.geometry.point_at(L0 / 2)[2] < -4.0  # sags along gravity
@@ -98,12 +111,14 @@ def test_a_pretensioned_rope_conserves_energy():
     ({"unstretched_length": -1.0}, "unstretched_length", "> 0"),
     ({"pretension": -5.0}, "pretension", ">= 0"),
     ({"pretension": 10.0, "strain": "seed"}, "pretension", "simo-reissner"),
-    ({"unstretched_length": 99.0, "formulation": "ancf"}, "unstretched_length", "formulation = 'director'"),
+    ({"pretension": 10.0, "formulation": "ancf", "polyline": [[0, 0, 0], [50, 0, -1], [100, 0, 0]]}, "polyline",
+     "straight stress-free state"),
 ])
 def test_bad_ropes_are_clear_errors(beam, key, text):
     scene = rope_scene(beam)
-    if beam.get("formulation") == "ancf":
-        scene["beam"][0].pop("quadrature")
+    if "polyline" in beam:
+        for key in ("start", "end"):
+            scene["beam"][0].pop(key)
     with pytest.raises(SceneError) as err:
         slidebeam.scene_from_dict(scene)
     assert key in str(err.value) and text in str(err.value)
