@@ -58,3 +58,63 @@ class ElasticCatenary:
     def sag(self) -> float:
         """Depth of the midpoint below the supports."""
         return float(-self.position(0.5 * self.length)[1])
+
+
+@dataclass(frozen=True)
+class MooringLine:
+    """A catenary mooring line partly on a frictionless seabed (the quasi-static line of MoorPy and
+    MoorDyn's static solve): unstretched length L0, axial stiffness EA, submerged weight w per
+    unstretched length, anchored on the seabed, its fairlead a horizontal distance `span` from
+    the anchor and `height` above the seabed. The suspended part leaves the seabed horizontally at
+    the touch-down point, with the horizontal tension H all along the line (Irvine's elastic
+    catenary from a horizontal tangent); the grounded part lies straight, stretched by H / EA."""
+
+    span: float
+    height: float
+    length: float
+    EA: float
+    w: float
+
+    def _suspended(self, H: float) -> float:
+        """The suspended unstretched length that reaches the fairlead's height at tension H."""
+        lo, hi = 0.0, self.length
+        if self.rise(H, hi) < self.height:
+            raise ValueError("the line is too short to rest on the seabed at this tension")
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if self.rise(H, mid) < self.height else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    def rise(self, H: float, suspended: float) -> float:
+        """Height of the fairlead above the touch-down point for a suspended length at tension H."""
+        a = self.w * suspended / H
+        return H / self.w * (math.sqrt(1.0 + a * a) - 1.0) + self.w * suspended**2 / (2.0 * self.EA)
+
+    def reach(self, H: float) -> float:
+        """Horizontal distance anchor to fairlead at tension H."""
+        Ls = self._suspended(H)
+        return (self.length - Ls) * (1.0 + H / self.EA) + H / self.w * math.asinh(self.w * Ls / H) + H * Ls / self.EA
+
+    @cached_property
+    def H(self) -> float:
+        """Horizontal tension: the root of reach(H) = span (bisection; the reach grows with H)."""
+        lo, hi = 1e-9 * self.w * self.length, self.w * self.length
+        while self.reach(hi) < self.span:
+            hi *= 2.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if self.reach(mid) < self.span else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    @property
+    def suspended_length(self) -> float:
+        return self._suspended(self.H)
+
+    @property
+    def fairlead_tension(self) -> float:
+        return math.hypot(self.H, self.w * self.suspended_length)
+
+    @property
+    def touchdown(self) -> float:
+        """Horizontal distance of the touch-down point from the anchor."""
+        return (self.length - self.suspended_length) * (1.0 + self.H / self.EA)

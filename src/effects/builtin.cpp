@@ -13,6 +13,7 @@ void register_damping_effects(EffectRegistry& r);
 void register_slider_drive_effects(EffectRegistry& r);
 void register_drag_effects(EffectRegistry& r);
 void register_friction_effects(EffectRegistry& r);
+void register_contact_effects(EffectRegistry& r);
 }  // namespace effects
 
 void register_builtin_effects(EffectRegistry& registry) {
@@ -26,6 +27,7 @@ void register_builtin_effects(EffectRegistry& registry) {
   effects::register_slider_drive_effects(registry);
   effects::register_drag_effects(registry);
   effects::register_friction_effects(registry);
+  effects::register_contact_effects(registry);
 }
 
 }  // namespace slidebeam

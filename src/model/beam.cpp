@@ -59,8 +59,8 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
     for (int e = 0; e < spec.n_spans; ++e) {
       kernels::ancf::AncfElement el = kernels::ancf::make_element(
           Le, Eigen::Map<const kernels::ancf::ElVec>(spec.q_ref.data() + kernels::ancf::kNodeDofs * e));
-      if (spec.unstretched_length > 0.0) {
-        for (auto& p : el.axial) p.half_s0s0 /= stretch_ * stretch_;
+      if (spec.unstretched_length > 0.0) {  // the rope of unit stretch: |r0'| = 1/r, straight
+        for (auto& p : el.axial) p.half_s0s0 = 0.5 / (stretch_ * stretch_);
         for (auto& p : el.bend) p.ddr0.setZero();
       }
       ancf_elements_.push_back(el);
@@ -103,11 +103,12 @@ Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), f
 
 kernels::Vec6 Beam::stress_free(const kernels::Vec6& eps_drawn) const {
   if (spec_.unstretched_length <= 0.0) return eps_drawn;
-  // Straight and untwisted: no shear, no curvature; the axial strain form's value at a rope of
-  // unit stretch, whose phi' is the drawing's (of unit length but for the spline's fit) over r:
-  // d1 . phi' scales with 1/r, 1/2 phi' . phi' with 1/r^2.
+  // Straight and untwisted: no shear, no curvature, and the axial strain form's value at a rope
+  // of unit stretch, |phi'| = 1/r per unit of s: d1 . phi' = 1/r, 1/2 phi' . phi' = 1/(2 r^2).
+  // Not the drawing's own value over r: the spline rounds a polyline's corners, and the rope
+  // would be shorter by what the corners cut (5 cm in 220 m of a mooring chain drawn with one).
   kernels::Vec6 eps = kernels::Vec6::Zero();
-  eps(0) = eps_drawn(0) / (centre_line_axial() ? stretch_ * stretch_ : stretch_);
+  eps(0) = centre_line_axial() ? 0.5 / (stretch_ * stretch_) : 1.0 / stretch_;
   return eps;
 }
 
@@ -277,8 +278,8 @@ BeamSamples Beam::sample_ancf(const std::vector<double>& q, const std::vector<do
     };
     const ancf::CablePoint c = ancf::evaluate(Le, x, slice(q));
     ancf::CablePoint c0 = ancf::evaluate(Le, x, slice(spec_.q_ref));
-    if (spec_.unstretched_length > 0.0) {  // the stress-free rope: straight, r0' over the stretch
-      c0.dr /= stretch_;
+    if (spec_.unstretched_length > 0.0) {  // the stress-free rope: straight, |r0'| = 1/r
+      c0.dr = c0.dr.normalized() / stretch_;
       c0.ddr.setZero();
     }
     const double eps = 0.5 * (c.dr.squaredNorm() - c0.dr.squaredNorm());

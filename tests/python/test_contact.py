@@ -1,0 +1,155 @@
+# SPDX-License-Identifier: MIT
+"""Contact of beams with a rigid plane ([[contact]] type = "plane", issue 39): the step Jacobian
+against finite differences under every integrator (director beams and ANCF cables), energy
+conserved through touch-down and lift-off under energy-momentum, a rope at rest sinking w / k
+into the bed, a mooring line on the seabed against the closed-form catenary, 1 rank = 2 ranks."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import slidebeam
+import test_ancf
+from checks import check_step_jacobian, distributed_and_serial_records
+from slidebeam.catenary import MooringLine
+from test_dynamics import INTEGRATORS, everything_scene
+
+# A sloped plane through the test scenes' beams: some points in contact, some free
+SLOPE = {"type": "plane", "point": [1.0, 0.5, 0.2], "normal": [0.2, 0.3, 1.0], "stiffness": 50.0}
+
+
+def with_contact(scene: slidebeam.Scene, **plane: object) -> slidebeam.Scene:
+    data = dict(scene.data)
+    data["contact"] = [{"beam": b.name, **plane} for b in scene.beams]
+    return slidebeam.scene_from_dict(data)
+
+
+@pytest.mark.parametrize("formulation", ("director", "ancf"))
+@pytest.mark.parametrize("integrator", INTEGRATORS)
+def test_contact_step_jacobian_matches_finite_differences(integrator, formulation):
+    base = everything_scene(integrator, "full") if formulation == "director" else test_ancf.everything_scene(integrator)
+    scene = with_contact(base, **SLOPE)
+    sim = slidebeam.Simulation(scene)
+    assert [e.type for e in sim.active_effects].count("plane_contact") == len(scene.beams)
+    assert sim.energies()["potential"] != slidebeam.Simulation(base).energies()["potential"]  # in contact at t = 0
+    check_step_jacobian(sim, steps=1, h=0.05, seed=7, label=integrator)
+
+
+def dropped_rod(formulation: str, integrator: str = "energy-momentum") -> slidebeam.Scene:
+    """A 1 m rod, tilted, dropped from 0.2 m onto the ground (a stiff bed): it lands end first,
+    bounces and rocks."""
+    section = ({"EA": 1e4, "EI": 5.0, "rhoA": 1.0} if formulation == "ancf" else
+               {"EA": 1e4, "kGA": 5e3, "GJ": 3.0, "EI2": 5.0, "EI3": 5.0, "rhoA": 1.0, "rhoI2": 1e-3, "rhoI3": 1e-3})
+    return slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "integrator": integrator, "dt": 2e-3, "t_end": 0.5},
+        "beam": [{"name": "rod", "start": [0.0, 0.0, 0.2], "end": [0.9, 0.1, 0.6], "spans": 8,
+                  "formulation": formulation, "section": section, **({"quadrature": "full"}
+                                                                     if formulation == "director" else {})}],
+        "gravity": {"g": [0.0, 0.0, -9.81]},
+        "contact": [{"type": "plane", "beam": "rod", "point": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0],
+                     "stiffness": 2e4}],
+        "output": {"track": [{"beam": "rod", "at": 0.0}]},
+    })
+
+
+@pytest.mark.parametrize("formulation", ("director", "ancf"))
+def test_energy_is_conserved_through_touch_down_and_lift_off(formulation):
+    """Under energy-momentum the contact's discrete gradient makes its work exactly the change of
+    its potential: H stays at the Newton tolerance while the rod lands, bounces and rocks (no
+    event located); the rod's end reaches the ground and leaves it again."""
+    sim = slidebeam.Simulation(dropped_rod(formulation))
+    outcome = sim.run_dynamic()
+    assert outcome.complete
+    records = outcome.records
+    H = np.array([r.total_energy for r in records])
+    K = max(r.kinetic_energy for r in records)
+    assert K > 1.0 and np.abs(H - H[0]).max() <= 1e-9 * K
+    z = np.array([r.tracked[0][2] for r in records])
+    touched = np.flatnonzero(z < 0.0)
+    assert touched.size and z[touched[-1]:].max() > 1e-3  # down into the bed, and up again
+    midpoint = slidebeam.Simulation(dropped_rod(formulation, "midpoint")).run_dynamic().records
+    drift = max(abs(r.total_energy - midpoint[0].total_energy) for r in midpoint)
+    assert drift > 1e3 * np.abs(H - H[0]).max()  # what the discrete gradient is for
+
+
+def test_a_rope_on_the_ground_sinks_w_over_k():
+    """A rope lying on the ground, held at its ends: at rest its middle sinks w / k into the bed
+    (statics, load steps). The ends' disturbance decays over (4 EI / k)^(1/4) = 0.14 m, which the
+    spans must resolve: with 1 m spans the middle's depth wavers by 5 %."""
+    k, w = 1e5, 9.81 * 2.0
+    scene = slidebeam.scene_from_dict({
+        "analysis": {"type": "static", "steps": 2},
+        "beam": [{"name": "rope", "start": [0.0, 0.0, 0.0], "end": [10.0, 0.0, 0.0], "spans": 80,
+                  "section": {"EA": 1e6, "kGA": 5e5, "GJ": 10.0, "EI2": 10.0, "EI3": 10.0, "rhoA": 2.0,
+                              "rhoI2": 1e-4, "rhoI3": 1e-4}}],
+        "support": [{"type": "clamp", "beam": "rope", "at": "start"}, {"type": "spherical", "beam": "rope", "at": "end"}],
+        "gravity": {"g": [0.0, 0.0, -9.81]},
+        "contact": [{"type": "plane", "beam": "rope", "point": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0],
+                     "stiffness": k}],
+    })
+    sim = slidebeam.Simulation(scene)
+    assert all(r.converged for r in sim.solve_static())
+    f = sim.sample_beam("rope", samples_per_span=1)
+    middle = (f["s"] > 3.0) & (f["s"] < 7.0)
+    assert np.allclose(f["position"][middle, 2], -w / k, rtol=1e-6)  # measured 3e-10
+
+
+def mooring(k: float = 1e7, spans: int = 110) -> slidebeam.Scene:
+    """220 m of chain (EA 5e8 N, 1000 N/m submerged) from an anchor on the seabed (50 m deep) to a
+    fairlead at the surface 200 m away, drawn along the seabed and then straight up to the
+    fairlead (its unstretched length: the corner is not stress free)."""
+    return slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "start": "equilibrium", "dt": 0.1, "t_end": 0.1},
+        "beam": [{"name": "chain", "polyline": [[0.0, 0.0, -50.0], [147.5, 0.0, -50.0], [200.0, 0.0, 0.0]],
+                  "unstretched_length": 220.0, "spans": spans,
+                  "section": {"EA": 5e8, "kGA": 1e8, "GJ": 1e3, "EI2": 1e3, "EI3": 1e3, "rhoA": 1000.0 / 9.81,
+                              "rhoI2": 1e-2, "rhoI3": 1e-2}}],
+        "support": [{"type": "spherical", "beam": "chain", "at": "start"},
+                    {"type": "spherical", "beam": "chain", "at": "end"}],
+        "gravity": {"g": [0.0, 0.0, -9.81]},
+        "contact": [{"type": "plane", "beam": "chain", "point": [0.0, 0.0, -50.0], "normal": [0.0, 0.0, 1.0],
+                     "stiffness": k}],
+    })
+
+
+def test_mooring_line_on_the_seabed_matches_the_closed_form_catenary():
+    """The fairlead tension, the anchor's horizontal pull and the suspended shape against the
+    quasi-static catenary on a frictionless seabed (MooringLine): within 1e-3 (measured 1.3e-4 and
+    2.0e-4 at 110 spans, 1.6e-5 and 2.0e-5 at 220)."""
+    exact = MooringLine(span=200.0, height=50.0, length=220.0, EA=5e8, w=1000.0)
+    sim = slidebeam.Simulation(mooring())
+    outcome = sim.run_dynamic()
+    assert outcome.complete and sim.settled.converged
+    f = {r.effect: np.asarray(r.force) for r in sim.reactions()}
+    fairlead, anchor = f["spherical[chain@end]"], f["spherical[chain@start]"]
+    assert np.linalg.norm(fairlead) == pytest.approx(exact.fairlead_tension, rel=1e-3)
+    assert -anchor[0] == pytest.approx(exact.H, rel=1e-3)
+    assert abs(anchor[2]) < 1e-2 * exact.H  # it pulls along the bed (the anchor's span's weight: 0.3 kN)
+    pos = sim.sample_beam("chain", samples_per_span=4)["position"]
+    # the suspended chain: z - z_touchdown = H / w (cosh(w (x - x_touchdown) / H) - 1) (stretch aside)
+    hanging = pos[pos[:, 0] > exact.touchdown + 5.0]
+    z = -50.0 + exact.H / 1000.0 * (np.cosh(1000.0 * (hanging[:, 0] - exact.touchdown) / exact.H) - 1.0)
+    assert np.abs(hanging[:, 2] - z).max() < 0.05  # 5 cm in a 50 m rise
+    assert np.abs(pos[pos[:, 0] < exact.touchdown - 5.0, 2] + 50.0).max() < 1e-3  # on the bed
+
+
+def test_contact_runs_agree_on_one_and_two_ranks():
+    scene = with_contact(everything_scene("energy-momentum", "full"), **SLOPE)
+    distributed_and_serial_records(scene)
+    distributed_and_serial_records(with_contact(test_ancf.everything_scene("energy-momentum"), **SLOPE))
+
+
+@pytest.mark.parametrize("entry, words", [
+    ({"type": "plane", "beam": "rod", "point": [0, 0, 0], "normal": [0, 0, 0], "stiffness": 1e3}, "normal"),
+    ({"type": "plane", "beam": "rod", "point": [0, 0, 0], "normal": [0, 0, 1], "stiffness": -1.0}, "stiffness"),
+    ({"type": "plane", "beam": "rod", "normal": [0, 0, 1], "stiffness": 1e3}, "point"),
+    ({"type": "cylinder", "beam": "rod", "point": [0, 0, 0], "normal": [0, 0, 1], "stiffness": 1e3}, "type"),
+])
+def test_contact_tables_are_validated(entry, words):
+    data = dict(dropped_rod("director").data)
+    data["contact"] = [entry]
+    with pytest.raises(slidebeam.SceneError) as err:
+        slidebeam.Simulation(slidebeam.scene_from_dict(data))  # the table's keys, then the plane itself
+    assert "[[contact]] #1" in str(err.value) and words in str(err.value)
