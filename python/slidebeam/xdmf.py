@@ -20,6 +20,7 @@ Files in the output folder (names are stable):
   reference position, with ``displacement``, ``velocity``, ``mass`` and ``mass_id``; ``/mesh``
   has the attribute ``mass_names`` (the effects' labels, as summary.json's ``active_effects``:
   ``point_mass[hanger@end]``).
+- ``view.py``: a ParaView script that opens the series (:mod:`slidebeam.paraview_script`).
 
 In the ``.h5``: ``/mesh/points``, ``/mesh/cells`` and the fields that never change (``s``,
 ``beam_id``, ``joint_id``, ``mass``, ``mass_id``) under ``/mesh``, written once; every other field one dataset per
@@ -60,6 +61,7 @@ if TYPE_CHECKING:
 BEAMS = "beams"
 SLIDERS = "sliders"
 MASSES = "masses"
+VIEW_SCRIPT = "view.py"
 _XINCLUDE = "{http://www.w3.org/2003/XInclude}include"  # as meshio wrote it (series before issue 22)
 FLUSH_EVERY = 100  # records between writes of the data and the .xdmf text (and at checkpoints, the end)
 PENDING_BYTES = 16 << 20  # ... or sooner, so that records waiting to be written stay below twice this
@@ -423,8 +425,8 @@ def point_masses(sim: "Simulation") -> list[PointMass]:
 
 
 class XdmfOutput:
-    """The beams (and sliders, point masses) time series of one run. All ranks call ``write``,
-    ``flush`` and ``close``."""
+    """The beams (and sliders, point masses) time series of one run, and the ParaView script
+    that shows them (view.py). All ranks call ``write``, ``flush`` and ``close``."""
 
     def __init__(self, sim: "Simulation", out: Path, rank: int, resume_after: float | None = None) -> None:
         self.sim = sim
@@ -457,6 +459,10 @@ class XdmfOutput:
             self._open_series(out, ref, s, resume_after)
         except OSError as err:
             raise OutputFailure(f"cannot write the XDMF output in {out}: {err}") from err
+        try:
+            self._write_view_script(out, ref)
+        except OSError as err:
+            raise OutputFailure(f"cannot write the ParaView script {out / VIEW_SCRIPT}: {err}") from err
 
     def _open_series(self, out: Path, ref: np.ndarray, s: np.ndarray, resume_after: float | None) -> None:
         beams = self.sim.scene.beams
@@ -472,6 +478,20 @@ class XdmfOutput:
             constants = {"mass": np.array([m.mass for m in self._masses]), "mass_id": np.arange(n, dtype=np.int32)}
             self._series[MASSES] = Series(out / f"{MASSES}.xdmf", self._mass_ref, _vertices(n), "Polyvertex",
                                           constants, resume_after, names={"mass_names": [m.label for m in self._masses]})
+
+    def _write_view_script(self, out: Path, ref: np.ndarray) -> None:
+        """view.py beside the series: ParaView opens the run with one command."""
+        from .paraview_script import ViewConfig, up_direction, view_script
+
+        halves = np.concatenate([self._half2, self._half3])
+        gravity = self.sim.scene.entries("gravity")
+        config = ViewConfig(scene=self.sim.scene.name, series=tuple(self._series),
+                            section_half=float(halves.max()) if halves.size else 0.0,
+                            extent=float(np.linalg.norm(ref.max(axis=0) - ref.min(axis=0))) if len(ref) else 0.0,
+                            up=up_direction(gravity[0].vec["g"] if gravity else None), folder=str(out.resolve()))
+        tmp = out / f".{VIEW_SCRIPT}.tmp"
+        tmp.write_text(view_script(config))
+        os.replace(tmp, out / VIEW_SCRIPT)
 
     # -- sampling (collective) -------------------------------------------------------------
     def _sample(self, x, v) -> dict[str, np.ndarray]:

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
 """XDMF/HDF5 output as users open it (issue 5): read back with meshio against history.csv, the
 .h5 beside its .xdmf whatever the working directory, 1 rank = 2 ranks, ParaView's three readers
-(one copy of the beams in each, issue 22), a clean stop when the disk fills, and the point masses'
-series (issue 40)."""
+(one copy of the beams in each, issue 22), a clean stop when the disk fills, the point masses'
+series and the run's ParaView script view.py (issue 40)."""
 from __future__ import annotations
 
 import csv
@@ -144,6 +144,7 @@ def test_static_runs_write_the_series_too(run_cli, root, tmp_path):
     assert [t for t, _ in steps] == pytest.approx([0.0, 1 / 3, 2 / 3, 1.0])
     assert not (tmp_path / "r" / "sliders.xdmf").exists()  # no sliding joints, no slider series
     assert not (tmp_path / "r" / "masses.xdmf").exists()  # no point masses, no mass series
+    assert (tmp_path / "r" / "view.py").is_file()
     assert np.abs(steps[0][1]["velocity"]).max() == 0.0
 
 
@@ -213,6 +214,33 @@ def test_a_restart_continues_the_point_masses_series(run_cli, root, tmp_path):
             assert np.abs(da[key] - db[key]).max() <= 1e-12 * max(1.0, np.abs(da[key]).max()), key
     _, beams = read_series(tmp_path / "parts" / "beams.xdmf")
     assert all(np.array_equal(m["displacement"][0], b["displacement"][-1]) for (_, m), (_, b) in zip(parts, beams))
+
+
+def load_view_script(path: Path):
+    """view.py as a module (it imports ParaView only when it builds or renders)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("view", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_run_with_xdmf_writes_its_paraview_script(run_cli, root, tmp_path):
+    """view.py names the series the run wrote and a tube radius of at least 0.4 % of the
+    structure (the seed's bars: 5 mm across a 2.2 m structure); no XDMF, no script."""
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
+    assert out.returncode == 0, out.stderr
+    view = load_view_script(tmp_path / "res" / "view.py")
+    assert view.SCENE == "free_fall_inclined_1+4" and view.SERIES == ("beams", "sliders", "masses")
+    points, _ = read_series(tmp_path / "res" / "beams.xdmf")
+    extent = np.linalg.norm(points.max(axis=0) - points.min(axis=0))
+    assert view.TUBE_RADIUS == pytest.approx(0.004 * extent) and view.TUBE_RADIUS > 0.0025
+    assert view.UP == (0.0, 1.0, 0.0)  # the seed's gravity is -y
+    assert not list((tmp_path / "res").glob(".*.tmp"))  # written whole, then renamed
+    none = run_cli("run", str(root.joinpath(*SEED)), "--out", "none", "-q", *SHORT, "--set", "output.xdmf=false")
+    assert none.returncode == 0, none.stderr
+    assert not (tmp_path / "none" / "view.py").exists()
 
 
 def _paraview_available() -> bool:
@@ -429,3 +457,48 @@ print(w.wait(), "|", w.failed_record, "|", w.close())
     with h5py.File(tmp_path / "big.h5", "r") as f:  # the records before the refused one are whole
         assert all(f[f"x/{r}"][0, 0] == r for r in range(int(failed)))
 
+
+_BUILD_SCRIPT = """
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import view  # the moved run's own script: it finds the series beside itself
+p = view.build()
+out = {"times": p["times"], "tension_range": list(p["tension_range"]), "lut": list(p["lut"].RGBPoints),
+       "colour": list(p["tube_display"].ColorArrayName), "radius": p["tube"].Radius}
+for name in ("beams", "sliders", "masses"):
+    reader = p[name + "_reader"]
+    out[name + "_times"] = view._values(reader.TimestepValues)
+for name in ("tube", "sliders_glyph", "masses_glyph"):
+    p[name].UpdatePipeline(p["times"][-1])
+    out[name + "_points"] = p[name].GetDataInformation().GetNumberOfPoints()
+    out[name + "_type"] = p[name].GetXMLName()
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(not _paraview_available(), reason="python3-paraview is not installed")
+def test_the_paraview_script_builds_the_view_of_a_moved_run(run_cli, root, tmp_path):
+    """view.py's build() (no rendering: that needs an X display) in a run folder moved after the
+    run: the readers see every recorded step, the beams are tubes coloured by the tension on
+    the scale of the whole run, the slider and the point mass are spheres."""
+    import shutil
+
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
+    assert out.returncode == 0, out.stderr
+    moved = tmp_path / "elsewhere" / "res"
+    shutil.move(tmp_path / "res", moved)
+    res = subprocess.run(["/usr/bin/python3", "-c", _BUILD_SCRIPT, str(moved)], capture_output=True, text=True,
+                         timeout=300, cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    got = json.loads(res.stdout.strip().splitlines()[-1])
+    times = [0.005 * k for k in range(11)]
+    for name in ("times", "beams_times", "sliders_times", "masses_times"):
+        assert got[name] == pytest.approx(times), name
+    tension = [d["tension"] for _, d in read_series(moved / "beams.xdmf")[1]]
+    lo, hi = min(t.min() for t in tension), max(t.max() for t in tension)
+    assert got["tension_range"] == pytest.approx([lo, hi], rel=1e-12)
+    assert (got["lut"][0], got["lut"][-4]) == pytest.approx((lo, hi), rel=1e-12)  # the scale's ends (x, r, g, b)
+    assert got["colour"] == ["POINTS", "tension"]
+    assert (got["tube_type"], got["sliders_glyph_type"], got["masses_glyph_type"]) == ("TubeFilter", "Glyph", "Glyph")
+    assert got["tube_points"] > 17 and got["sliders_glyph_points"] > 1 and got["masses_glyph_points"] > 1
+    assert got["radius"] == pytest.approx(load_view_script(moved / "view.py").TUBE_RADIUS)
