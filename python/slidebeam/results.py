@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Results on disk, as ``slidebeam run`` writes them: summary.json, history.csv,
-final_configuration.csv and the XDMF series beams.xdmf/.h5 (and sliders.xdmf/.h5).
+final_configuration.csv and the XDMF series beams.xdmf/.h5 (and sliders.xdmf/.h5,
+masses.xdmf/.h5).
 
 From a script: :class:`ResultWriter` writes all of them (the XDMF series as the run goes, the rest
 at its end), :func:`write_results` the files without the series after a run. Collective: every
@@ -321,7 +322,8 @@ def write_results(sim: Simulation, result, folder: str | Path, wall_time: float 
 
 class ResultWriter:
     """Everything ``slidebeam run`` writes, from a script: the XDMF series (beams.xdmf/.h5 and,
-    with sliding joints, sliders.xdmf/.h5; unless the scene says ``[output] xdmf = false``)
+    with sliding joints, sliders.xdmf/.h5, with point masses, masses.xdmf/.h5, and view.py, the
+    ParaView script that shows them; unless the scene says ``[output] xdmf = false``)
     recorded as the run goes, then history.csv, final_configuration.csv and summary.json.
 
     Create it before the run (a static scene's current state is written as the first

@@ -280,7 +280,7 @@ class Output:
     track: tuple[TrackPoint, ...]
     samples_per_span: int
     checkpoint_every: int = 0  # steps between checkpoints (0: only when the run ends)
-    xdmf: bool = True          # write beams.xdmf/sliders.xdmf
+    xdmf: bool = True          # write beams.xdmf/sliders.xdmf/masses.xdmf
     warn_size_gb: float = 1.0  # warn before a run whose output is estimated larger (0: never)
 
 

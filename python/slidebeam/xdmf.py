@@ -12,13 +12,18 @@ Files in the output folder (names are stable):
   force, a scalar to colour by), ``section_d2``, ``section_d3`` (d2 and d3
   times the half extent of the section along them, sqrt(3 EI3/EA) and sqrt(3 EI2/EA): exact for
   a rectangle, from which a Ribbon or Tube filter draws the section), ``s`` (arc length) and
-  ``beam_id``.
+  ``beam_id``. ``/mesh`` has the attribute ``beam_names`` (in ``beam_id`` order).
 - ``sliders.xdmf`` + ``sliders.h5`` (scenes with sliding joints): one vertex per joint at the
   slider's start position, with ``displacement``, ``s``, ``ds_dt``, ``reaction`` (force of the
   carrier on the slider) and ``joint_id``.
+- ``masses.xdmf`` + ``masses.h5`` (scenes with point masses): one vertex per point mass at its
+  reference position, with ``displacement``, ``velocity``, ``mass`` and ``mass_id``; ``/mesh``
+  has the attribute ``mass_names`` (the effects' labels, as summary.json's ``active_effects``:
+  ``point_mass[hanger@end]``).
+- ``view.py``: a ParaView script that opens the series (:mod:`slidebeam.paraview_script`).
 
 In the ``.h5``: ``/mesh/points``, ``/mesh/cells`` and the fields that never change (``s``,
-``beam_id``, ``joint_id``) under ``/mesh``, written once; every other field one dataset per
+``beam_id``, ``joint_id``, ``mass``, ``mass_id``) under ``/mesh``, written once; every other field one dataset per
 record, ``/<field>/<record>``. Every step's grid names the reference mesh itself (issue 22:
 a separate mesh grid showed twice in ParaView's legacy reader) and its datasets by plain HDF
 DataItems. Not one extendable dataset per field read through hyperslabs: meshio's
@@ -41,8 +46,9 @@ import os
 import re
 import sys
 import xml.etree.ElementTree as ET
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
@@ -54,6 +60,8 @@ if TYPE_CHECKING:
 
 BEAMS = "beams"
 SLIDERS = "sliders"
+MASSES = "masses"
+VIEW_SCRIPT = "view.py"
 _XINCLUDE = "{http://www.w3.org/2003/XInclude}include"  # as meshio wrote it (series before issue 22)
 FLUSH_EVERY = 100  # records between writes of the data and the .xdmf text (and at checkpoints, the end)
 PENDING_BYTES = 16 << 20  # ... or sooner, so that records waiting to be written stay below twice this
@@ -104,6 +112,11 @@ def _data_item(h5_name: str, path: str, shape: tuple[int, ...], dtype: np.dtype)
             f"{h5_name}:{path}</DataItem>")
 
 
+def _vertices(n: int) -> np.ndarray:
+    """Polyvertex cells of n points, one cell per point."""
+    return np.arange(n).reshape(n, 1)
+
+
 def _attribute(name: str, item: str, shape: tuple[int, ...]) -> str:
     width = shape[1] if len(shape) > 1 else 1
     return f'<Attribute Name="{name}" AttributeType="{_ATTRIBUTE_TYPE[width]}" Center="Node">{item}</Attribute>'
@@ -112,8 +125,9 @@ def _attribute(name: str, item: str, shape: tuple[int, ...]) -> str:
 class Series:
     """One time series (rank 0): ``<name>.xdmf`` and ``<name>.h5`` beside it. ``points`` and
     ``cells`` are the reference mesh (``topology``: "Polyline" or "Polyvertex"), ``constants``
-    the point data that never changes. ``resume_after``: continue the series on disk, keeping
-    its steps up to that time (restart).
+    the point data that never changes, ``names`` string lists stored as attributes of ``/mesh``
+    (labels for readers). ``resume_after``: continue the series on disk, keeping its steps up to
+    that time (restart).
 
     Records go into segments: ``<name>.h5`` (with the mesh) until the first checkpoint, then
     ``<name>.1.h5``, ``<name>.2.h5``, ... from one checkpoint to the next (:meth:`new_segment`).
@@ -123,7 +137,8 @@ class Series:
     written after its checkpoint."""
 
     def __init__(self, xdmf: Path, points: np.ndarray, cells: np.ndarray, topology: str,
-                 constants: dict[str, np.ndarray], resume_after: float | None = None) -> None:
+                 constants: dict[str, np.ndarray], resume_after: float | None = None,
+                 names: dict[str, list[str]] | None = None) -> None:
         import h5py
 
         from . import _core
@@ -140,6 +155,8 @@ class Series:
         self.segment = self._resume_segments(kept) if resume else self._remove_segments(keep=set())
         with h5py.File(self.h5_path, "a" if resume else "w") as h5:
             self._mesh = self._write_mesh(h5, points, cells, topology, constants)
+            for key, values in (names or {}).items():  # also on a resumed series written without them
+                h5["mesh"].attrs.create(key, values, dtype=h5py.string_dtype())
         self._open_writer()
         self._has_text = bool(kept)  # the .xdmf exists, or the writer has steps to create it with
         if kept:  # the .xdmf as it was up to the restart time, in this structure
@@ -367,6 +384,7 @@ class NoOutput:
 # HDF5 object of each field (header and link), and the step's XDMF text
 FLOATS_PER_SAMPLE = 34  # displacement, velocity, d1-d3, strain (6), force, moment, tension, section_d2/d3
 FLOATS_PER_SLIDER = 8  # displacement, s, ds_dt, reaction
+FLOATS_PER_MASS = 6  # displacement, velocity
 BYTES_PER_DATASET = 500
 XDMF_BYTES_PER_FIELD = 150
 XDMF_BYTES_PER_STEP = 1000
@@ -381,12 +399,34 @@ def bytes_per_record(scene) -> int:
     if scene.sliding_joints:
         size += 8 * FLOATS_PER_SLIDER * len(scene.sliding_joints) + 4 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD)
         size += XDMF_BYTES_PER_STEP
+    masses = len(scene.entries("point_mass"))
+    if masses:
+        size += 8 * FLOATS_PER_MASS * masses + 2 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD) + XDMF_BYTES_PER_STEP
     return size
 
 
+@dataclass(frozen=True)
+class PointMass:
+    """A ``[[point_mass]]`` as the masses series shows it."""
+
+    label: str  # the effect's label, as in summary.json's active_effects: "point_mass[hanger@end]"
+    beam: int
+    s: float  # arc length on the beam
+    mass: float
+
+
+def point_masses(sim: "Simulation") -> list[PointMass]:
+    """The scene's point masses in file order, labelled as the model labels them (a second mass
+    at the same point is "...#2")."""
+    labels = [e.label for e in sim.active_effects if e.type == "point_mass"]
+    entries = sim.scene.entries("point_mass")
+    return [PointMass(label, int(e.num["beam"]), float(e.num["s"]), float(e.num["mass"]))
+            for label, e in zip(labels, entries, strict=True)]
+
+
 class XdmfOutput:
-    """The beams (and sliders) time series of one run. All ranks call ``write``, ``flush`` and
-    ``close``."""
+    """The beams (and sliders, point masses) time series of one run, and the ParaView script
+    that shows them (view.py). All ranks call ``write``, ``flush`` and ``close``."""
 
     def __init__(self, sim: "Simulation", out: Path, rank: int, resume_after: float | None = None) -> None:
         self.sim = sim
@@ -401,25 +441,57 @@ class XdmfOutput:
         ref, s = self._reference()
         self._ref_points = ref
         self._half2, self._half3 = self._section_halves()
-        self._slider_rows = self._slider_sample_rows()
-        self._slider_ref = self._slider_positions(ref, sim_x=self._ref_x) if sim.scene.sliding_joints else None
+        self._slider_points = [(j.slider, j.at) for j in sim.scene.sliding_joints]
+        self._slider_rows = self._end_rows(self._slider_points)
+        self._slider_ref = self._positions(self._slider_points, self._slider_rows, ref, self._ref_x)
+        self._masses = point_masses(sim)
+        self._mass_points = [(m.beam, m.s) for m in self._masses]
+        self._mass_rows = self._end_rows(self._mass_points)
+        self._mass_ref = self._positions(self._mass_points, self._mass_rows, ref, self._ref_x)
         self._ref_x.destroy()
         from . import _core
 
         self._sampler = _core.BeamSeriesSampler(self._beam_indices, self.k, ref, self._half2.ravel(), self._half3.ravel())
-        self._series: list[Series] = []
+        self._series: dict[str, Series] = {}  # by name; emptied when the output is abandoned
         if rank != 0:
             return
         try:
-            ids = np.concatenate([np.full(b.spans * self.k + 1, b.index, dtype=np.int32) for b in sim.scene.beams])
-            self._series.append(Series(out / f"{BEAMS}.xdmf", ref, self._lines(), "Polyline",
-                                       {"s": s, "beam_id": ids}, resume_after))
-            if sim.scene.sliding_joints:
-                n = len(self._slider_ref)
-                self._series.append(Series(out / f"{SLIDERS}.xdmf", self._slider_ref, np.arange(n).reshape(n, 1),
-                                           "Polyvertex", {"joint_id": np.arange(n, dtype=np.int32)}, resume_after))
+            self._open_series(out, ref, s, resume_after)
         except OSError as err:
             raise OutputFailure(f"cannot write the XDMF output in {out}: {err}") from err
+        try:
+            self._write_view_script(out, ref)
+        except OSError as err:
+            raise OutputFailure(f"cannot write the ParaView script {out / VIEW_SCRIPT}: {err}") from err
+
+    def _open_series(self, out: Path, ref: np.ndarray, s: np.ndarray, resume_after: float | None) -> None:
+        beams = self.sim.scene.beams
+        ids = np.concatenate([np.full(b.spans * self.k + 1, b.index, dtype=np.int32) for b in beams])
+        self._series[BEAMS] = Series(out / f"{BEAMS}.xdmf", ref, self._lines(), "Polyline", {"s": s, "beam_id": ids},
+                                     resume_after, names={"beam_names": [b.name for b in beams]})
+        if self._slider_points:
+            n = len(self._slider_ref)
+            self._series[SLIDERS] = Series(out / f"{SLIDERS}.xdmf", self._slider_ref, _vertices(n), "Polyvertex",
+                                           {"joint_id": np.arange(n, dtype=np.int32)}, resume_after)
+        if self._masses:
+            n = len(self._masses)
+            constants = {"mass": np.array([m.mass for m in self._masses]), "mass_id": np.arange(n, dtype=np.int32)}
+            self._series[MASSES] = Series(out / f"{MASSES}.xdmf", self._mass_ref, _vertices(n), "Polyvertex",
+                                          constants, resume_after, names={"mass_names": [m.label for m in self._masses]})
+
+    def _write_view_script(self, out: Path, ref: np.ndarray) -> None:
+        """view.py beside the series: ParaView opens the run with one command."""
+        from .paraview_script import ViewConfig, up_direction, view_script
+
+        halves = np.concatenate([self._half2, self._half3])
+        gravity = self.sim.scene.entries("gravity")
+        config = ViewConfig(scene=self.sim.scene.name, series=tuple(self._series),
+                            section_half=float(halves.max()) if halves.size else 0.0,
+                            extent=float(np.linalg.norm(ref.max(axis=0) - ref.min(axis=0))) if len(ref) else 0.0,
+                            up=up_direction(gravity[0].vec["g"] if gravity else None), folder=str(out.resolve()))
+        tmp = out / f".{VIEW_SCRIPT}.tmp"
+        tmp.write_text(view_script(config))
+        os.replace(tmp, out / VIEW_SCRIPT)
 
     # -- sampling (collective) -------------------------------------------------------------
     def _sample(self, x, v) -> dict[str, np.ndarray]:
@@ -443,28 +515,49 @@ class XdmfOutput:
             half3.append(np.full((n, 1), np.sqrt(3.0 * sec.EI2 / sec.EA)))
         return np.concatenate(half2), np.concatenate(half3)
 
-    def _slider_sample_rows(self) -> list[int | None]:
-        """Per sliding joint, the sample point that is its slider point (a beam end), or None
-        (a point inside the beam: evaluated apart)."""
+    def _end_rows(self, points: Sequence[tuple[int, float]]) -> list[int | None]:
+        """Per beam point (beam, arc length), the sample point it is (a beam end), or None (a
+        point inside the beam: evaluated apart)."""
         first, firsts = 0, {}
         for b in self.sim.scene.beams:
             firsts[b.index] = first
             first += b.spans * self.k + 1
         rows: list[int | None] = []
-        for j in self.sim.scene.sliding_joints:
-            b = self.sim.scene.beams[j.slider]
-            rows.append(firsts[b.index] if j.at == 0.0 else
-                        firsts[b.index] + b.spans * self.k if j.at == b.geometry.length else None)
+        for beam, s in points:
+            b = self.sim.scene.beams[beam]
+            rows.append(firsts[b.index] if s == 0.0 else
+                        firsts[b.index] + b.spans * self.k if s == b.geometry.length else None)
         return rows
 
-    def _slider_positions(self, points: np.ndarray, sim_x=None) -> np.ndarray:
-        if None not in self._slider_rows:  # every slider point is a beam end: a sample point
-            return points[self._slider_rows]
-        joints = self.sim.scene.sliding_joints
-        pos = np.empty((len(joints), 3))
-        for i, (j, row) in enumerate(zip(joints, self._slider_rows)):
-            pos[i] = points[row] if row is not None else self.sim.evaluate(j.slider, j.at, sim_x)[0, :3]
+    def _positions(self, points: Sequence[tuple[int, float]], rows: list[int | None], samples: np.ndarray,
+                   x=None) -> np.ndarray:
+        """Positions of beam points (beam, arc length) in the state x (default: the current one):
+        a beam end is its sample point, any other point is evaluated on its beam. Collective:
+        every rank holds the same points, so all evaluate the same beams in the same order."""
+        pos = np.empty((len(points), 3))
+        inside: dict[int, list[int]] = {}
+        for i, ((beam, _), row) in enumerate(zip(points, rows)):
+            if row is None:
+                inside.setdefault(beam, []).append(i)
+            else:
+                pos[i] = samples[row]
+        for beam, which in inside.items():  # one gather of the beam's coordinates for all its points
+            pos[which] = self.sim.evaluate(beam, [points[i][1] for i in which], x)[:, :3]
         return pos
+
+    def _velocities(self, points: Sequence[tuple[int, float]]) -> np.ndarray:
+        """Velocities of beam points (collective; zero in a static run). The beam's coordinates
+        are interpolated linearly, so their rates interpolate the same way."""
+        v = self.sim.v
+        vel = np.zeros((len(points), 3))
+        if v is None:
+            return vel
+        on: dict[int, list[int]] = {}
+        for i, (beam, _) in enumerate(points):
+            on.setdefault(beam, []).append(i)
+        for beam, which in on.items():
+            vel[which] = self.sim.evaluate(beam, [points[i][1] for i in which], v)[:, :3]
+        return vel
 
     def _lines(self) -> np.ndarray:
         cells, first = [], 0
@@ -484,8 +577,14 @@ class XdmfOutput:
         (a record), else they are computed (collective)."""
         joints = self.sim.joint_states() if joints is None else joints
         state = np.array([(j.s, j.ds_dt, *j.reaction) for j in joints]).reshape(-1, 5)
-        return {"displacement": self._slider_positions(position) - self._slider_ref,
-                "s": state[:, 0], "ds_dt": state[:, 1], "reaction": state[:, 2:]}
+        current = self._positions(self._slider_points, self._slider_rows, position)
+        return {"displacement": current - self._slider_ref, "s": state[:, 0], "ds_dt": state[:, 1],
+                "reaction": state[:, 2:]}
+
+    def mass_fields(self, position: np.ndarray) -> dict[str, np.ndarray]:
+        """The point masses' point data (collective); ``position``: the sample points' positions."""
+        current = self._positions(self._mass_points, self._mass_rows, position)
+        return {"displacement": current - self._mass_ref, "velocity": self._velocities(self._mass_points)}
 
     # -- writing ---------------------------------------------------------------------------
     def write(self, t: float, joints: list[JointState] | None = None) -> None:
@@ -496,22 +595,26 @@ class XdmfOutput:
             self._write(t, joints)
 
     def _write(self, t: float, joints: list[JointState] | None) -> None:
-        beams = self._series[0] if self._series else None
+        beams = self._series.get(BEAMS)
         if self.writes == 0:  # every rank holds the same arrays: the same flush points everywhere
             data, position = self.fields()
-            sliders = self.slider_fields(position, joints) if self.sim.scene.sliding_joints else {}
-            size = sum(v.nbytes for v in data.values()) + sum(v.nbytes for v in sliders.values())
-            self._flush_every = max(1, min(FLUSH_EVERY, PENDING_BYTES // max(1, size)))
-            if beams is not None:
-                beams.add(t, data)
         else:  # sampled into the writer's record
+            data = None
             position = self._sampler.record(self.sim._model, self.sim.x, self.sim.v,
                                             None if beams is None else beams.writer, -1 if beams is None else beams.next_record)
-            if beams is not None:
+        points = {SLIDERS: self.slider_fields(position, joints) if self._slider_points else {},
+                  MASSES: self.mass_fields(position) if self._masses else {}}
+        if data is not None:
+            size = sum(v.nbytes for fields in (data, *points.values()) for v in fields.values())
+            self._flush_every = max(1, min(FLUSH_EVERY, PENDING_BYTES // max(1, size)))
+        if beams is not None:
+            if data is not None:
+                beams.add(t, data)
+            else:
                 beams.added(t)
-            sliders = self.slider_fields(position, joints) if self.sim.scene.sliding_joints else {}
-        if sliders and self._series:
-            self._series[1].add(t, sliders)
+        for name, fields in points.items():
+            if fields and name in self._series:
+                self._series[name].add(t, fields)
         self._last_t = t
         self.writes += 1
         self._held += 1
@@ -531,9 +634,9 @@ class XdmfOutput:
         """After a failed write: write no more (the .xdmf on disk keeps describing the steps of
         the last flush) and close the files, whose failure is already reported."""
         self.closed = True
-        for s in self._series:
+        for s in self._series.values():
             s.abandon()
-        self._series = []
+        self._series = {}
 
     def flush(self, wait: bool = True) -> None:
         """Make the .xdmf files describe the records so far (collective). ``wait``: return once
@@ -542,7 +645,7 @@ class XdmfOutput:
         error = None
         self._held = 0
         try:
-            for s in self._series:
+            for s in self._series.values():
                 s.flush(wait, backlog=2 * self._flush_every)
         except OutputFailure as err:  # the record that failed names its time
             self._abandon()
@@ -561,7 +664,7 @@ class XdmfOutput:
         self.flush()
         error = None
         try:
-            for s in self._series:
+            for s in self._series.values():
                 s.new_segment()
         except (OutputFailure, OSError) as err:
             self._abandon()
@@ -575,10 +678,10 @@ class XdmfOutput:
         self.flush()
         self.closed = True
         errors = []
-        for s in self._series:
+        for s in self._series.values():
             try:
                 s.close()
             except (OutputFailure, OSError) as err:
                 errors.append(_first_line(err))
-        self._series = []
+        self._series = {}
         self._raise_on_any_rank("closing the XDMF output failed: " + "; ".join(errors) if errors else None)

@@ -73,7 +73,7 @@ def test_restarted_run_equals_the_uninterrupted_one(run_cli, root, tmp_path, int
     # the restarted history's wall time is both runs': the restart's own is reported apart
     assert "wall_time_this_run_s" in sb and "wall_time_this_run_s" not in sa
     assert sb["wall_time_s"] > sb["wall_time_this_run_s"] > 0.0
-    for series in ("beams.xdmf", "sliders.xdmf"):
+    for series in ("beams.xdmf", "sliders.xdmf", "masses.xdmf"):
         pa, steps_a = read_series(tmp_path / "whole" / series)
         pb, steps_b = read_series(tmp_path / "parts" / series)
         assert np.array_equal(pa, pb) and len(steps_a) == len(steps_b) == 31

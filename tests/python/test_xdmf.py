@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 """XDMF/HDF5 output as users open it (issue 5): read back with meshio against history.csv, the
 .h5 beside its .xdmf whatever the working directory, 1 rank = 2 ranks, ParaView's three readers
-(one copy of the beams in each, issue 22), and a clean stop when the disk fills."""
+(one copy of the beams in each, issue 22), a clean stop when the disk fills, the point masses'
+series and the run's ParaView script view.py (issue 40)."""
 from __future__ import annotations
 
 import csv
@@ -75,6 +76,23 @@ def test_beams_and_sliders_read_back_against_the_history(run_cli, root, tmp_path
         assert data["reaction"][0] == pytest.approx([float(row[f"CM_on_AB.reaction.{c}"]) for c in "xyz"], abs=1e-12)
         assert slider_points[0] + data["displacement"][0] == pytest.approx(
             [float(row[f"CM@0.{c}"]) for c in "xyz"], abs=1e-12)
+    mass_points, mass_steps = read_series(run / "masses.xdmf")
+    assert mass_points.shape == (1, 3) and mass_points[0] == pytest.approx(points[-1], abs=0)  # CM's end
+    assert len(mass_steps) == len(steps)
+    for (t, data), (tb, beams) in zip(mass_steps, steps):
+        assert t == tb and set(data) == {"displacement", "velocity", "mass", "mass_id"}
+        assert np.array_equal(data["displacement"][0], beams["displacement"][-1])  # the same sample point
+        assert data["velocity"][0] == pytest.approx(beams["velocity"][-1], rel=1e-12, abs=1e-15)
+        assert list(data["mass"]) == [1.0] and list(data["mass_id"]) == [0]
+    assert np.abs(mass_steps[-1][1]["velocity"]).max() > 0.1  # falling: the comparison compares something
+    import h5py
+
+    with h5py.File(run / "beams.h5", "r") as f:
+        assert list(f["mesh"].attrs["beam_names"]) == ["AB", "CM"]
+    with h5py.File(run / "masses.h5", "r") as f:
+        assert list(f["mesh"].attrs["mass_names"]) == ["point_mass[CM@end]"]
+    summary = json.loads((run / "summary.json").read_text())
+    assert "point_mass[CM@end]" in summary["active_effects"]  # the names are the effects' labels
 
 
 def test_the_series_reads_back_with_meshio_as_the_simulation_sampled(root, tmp_path, monkeypatch):
@@ -125,15 +143,42 @@ def test_static_runs_write_the_series_too(run_cli, root, tmp_path):
     points, steps = read_series(tmp_path / "r" / "beams.xdmf")
     assert [t for t, _ in steps] == pytest.approx([0.0, 1 / 3, 2 / 3, 1.0])
     assert not (tmp_path / "r" / "sliders.xdmf").exists()  # no sliding joints, no slider series
+    assert not (tmp_path / "r" / "masses.xdmf").exists()  # no point masses, no mass series
+    assert (tmp_path / "r" / "view.py").is_file()
     assert np.abs(steps[0][1]["velocity"]).max() == 0.0
 
 
+# a second point mass inside the carrier AB (at a knot: a sample point of its polyline), placed by
+# evaluating the beam, which is spread over the ranks under mpirun -n 2
+INNER_MASS = """
+[[point_mass]]
+beam = "AB"
+at = 0.5
+mass = 0.5
+"""
+
+
+def seed_with_inner_mass(root: Path, folder: Path) -> Path:
+    scene = folder / "seed_masses.toml"
+    scene.write_text(root.joinpath(*SEED).read_text() + INNER_MASS)
+    return scene
+
+
 def test_two_ranks_write_the_same_series_as_one(run_cli, root, tmp_path):
-    """Fields are gathered to rank 0, which writes: the files hold the same numbers."""
+    """Fields are gathered to rank 0, which writes: the files hold the same numbers. The point
+    mass inside AB is where AB's sample point at s = 0.5 is."""
+    scene = seed_with_inner_mass(root, tmp_path)
     for np_, name in ((1, "one"), (2, "two")):
-        out = run_cli("run", str(root.joinpath(*SEED)), "--out", name, "-q", *SHORT, np=np_)
+        out = run_cli("run", str(scene), "--out", name, "-q", *SHORT, np=np_)
         assert out.returncode == 0, out.stderr
-    for series in ("beams.xdmf", "sliders.xdmf"):
+    points, beams = read_series(tmp_path / "two" / "beams.xdmf")
+    mass_points, masses = read_series(tmp_path / "two" / "masses.xdmf")
+    assert mass_points == pytest.approx(points[[16, 3]], abs=1e-15)  # CM's end, AB at s = 0.5 (3 samples a span)
+    for (_, b), (_, m) in zip(beams, masses):
+        assert m["displacement"] == pytest.approx(b["displacement"][[16, 3]], rel=1e-12, abs=1e-15)
+        assert m["velocity"] == pytest.approx(b["velocity"][[16, 3]], rel=1e-12, abs=1e-15)
+    assert list(m["mass"]) == [1.0, 0.5]
+    for series in ("beams.xdmf", "sliders.xdmf", "masses.xdmf"):
         p1, s1 = read_series(tmp_path / "one" / series)
         p2, s2 = read_series(tmp_path / "two" / series)
         assert np.array_equal(p1, p2) and len(s1) == len(s2)
@@ -146,6 +191,56 @@ def test_two_ranks_write_the_same_series_as_one(run_cli, root, tmp_path):
                 # less exact than the state, ~1e-9 at Newton tolerance (times the stiffness)
                 tol = 1e-8 if key in ("reaction", "force", "moment", "tension", "strain") else 1e-9
                 assert np.abs(d1[key] - d2[key]).max() <= tol * scale, (series, key)
+
+
+def test_a_restart_continues_the_point_masses_series(run_cli, root, tmp_path):
+    """masses.xdmf follows the checkpoints as the other series do: a run stopped at t = 0.03
+    (with a checkpoint at 0.02 on the way, after which its records go into masses.1.h5) and
+    restarted to 0.05 has the series of the run that went on."""
+    scene = str(root.joinpath(*SEED))
+    common = ["-q", "--set", "output.every=5", "--set", "output.samples_per_span=3",
+              "--set", "output.checkpoint_every=20"]
+    for args in (["--out", "whole", "--set", "analysis.t_end=0.05"], ["--out", "parts", "--set", "analysis.t_end=0.03"],
+                 ["--restart", "parts/checkpoint.h5", "--set", "analysis.t_end=0.05"]):
+        out = run_cli("run", scene, *common, *args)
+        assert out.returncode == 0, out.stderr
+    assert (tmp_path / "parts" / "masses.1.h5").is_file() and (tmp_path / "parts" / "masses.2.h5").is_file()
+    pa, whole = read_series(tmp_path / "whole" / "masses.xdmf")
+    pb, parts = read_series(tmp_path / "parts" / "masses.xdmf")
+    assert np.array_equal(pa, pb) and len(whole) == len(parts) == 11
+    for (ta, da), (tb, db) in zip(whole, parts):
+        assert ta == pytest.approx(tb, abs=1e-15)
+        for key in da:
+            assert np.abs(da[key] - db[key]).max() <= 1e-12 * max(1.0, np.abs(da[key]).max()), key
+    _, beams = read_series(tmp_path / "parts" / "beams.xdmf")
+    assert all(np.array_equal(m["displacement"][0], b["displacement"][-1]) for (_, m), (_, b) in zip(parts, beams))
+
+
+def load_view_script(path: Path):
+    """view.py as a module (it imports ParaView only when it builds or renders)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("view", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_run_with_xdmf_writes_its_paraview_script(run_cli, root, tmp_path):
+    """view.py names the series the run wrote and a tube radius of at least 0.4 % of the
+    structure (the seed's bars: 5 mm across a 2.2 m structure); no XDMF, no script."""
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
+    assert out.returncode == 0, out.stderr
+    view = load_view_script(tmp_path / "res" / "view.py")
+    assert view.SCENE == "free_fall_inclined_1+4" and view.SERIES == ("beams", "sliders", "masses")
+    points, _ = read_series(tmp_path / "res" / "beams.xdmf")
+    extent = np.linalg.norm(points.max(axis=0) - points.min(axis=0))
+    assert view.TUBE_RADIUS == pytest.approx(0.004 * extent) and view.TUBE_RADIUS > 0.0025
+    assert view.UP == (0.0, 1.0, 0.0)  # the seed's gravity is -y
+    assert not list((tmp_path / "res").glob(".*.tmp"))  # written whole, then renamed
+    none = run_cli("run", str(root.joinpath(*SEED)), "--out", "none", "-q", *SHORT, "--set", "output.xdmf=false")
+    assert none.returncode == 0, none.stderr
+    assert not (tmp_path / "none" / "view.py").exists()
 
 
 def _paraview_available() -> bool:
@@ -217,7 +312,7 @@ def test_every_paraview_reader_shows_one_copy(run_cli, root, tmp_path):
     out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
     assert out.returncode == 0, out.stderr
     k = 7  # a step away from the start: the displacement is not zero there
-    for series, points, cells in (("beams.xdmf", 17, 15), ("sliders.xdmf", 1, 1)):
+    for series, points, cells in (("beams.xdmf", 17, 15), ("sliders.xdmf", 1, 1), ("masses.xdmf", 1, 1)):
         _, steps = read_series(tmp_path / "res" / series)
         t, data = steps[k]
         assert np.abs(data["displacement"]).max() > 1e-4
@@ -361,3 +456,49 @@ print(w.wait(), "|", w.failed_record, "|", w.close())
     assert "File too large" in error and 0 < int(failed) < 40 and closed == error
     with h5py.File(tmp_path / "big.h5", "r") as f:  # the records before the refused one are whole
         assert all(f[f"x/{r}"][0, 0] == r for r in range(int(failed)))
+
+
+_BUILD_SCRIPT = """
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import view  # the moved run's own script: it finds the series beside itself
+p = view.build()
+out = {"times": p["times"], "tension_range": list(p["tension_range"]), "lut": list(p["lut"].RGBPoints),
+       "colour": list(p["tube_display"].ColorArrayName), "radius": p["tube"].Radius}
+for name in ("beams", "sliders", "masses"):
+    reader = p[name + "_reader"]
+    out[name + "_times"] = view._values(reader.TimestepValues)
+for name in ("tube", "sliders_glyph", "masses_glyph"):
+    p[name].UpdatePipeline(p["times"][-1])
+    out[name + "_points"] = p[name].GetDataInformation().GetNumberOfPoints()
+    out[name + "_type"] = p[name].GetXMLName()
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(not _paraview_available(), reason="python3-paraview is not installed")
+def test_the_paraview_script_builds_the_view_of_a_moved_run(run_cli, root, tmp_path):
+    """view.py's build() (no rendering: that needs an X display) in a run folder moved after the
+    run: the readers see every recorded step, the beams are tubes coloured by the tension on
+    the scale of the whole run, the slider and the point mass are spheres."""
+    import shutil
+
+    out = run_cli("run", str(root.joinpath(*SEED)), "--out", "res", "-q", *SHORT)
+    assert out.returncode == 0, out.stderr
+    moved = tmp_path / "elsewhere" / "res"
+    shutil.move(tmp_path / "res", moved)
+    res = subprocess.run(["/usr/bin/python3", "-c", _BUILD_SCRIPT, str(moved)], capture_output=True, text=True,
+                         timeout=300, cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    got = json.loads(res.stdout.strip().splitlines()[-1])
+    times = [0.005 * k for k in range(11)]
+    for name in ("times", "beams_times", "sliders_times", "masses_times"):
+        assert got[name] == pytest.approx(times), name
+    tension = [d["tension"] for _, d in read_series(moved / "beams.xdmf")[1]]
+    lo, hi = min(t.min() for t in tension), max(t.max() for t in tension)
+    assert got["tension_range"] == pytest.approx([lo, hi], rel=1e-12)
+    assert (got["lut"][0], got["lut"][-4]) == pytest.approx((lo, hi), rel=1e-12)  # the scale's ends (x, r, g, b)
+    assert got["colour"] == ["POINTS", "tension"]
+    assert (got["tube_type"], got["sliders_glyph_type"], got["masses_glyph_type"]) == ("TubeFilter", "Glyph", "Glyph")
+    assert got["tube_points"] > 17 and got["sliders_glyph_points"] > 1 and got["masses_glyph_points"] > 1
+    assert got["radius"] == pytest.approx(load_view_script(moved / "view.py").TUBE_RADIUS)
