@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from slidebeam import plots
-from slidebeam.render import BEAM_COLOUR, SLIDER_COLOUR, Renderer, parse_view
+from slidebeam.render import BEAM_COLOUR, MASS_COLOUR, SLIDER_COLOUR, Renderer, parse_view
 from slidebeam.rundata import open_run
 
 pytestmark = pytest.mark.skip_in_parallel  # spawns its own runs; reading results has no parallel part
@@ -72,6 +72,8 @@ def test_plots_draw_the_runs_numbers(ropeway):
     assert np.array_equal(reactions["spherical[track@end]"]["force"][:, 2], h["spherical[track@end].fz"])
     points = plots.engineering.tracked_points(run)
     assert np.array_equal(points["hanger@1"][1][:, 0], h["hanger@1.x"])
+    cabin = points["mass point_mass[hanger@end]"][1]  # the point mass at the hanger's end: where hanger@1 is
+    assert np.allclose(cabin, points["hanger@1"][1], atol=1e-12)
     lines = plots.figure("sliders", [run]).axes[0].lines
     assert np.array_equal(lines[0].get_ydata(), h["hanger_on_track.s"])
     run.close()
@@ -105,7 +107,7 @@ def _pixels_of(image: np.ndarray, colour: str) -> np.ndarray:
 @pytest.mark.parametrize("view", ["iso", "front", "top", "30,10"])
 def test_picture_shows_the_structure_where_it_is(ropeway, view):
     """The beams' pixels span the projected bounding box of their points (to the line width),
-    and the slider is drawn at its projected position."""
+    and the slider and the point mass (the cabin) are drawn at their projected positions."""
     run = open_run(ropeway)
     renderer = Renderer(run, view, "none", (800, 600))
     last = len(run.beams.times) - 1
@@ -119,14 +121,16 @@ def test_picture_shows_the_structure_where_it_is(ropeway, view):
     width = renderer.lines.get_linewidth()[0] * renderer.fig.dpi / 72.0 + 2.0
     assert cols.min() == pytest.approx(x0, abs=width) and cols.max() == pytest.approx(x1, abs=width)
     assert (height - rows.max()) == pytest.approx(y0, abs=width) and (height - rows.min()) == pytest.approx(y1, abs=width)
-    slider = _pixels_of(image, SLIDER_COLOUR)
-    assert len(slider) > 10
     from mpl_toolkits.mplot3d import proj3d
 
-    p = run.sliders.positions(int(np.argmin(np.abs(run.sliders.times - run.beams.times[last]))))[0]
-    x, y, _ = proj3d.proj_transform(p[0:1], p[1:2], p[2:3], renderer.ax.get_proj())
-    px, py = renderer.ax.transData.transform((x[0], y[0]))
-    assert np.hypot(slider[:, 1].mean() - px, height - slider[:, 0].mean() - py) < 4.0
+    for series, colour in ((run.sliders, SLIDER_COLOUR), (run.masses, MASS_COLOUR)):
+        pixels = _pixels_of(image, colour)
+        assert len(pixels) > 10
+        p = series.positions(int(np.argmin(np.abs(series.times - run.beams.times[last]))))[0]
+        x, y, _ = proj3d.proj_transform(p[0:1], p[1:2], p[2:3], renderer.ax.get_proj())
+        px, py = renderer.ax.transData.transform((x[0], y[0]))
+        near = np.hypot(pixels[:, 1] - px, height - pixels[:, 0] - py) < 8.0
+        assert near.sum() > 10  # the marker (the mass's colour is also the axes' text: look where it is)
     run.close()
 
 
