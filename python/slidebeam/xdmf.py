@@ -154,9 +154,7 @@ class Series:
         kept = self._kept_steps(resume_after) if resume else []
         self.segment = self._resume_segments(kept) if resume else self._remove_segments(keep=set())
         with h5py.File(self.h5_path, "a" if resume else "w") as h5:
-            self._mesh = self._write_mesh(h5, points, cells, topology, constants)
-            for key, values in (names or {}).items():  # also on a resumed series written without them
-                h5["mesh"].attrs.create(key, values, dtype=h5py.string_dtype())
+            self._mesh = self._write_mesh(h5, points, cells, topology, constants, names or {})
         self._open_writer()
         self._has_text = bool(kept)  # the .xdmf exists, or the writer has steps to create it with
         if kept:  # the .xdmf as it was up to the restart time, in this structure
@@ -252,15 +250,20 @@ class Series:
 
     # -- structure ---------------------------------------------------------------------------
     def _write_mesh(self, h5, points: np.ndarray, cells: np.ndarray, topology: str,
-                    constants: dict[str, np.ndarray]) -> str:
-        """Write the reference mesh and the constant fields (unless a resumed file has them);
-        return the XDMF text every step carries for them."""
+                    constants: dict[str, np.ndarray], names: dict[str, list[str]]) -> str:
+        """Write the reference mesh, the constant fields and the names (unless a resumed file has
+        them: a restart never writes into the data files before its checkpoint, not even an
+        attribute); return the XDMF text every step carries for them."""
+        import h5py
+
         if "mesh" not in h5:
             group = h5.create_group("mesh")
             group["points"] = points
             group["cells"] = cells
             for name, values in constants.items():
                 group[name] = values
+            for key, values in names.items():
+                group.attrs.create(key, values, dtype=h5py.string_dtype())
         h5 = self.h5_path.name
         text = (f'<Topology TopologyType="{topology}" NumberOfElements="{len(cells)}" '
                 f'NodesPerElement="{cells.shape[1]}">{_data_item(h5, "/mesh/cells", cells.shape, cells.dtype)}'
