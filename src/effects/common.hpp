@@ -280,4 +280,100 @@ class AncfElementEffect : public ElementEffect<2, kernels::ancf::kElDofs> {
   }
 };
 
+
+/// A quadrature point on a beam's centre line: weight (reference arc length) and the W basis
+/// weights of the position x = sum_i N_i y_i and its derivative x' = sum_i dN_i y_i (y_i: 3-blocks).
+template <int W>
+struct CentreLinePoint {
+  double w = 0.0;
+  std::array<double, W> N{}, dN{};
+};
+
+/// An effect on the centre line of one beam, element by element, at the mass quadrature points
+/// (3 per span, 5 per ANCF element): drag, contact. W = 3: a director beam's quadratic span (the
+/// phi blocks of its 3 control points); W = 4: an ANCF element (r and r' of its 2 nodes, cubic
+/// Hermite).
+template <int W>
+class CentreLineEffect : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
+ protected:
+  static constexpr int kDofs = 3 * W;
+  using Base = ElementEffect<W == 3 ? 3 : 2, 3 * W>;
+  using VecY = Eigen::Matrix<double, kDofs, 1>;
+  using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+  using Base::Base;
+
+ public:
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (!acts(ctx)) PetscFunctionReturn(0);
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      VecY re = VecY::Zero();
+      element(ctx, b, e, re, nullptr);
+      scatter(ctx, r, b, e, re);
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (!acts(ctx)) PetscFunctionReturn(0);
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      VecY re = VecY::Zero();
+      MatY K = MatY::Zero();
+      element(ctx, b, e, re, &K);
+      const auto d = element_dofs(ctx.map, b, e);
+      PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+
+ protected:
+  /// Whether the term acts in this evaluation at all (drag: only within a step, where there is a rate).
+  virtual bool acts(const EvalContext&) const { return true; }
+  /// r += element e's generalised force with the sign of a residual (-int N^T f), and K (if
+  /// given) += its derivative with respect to the step's end state.
+  virtual void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const = 0;
+
+  typename Base::Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override {
+    typename Base::Dofs d{};
+    for (int i = 0; i < W; ++i)
+      for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(b.first_cp() + e + node(i), offset(i) + k);
+    return d;
+  }
+  /// The element's W position blocks of x.
+  VecY gather(const EvalContext& ctx, const LocalValues& x, const Beam& b, int e) const {
+    VecY y;
+    for (int i = 0; i < W; ++i)
+      y.template segment<3>(3 * i) = Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i));
+    return y;
+  }
+  void scatter(const EvalContext& ctx, const LocalValues& r, const Beam& b, int e, const VecY& v) const {
+    for (int i = 0; i < W; ++i)
+      Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i)) += v.template segment<3>(3 * i);
+  }
+  static int n_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
+  static CentreLinePoint<W> point(const Beam& b, int e, int g) {
+    CentreLinePoint<W> p;
+    if constexpr (W == 3) {
+      const kernels::GaussPoint& gp = b.gp_full(e, g);
+      p.w = gp.w;
+      p.N = gp.N;
+      p.dN = gp.dN;
+    } else {
+      const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
+      p.w = ap.w;
+      p.N = ap.S;
+      p.dN = ap.dS;
+    }
+    return p;
+  }
+
+ private:
+  // block i of the element: director, the phi of control point i; ANCF, r (even i) or r' (odd i)
+  // of node i / 2
+  static int node(int i) { return W == 3 ? i : i / 2; }
+  static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
+};
+
 }  // namespace slidebeam::effects

@@ -48,26 +48,18 @@ struct Penalty {
   }
 };
 
-/// A quadrature point of an element: weight (reference arc length) and the W basis weights of
-/// the position x = sum_i N_i y_i (y_i: 3-blocks).
-template <int W>
-struct ContactPoint {
-  double w = 0.0;
-  std::array<double, W> N{};
-};
 }  // namespace
 
-/// The plane's contact on one beam. W = 3: a director beam's quadratic span (the phi blocks of its
-/// 3 control points); W = 4: an ANCF element (r and r' of its 2 nodes, cubic Hermite).
+/// The plane's contact on one beam: W = 3 a director beam, W = 4 an ANCF cable (CentreLineEffect).
 template <int W>
-class PlaneContact final : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
-  static constexpr int kPoints = W == 3 ? 3 : 2;
-  static constexpr int kDofs = 3 * W;
-  using Base = ElementEffect<kPoints, kDofs>;
-  using VecY = Eigen::Matrix<double, kDofs, 1>;
-  using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+class PlaneContact final : public CentreLineEffect<W> {
+  using Base = CentreLineEffect<W>;
+  using typename Base::MatY;
+  using typename Base::VecY;
   using Base::beam_;
-  using Base::elements_;
+  using Base::gather;
+  using Base::n_points;
+  using Base::point;
 
  public:
   PlaneContact(int beam, const Model& m, const EffectParams& p) : Base(beam, m) {
@@ -83,81 +75,21 @@ class PlaneContact final : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
   }
   std::string type() const override { return "plane_contact"; }
 
-  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
-    PetscFunctionBeginUser;
-    const Beam& b = ctx.model.beam(beam_);
-    for (int e : elements_) {
-      VecY re = VecY::Zero();
-      element(ctx, b, e, re, nullptr);
-      scatter(ctx, r, b, e, re);
-    }
-    PetscFunctionReturn(0);
-  }
-  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
-    PetscFunctionBeginUser;
-    const Beam& b = ctx.model.beam(beam_);
-    for (int e : elements_) {
-      VecY re = VecY::Zero();
-      MatY K = MatY::Zero();
-      element(ctx, b, e, re, &K);
-      const auto d = element_dofs(ctx.map, b, e);
-      PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
-    }
-    PetscFunctionReturn(0);
-  }
   double energy(const EvalContext& ctx) const override {
     const Beam& b = ctx.model.beam(beam_);
     double U = 0.0;
-    for (int e : elements_) {
+    for (int e : this->elements_) {
       const VecY y = gather(ctx, ctx.x, b, e);
       for (int g = 0; g < n_points(b); ++g) {
-        const ContactPoint<W> q = point(b, e, g);
+        const CentreLinePoint<W> q = point(b, e, g);
         U += q.w * law_.V(gap(q, y));
       }
     }
     return U;
   }
 
- protected:
-  typename Base::Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override {
-    typename Base::Dofs d{};
-    for (int i = 0; i < W; ++i)
-      for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(b.first_cp() + e + node(i), offset(i) + k);
-    return d;
-  }
-
  private:
-  // block i of the element: director, the phi of control point i; ANCF, r (even i) or r' (odd i)
-  // of node i / 2
-  static int node(int i) { return W == 3 ? i : i / 2; }
-  static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
-
-  VecY gather(const EvalContext& ctx, const LocalValues& x, const Beam& b, int e) const {
-    VecY y;
-    for (int i = 0; i < W; ++i)
-      y.template segment<3>(3 * i) = Eigen::Map<const Vec3>(x.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i));
-    return y;
-  }
-  void scatter(const EvalContext& ctx, const LocalValues& r, const Beam& b, int e, const VecY& v) const {
-    for (int i = 0; i < W; ++i)
-      Eigen::Map<Vec3>(r.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i)) += v.template segment<3>(3 * i);
-  }
-
-  static int n_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
-  static ContactPoint<W> point(const Beam& b, int e, int g) {
-    ContactPoint<W> p;
-    if constexpr (W == 3) {
-      const kernels::GaussPoint& gp = b.gp_full(e, g);
-      p.w = gp.w;
-      p.N = gp.N;
-    } else {
-      const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
-      p.w = ap.w;
-      p.N = ap.S;
-    }
-    return p;
-  }
-  double gap(const ContactPoint<W>& q, const VecY& y) const {
+  double gap(const CentreLinePoint<W>& q, const VecY& y) const {
     Vec3 x = Vec3::Zero();
     for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
     return normal_.dot(x - point_);
@@ -165,12 +97,12 @@ class PlaneContact final : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
 
   /// r += the element's generalised contact force with the sign of a residual (int N^T dV/dx), and
   /// K += its derivative with respect to the step's end state.
-  void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const {
+  void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const override {
     const bool em = ctx.rule == StepRule::EnergyMomentum;
     const VecY y1 = gather(ctx, ctx.x, b, e);
     const VecY yf = em ? gather(ctx, ctx.x_old, b, e) : gather(ctx, ctx.xf, b, e);  // em: the step's start
     for (int g = 0; g < n_points(b); ++g) {
-      const ContactPoint<W> q = point(b, e, g);
+      const CentreLinePoint<W> q = point(b, e, g);
       double force = 0.0, stiffness = 0.0;  // dV/dg and its derivative with respect to g at the step's end
       if (em) {
         std::tie(force, stiffness) = law_.discrete(gap(q, yf), gap(q, y1));

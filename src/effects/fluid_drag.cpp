@@ -74,26 +74,18 @@ DragPoint drag_point(const DragLaw& law, const Vec3& a, const Vec3& v, bool deri
   return p;
 }
 
-/// A quadrature point of an element: weight (reference arc length) and the W basis weights of
-/// the position x = sum_i N_i y_i and its derivative x' = sum_i dN_i y_i (y_i: 3-blocks).
-template <int W>
-struct DragQuadPoint {
-  double w = 0.0;
-  std::array<double, W> N{}, dN{};
-};
 }  // namespace
 
-/// Drag on one beam. W = 3: a director beam's quadratic span (the phi blocks of its 3 control
-/// points); W = 4: an ANCF element (r and r' of its 2 nodes, cubic Hermite).
+/// Drag on one beam: W = 3 a director beam, W = 4 an ANCF cable (CentreLineEffect).
 template <int W>
-class FluidDrag final : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
-  static constexpr int kPoints = W == 3 ? 3 : 2;
-  static constexpr int kDofs = 3 * W;
-  using Base = ElementEffect<kPoints, kDofs>;
-  using VecY = Eigen::Matrix<double, kDofs, 1>;
-  using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+class FluidDrag final : public CentreLineEffect<W> {
+  using Base = CentreLineEffect<W>;
+  using typename Base::MatY;
+  using typename Base::VecY;
   using Base::beam_;
-  using Base::elements_;
+  using Base::gather;
+  using Base::n_points;
+  using Base::point;
 
  public:
   FluidDrag(int beam, const Model& m, const EffectParams& p) : Base(beam, m), f_(TimeFunction::from(p)) {
@@ -109,81 +101,17 @@ class FluidDrag final : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
   }
   std::string type() const override { return "fluid_drag"; }
 
-  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
-    PetscFunctionBeginUser;
-    if (ctx.h <= 0.0) PetscFunctionReturn(0);  // no step, no rate
-    const Beam& b = ctx.model.beam(beam_);
-    for (int e : elements_) {
-      VecY re = VecY::Zero();
-      element(ctx, b, e, re, nullptr);
-      scatter(ctx, r, b, e, re);
-    }
-    PetscFunctionReturn(0);
-  }
-  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
-    PetscFunctionBeginUser;
-    if (ctx.h <= 0.0) PetscFunctionReturn(0);
-    const Beam& b = ctx.model.beam(beam_);
-    for (int e : elements_) {
-      VecY re = VecY::Zero();
-      MatY K = MatY::Zero();
-      element(ctx, b, e, re, &K);
-      const auto d = element_dofs(ctx.map, b, e);
-      PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
-    }
-    PetscFunctionReturn(0);
-  }
-
- protected:
-  typename Base::Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override {
-    typename Base::Dofs d{};
-    for (int i = 0; i < W; ++i)
-      for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(b.first_cp() + e + node(i), offset(i) + k);
-    return d;
-  }
+  bool acts(const EvalContext& ctx) const override { return ctx.h > 0.0; }  // no step, no rate
 
  private:
-  // block i of the element: director, the phi of control point i; ANCF, r (even i) or r' (odd i)
-  // of node i / 2
-  static int node(int i) { return W == 3 ? i : i / 2; }
-  static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
-
-  VecY gather(const EvalContext& ctx, const LocalValues& x, const Beam& b, int e) const {
-    VecY y;
-    for (int i = 0; i < W; ++i)
-      y.template segment<3>(3 * i) = Eigen::Map<const Vec3>(x.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i));
-    return y;
-  }
-  void scatter(const EvalContext& ctx, const LocalValues& r, const Beam& b, int e, const VecY& v) const {
-    for (int i = 0; i < W; ++i)
-      Eigen::Map<Vec3>(r.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i)) += v.template segment<3>(3 * i);
-  }
-
-  static int n_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
-  static DragQuadPoint<W> point(const Beam& b, int e, int g) {
-    DragQuadPoint<W> p;
-    if constexpr (W == 3) {
-      const kernels::GaussPoint& gp = b.gp_full(e, g);
-      p.w = gp.w;
-      p.N = gp.N;
-      p.dN = gp.dN;
-    } else {
-      const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
-      p.w = ap.w;
-      p.N = ap.S;
-      p.dN = ap.dS;
-    }
-    return p;
-  }
-
   /// r += the element's generalised drag force (with the sign of a residual: -int N^T f), and
   /// K += its derivative with respect to the step's end state.
-  void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const {
+  void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const override {
     const VecY y0 = gather(ctx, ctx.x_old, b, e), y1 = gather(ctx, ctx.x, b, e), yf = gather(ctx, ctx.xf, b, e);
     const Vec3 u = f_(ctx.t) * flow_;
     const double h = ctx.h, theta = ctx.theta;
     for (int g = 0; g < n_points(b); ++g) {
-      const DragQuadPoint<W> q = point(b, e, g);
+      const CentreLinePoint<W> q = point(b, e, g);
       Vec3 a = Vec3::Zero(), v = -u;
       for (int i = 0; i < W; ++i) {
         a += q.dN[static_cast<size_t>(i)] * yf.template segment<3>(3 * i);
