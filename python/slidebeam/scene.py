@@ -590,7 +590,8 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
                 raise SceneError(f"a dynamic analysis needs mass: give rho (shape sections) or rhoA > 0 "
                                  f"(explicit resultants)", file, f"[[beam]] #{b.index + 1} ('{b.name}').section",
                                  "rhoA")
-    entries = _parse_effect_tables(data, registry_tables, beams, analysis, file, base_dir)
+    entries = _with_gravity_for_buoyancy(_parse_effect_tables(data, registry_tables, beams, analysis, file, base_dir),
+                                         file)
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
     output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams, analysis)
 
@@ -608,6 +609,20 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         warnings=_support_warnings(entries, beams),
         effects=entries,
     )
+
+
+def _with_gravity_for_buoyancy(entries: tuple[EffectEntry, ...], file: str) -> tuple[EffectEntry, ...]:
+    """[[buoyancy]] without its own g weighs the water under [gravity]'s."""
+    gravity = next((e.vec["g"] for e in entries if e.type == "gravity"), None)
+    out = []
+    for e in entries:
+        if e.type == "buoyancy" and not any(e.vec["g"]):
+            if gravity is None or not any(gravity):
+                raise SceneError("buoyancy needs gravity: add [gravity] (or give the entry its own g)", file,
+                                 e.place, "g")
+            e = dataclasses.replace(e, vec={**e.vec, "g": list(gravity)})
+        out.append(e)
+    return tuple(out)
 
 
 def _supports(entries: tuple[EffectEntry, ...]) -> tuple[Support, ...]:

@@ -14,6 +14,7 @@ void register_slider_drive_effects(EffectRegistry& r);
 void register_drag_effects(EffectRegistry& r);
 void register_friction_effects(EffectRegistry& r);
 void register_contact_effects(EffectRegistry& r);
+void register_buoyancy_effects(EffectRegistry& r);
 }  // namespace effects
 
 void register_builtin_effects(EffectRegistry& registry) {
@@ -28,6 +29,7 @@ void register_builtin_effects(EffectRegistry& registry) {
   effects::register_drag_effects(registry);
   effects::register_friction_effects(registry);
   effects::register_contact_effects(registry);
+  effects::register_buoyancy_effects(registry);
 }
 
 }  // namespace slidebeam
