@@ -52,15 +52,11 @@ struct Submersion {
   }
 };
 
-Eigen::Vector3d vector_param(const EffectParams& p, const char* key) {
-  const auto& v = p.vector(key, 3);
-  return {v[0], v[1], v[2]};
-}
-
-Eigen::Vector3d up(const EffectParams& p) {
-  const Eigen::Vector3d g = vector_param(p, "g");
+/// The surface: a plane normal to g, its normal up.
+PlaneGap surface(const EffectParams& p) {
+  const Eigen::Vector3d g = vector3_param(p, "g");
   if (!(g.norm() > 0.0) || !g.allFinite()) throw ParamError("g", "buoyancy needs gravity: a nonzero g");
-  return -g;
+  return {-g.normalized(), vector3_param(p, "surface")};
 }
 
 Submersion submersion(const EffectParams& p) {
@@ -69,7 +65,7 @@ Submersion submersion(const EffectParams& p) {
   law.D = p.number("diameter");
   if (!(rho > 0.0)) throw ParamError("density", "the water's density must be > 0");
   if (!(law.D > 0.0)) throw ParamError("diameter", "the diameter must be > 0");
-  law.c = rho * vector_param(p, "g").norm() * M_PI * 0.25 * law.D * law.D;
+  law.c = rho * vector3_param(p, "g").norm() * M_PI * 0.25 * law.D * law.D;
   return law;
 }
 }  // namespace
@@ -79,7 +75,7 @@ template <int W>
 class Buoyancy final : public GapPotential<W, Submersion> {
  public:
   Buoyancy(int beam, const Model& m, const EffectParams& p)
-      : GapPotential<W, Submersion>(beam, m, up(p), vector_param(p, "surface"), submersion(p)) {}
+      : GapPotential<W, Submersion>(beam, m, surface(p), submersion(p)) {}
   std::string type() const override { return "buoyancy"; }
 };
 

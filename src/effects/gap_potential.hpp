@@ -1,18 +1,21 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file A potential per unit length of a beam that depends on each point's signed distance from
-/// a plane alone, g = n . (x - p): contact with the ground (a penalty below it), buoyancy (the
-/// submerged part of the section below the water's surface). Checked at the mass quadrature
-/// points (CentreLineEffect).
+/// @file A potential per unit length of a beam that depends on each point's gap g(x) to a shape
+/// alone: contact with the ground, a drum or a ball (a penalty where g < 0), buoyancy (the part of
+/// the section below the water's surface, g the height above it). Checked at the mass quadrature
+/// points (CentreLineEffect). Shapes: a plane, g = n . (x - p); round ones, g = |P (x - c)| - R
+/// with P = I (a sphere) or the projection normal to an axis (a cylinder).
 ///
-/// Under energy-momentum each point's force is the discrete gradient of V along its gap,
-///   DG(g0, g1) = (V(g1) - V(g0)) / (g1 - g0) = int_0^1 V'(g0 + tau (g1 - g0)) dtau,
-/// so that the term's work over a step is exactly V(g1) - V(g0). It is computed as the integral,
-/// by Gauss quadrature on the pieces between the law's breakpoints (exact for the polynomial
-/// pieces of the laws here), not as the quotient: where V is linear or g1 = g0 the quotient loses
-/// every digit to cancellation, and its derivative more. Its derivative with respect to g1 is
-/// int_0^1 V''(g0 + tau (g1 - g0)) tau dtau, by the same quadrature. The other schemes take V' at
-/// their force state.
+/// Under energy-momentum each point's force is a discrete gradient of V(g(x)): the product of
+///   DG_V(g0, g1) = (V(g1) - V(g0)) / (g1 - g0) = int_0^1 V'(g0 + tau (g1 - g0)) dtau
+/// and a discrete gradient w of the gap, w . (x1 - x0) = g1 - g0, so that the term's work over a
+/// step is exactly V(g1) - V(g0). DG_V is computed as the integral, by Gauss quadrature on the
+/// pieces between the law's breakpoints (exact for the polynomial pieces of the laws here), not as
+/// the quotient: where V is linear or g1 = g0 the quotient loses every digit to cancellation, and
+/// its derivative more. Its derivative with respect to g1 is int_0^1 V''(g0 + tau (g1 - g0)) tau
+/// dtau, by the same quadrature. The plane's w is n; a round shape's is the norm's exact discrete
+/// gradient P (y0 + y1) / (|y0| + |y1|), y = P (x - c), since (y0 + y1) . (y1 - y0) = |y1|^2 - |y0|^2.
+/// The other schemes take V'(g) grad g at their force state.
 
 #include "effects/common.hpp"
 
@@ -23,6 +26,12 @@
 #include <utility>
 
 namespace slidebeam::effects {
+
+/// A 3-vector parameter of an effect.
+inline Eigen::Vector3d vector3_param(const EffectParams& p, const char* key) {
+  const auto& v = p.vector(key, 3);
+  return {v[0], v[1], v[2]};
+}
 
 /// DG(g0, g1) and d DG / d g1 of a law with V'(g) (dV), V''(g) (ddV) and its breakpoints (where
 /// the polynomial pieces meet; each piece of degree <= 5 in V').
@@ -54,15 +63,53 @@ std::pair<double, double> gap_discrete_gradient(const Law& law, double g0, doubl
   return {dg, ddg};
 }
 
-/// The potential of Law on one beam: W = 3 a director beam, W = 4 an ANCF cable.
-template <int W, class Law>
+/// A plane through p with unit normal n: g = n . (x - p) (g > 0 on n's side).
+struct PlaneGap {
+  Eigen::Vector3d n, p;
+  double gap(const Eigen::Vector3d& x) const { return n.dot(x - p); }
+  Eigen::Vector3d gradient(const Eigen::Vector3d&) const { return n; }
+  Eigen::Matrix3d hessian(const Eigen::Vector3d&) const { return Eigen::Matrix3d::Zero(); }
+  /// w with w . (x1 - x0) = g(x1) - g(x0), and dw / dx1.
+  Eigen::Vector3d discrete_gradient(const Eigen::Vector3d&, const Eigen::Vector3d&) const { return n; }
+  Eigen::Matrix3d discrete_gradient_derivative(const Eigen::Vector3d&, const Eigen::Vector3d&) const {
+    return Eigen::Matrix3d::Zero();
+  }
+};
+
+/// A round surface: g = |P (x - c)| - R, P = I (a sphere of centre c) or I - a a^T (a cylinder of
+/// axis a through c). g > 0 outside. Undefined on the axis (the centre), which a beam in contact
+/// is far from.
+struct RoundGap {
+  Eigen::Vector3d c;
+  Eigen::Matrix3d P;
+  double R = 0.0;
+  Eigen::Vector3d y(const Eigen::Vector3d& x) const { return P * (x - c); }
+  double gap(const Eigen::Vector3d& x) const { return y(x).norm() - R; }
+  Eigen::Vector3d gradient(const Eigen::Vector3d& x) const { return y(x).normalized(); }
+  Eigen::Matrix3d hessian(const Eigen::Vector3d& x) const {
+    const Eigen::Vector3d v = y(x);
+    const double r = v.norm();
+    return (P - v * v.transpose() / (r * r)) / r;
+  }
+  Eigen::Vector3d discrete_gradient(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1) const {
+    const Eigen::Vector3d y0 = y(x0), y1 = y(x1);
+    return (y0 + y1) / (y0.norm() + y1.norm());  // in P's range already
+  }
+  Eigen::Matrix3d discrete_gradient_derivative(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1) const {
+    const Eigen::Vector3d y0 = y(x0), y1 = y(x1);
+    const double m = y0.norm() + y1.norm(), r1 = y1.norm();
+    const Eigen::Vector3d w = (y0 + y1) / m;
+    return P / m - w * y1.transpose() / (m * r1);
+  }
+};
+
+/// The potential of Law on one beam against Shape: W = 3 a director beam, W = 4 an ANCF cable.
+template <int W, class Law, class Shape = PlaneGap>
 class GapPotential : public CentreLineEffect<W> {
   using Base = CentreLineEffect<W>;
 
  public:
-  /// The plane through `point` with unit normal `normal` (g > 0 on its side).
-  GapPotential(int beam, const Model& m, const Eigen::Vector3d& normal, const Eigen::Vector3d& point, const Law& law)
-      : Base(beam, m), normal_(normal.normalized()), point_(point), law_(law) {}
+  GapPotential(int beam, const Model& m, const Shape& shape, const Law& law) : Base(beam, m), shape_(shape), law_(law) {}
 
   double energy(const EvalContext& ctx) const override {
     const Beam& b = ctx.model.beam(this->beam_);
@@ -71,7 +118,7 @@ class GapPotential : public CentreLineEffect<W> {
       const typename Base::VecY y = this->gather(ctx, ctx.x, b, e);
       for (int g = 0; g < Base::n_points(b); ++g) {
         const CentreLinePoint<W> q = Base::point(b, e, g);
-        U += q.w * law_.V(gap(q, y));
+        U += q.w * law_.V(shape_.gap(position(q, y)));
       }
     }
     return U;
@@ -85,32 +132,38 @@ class GapPotential : public CentreLineEffect<W> {
     const typename Base::VecY yf = this->gather(ctx, em ? ctx.x_old : ctx.xf, b, e);  // em: the step's start
     for (int g = 0; g < Base::n_points(b); ++g) {
       const CentreLinePoint<W> q = Base::point(b, e, g);
-      double force = 0.0, stiffness = 0.0;  // dV/dg and its derivative with respect to the step's end
+      const Eigen::Vector3d xf = position(q, yf), x1 = position(q, y1);
+      Eigen::Vector3d force;       // d(energy)/dx at the point
+      Eigen::Matrix3d stiffness;  // its derivative with respect to the step's end
       if (em) {
-        std::tie(force, stiffness) = gap_discrete_gradient(law_, gap(q, yf), gap(q, y1));
+        const auto [dg, ddg] = gap_discrete_gradient(law_, shape_.gap(xf), shape_.gap(x1));
+        if (dg == 0.0 && ddg == 0.0) continue;
+        const Eigen::Vector3d w = shape_.discrete_gradient(xf, x1);
+        force = dg * w;
+        if (K) stiffness = ddg * w * shape_.gradient(x1).transpose() + dg * shape_.discrete_gradient_derivative(xf, x1);
       } else {
-        const double gf = gap(q, yf);
-        force = law_.dV(gf);
-        stiffness = ctx.theta * law_.ddV(gf);
+        const double gf = shape_.gap(xf), dv = law_.dV(gf), ddv = law_.ddV(gf);
+        if (dv == 0.0 && ddv == 0.0) continue;
+        const Eigen::Vector3d n = shape_.gradient(xf);
+        force = dv * n;
+        if (K) stiffness = ctx.theta * (ddv * n * n.transpose() + dv * shape_.hessian(xf));
       }
-      if (force == 0.0 && stiffness == 0.0) continue;
-      for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * force * normal_;
+      for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * force;
       if (!K) continue;
-      const Eigen::Matrix3d nn = stiffness * normal_ * normal_.transpose();
       for (int i = 0; i < W; ++i)
         for (int j = 0; j < W; ++j)
-          K->template block<3, 3>(3 * i, 3 * j) += q.w * q.N[static_cast<size_t>(i)] * q.N[static_cast<size_t>(j)] * nn;
+          K->template block<3, 3>(3 * i, 3 * j) += q.w * q.N[static_cast<size_t>(i)] * q.N[static_cast<size_t>(j)] * stiffness;
     }
   }
 
  private:
-  double gap(const CentreLinePoint<W>& q, const typename Base::VecY& y) const {
+  static Eigen::Vector3d position(const CentreLinePoint<W>& q, const typename Base::VecY& y) {
     Eigen::Vector3d x = Eigen::Vector3d::Zero();
     for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return normal_.dot(x - point_);
+    return x;
   }
 
-  Eigen::Vector3d normal_, point_;
+  Shape shape_;
   Law law_;
 };
 
