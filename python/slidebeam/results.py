@@ -79,8 +79,7 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
 
 def joint_names(sim: Simulation) -> list[str]:
     """Column prefix of each sliding joint: <slider>_on_<carrier>, numbered when repeated."""
-    names = [f"{sim.scene.beams[j.slider].name}_on_{sim.scene.beams[j.carrier].name}" for j in sim.scene.sliding_joints]
-    return [n if names.count(n) == 1 else f"{n}_{i + 1}" for i, n in enumerate(names)]
+    return list(sim.scene.sliding_joint_labels)
 
 
 def sliding_joint_summary(sim: Simulation, joints: list[JointState]) -> dict[str, dict[str, object]]:

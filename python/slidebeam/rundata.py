@@ -170,7 +170,7 @@ def open_run(folder: str | Path) -> Run:
     beam_names = list(summary.get("final_end_positions", {}))  # in beam order; for series without names
     if run.beams is not None and run.beams.names[:1] == ["beam 0"] and len(beam_names) == len(run.beams.names):
         run.beams.names = beam_names
-    joint_names = [k.removesuffix(".ds_dt") for k in run.columns(".ds_dt")]
-    if run.sliders is not None and len(joint_names) == len(run.sliders.names):
+    joint_names = [k.removesuffix(".ds_dt") for k in run.columns(".ds_dt")]  # for series without names
+    if run.sliders is not None and run.sliders.names[:1] == ["joint 0"] and len(joint_names) == len(run.sliders.names):
         run.sliders.names = joint_names
     return run

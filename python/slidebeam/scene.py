@@ -326,6 +326,12 @@ class Scene:
         return tuple(out)
 
     @functools.cached_property
+    def sliding_joint_labels(self) -> tuple[str, ...]:
+        """Each sliding joint's name in the output: <slider>_on_<carrier>, numbered when repeated."""
+        names = [f"{self.beams[j.slider].name}_on_{self.beams[j.carrier].name}" for j in self.sliding_joints]
+        return tuple(n if names.count(n) == 1 else f"{n}_{i + 1}" for i, n in enumerate(names))
+
+    @functools.cached_property
     def supports(self) -> tuple[Support, ...]:
         """The [[support]] entries (type: the entry's variant)."""
         return _supports(self.effects)

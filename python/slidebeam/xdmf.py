@@ -15,7 +15,8 @@ Files in the output folder (names are stable):
   ``beam_id``. ``/mesh`` has the attribute ``beam_names`` (in ``beam_id`` order).
 - ``sliders.xdmf`` + ``sliders.h5`` (scenes with sliding joints): one vertex per joint at the
   slider's start position, with ``displacement``, ``s``, ``ds_dt``, ``reaction`` (force of the
-  carrier on the slider) and ``joint_id``.
+  carrier on the slider) and ``joint_id``; ``/mesh`` has the attribute ``joint_names`` (the
+  history's column prefixes, <slider>_on_<carrier>).
 - ``masses.xdmf`` + ``masses.h5`` (scenes with point masses): one vertex per point mass at its
   reference position, with ``displacement``, ``velocity``, ``mass`` and ``mass_id``; ``/mesh``
   has the attribute ``mass_names`` (the effects' labels, as summary.json's ``active_effects``:
@@ -475,7 +476,8 @@ class XdmfOutput:
         if self._slider_points:
             n = len(self._slider_ref)
             self._series[SLIDERS] = Series(out / f"{SLIDERS}.xdmf", self._slider_ref, _vertices(n), "Polyvertex",
-                                           {"joint_id": np.arange(n, dtype=np.int32)}, resume_after)
+                                           {"joint_id": np.arange(n, dtype=np.int32)}, resume_after,
+                                           names={"joint_names": list(self.sim.scene.sliding_joint_labels)})
         if self._masses:
             n = len(self._masses)
             constants = {"mass": np.array([m.mass for m in self._masses]), "mass_id": np.arange(n, dtype=np.int32)}

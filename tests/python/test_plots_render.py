@@ -74,6 +74,9 @@ def test_plots_draw_the_runs_numbers(ropeway):
     assert np.array_equal(points["hanger@1"][1][:, 0], h["hanger@1.x"])
     cabin = points["mass point_mass[hanger@end]"][1]  # the point mass at the hanger's end: where hanger@1 is
     assert np.allclose(cabin, points["hanger@1"][1], atol=1e-12)
+    assert run.sliders.names == ["hanger_on_track"]  # from sliders.h5's joint_names
+    with h5py.File(ropeway / "sliders.h5") as h5:
+        assert [n.decode() if isinstance(n, bytes) else n for n in h5["mesh"].attrs["joint_names"]] == ["hanger_on_track"]
     lines = plots.figure("sliders", [run]).axes[0].lines
     assert np.array_equal(lines[0].get_ydata(), h["hanger_on_track.s"])
     run.close()
