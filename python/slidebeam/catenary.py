@@ -118,3 +118,68 @@ class MooringLine:
     def touchdown(self) -> float:
         """Horizontal distance of the touch-down point from the anchor."""
         return (self.length - self.suspended_length) * (1.0 + self.H / self.EA)
+
+
+def catenary_end(L0: float, H: float, V: float, EA: float, w: float, s: float | None = None) -> tuple[float, float]:
+    """(x, z) at unstretched arc length s (default: the end, L0) of an elastic catenary from the
+    origin: horizontal tension H, vertical force V at the origin (upward on the cable, so z rises
+    while V > w s), z upward (Irvine's equations 2.17-2.18 in general form)."""
+    s = L0 if s is None else s
+    a0, a1 = V / H, (V - w * s) / H
+    x = H * s / EA + H / w * (math.asinh(a0) - math.asinh(a1))
+    z = w * s / EA * (V / w - s / 2.0) + H / w * (math.sqrt(1.0 + a0 * a0) - math.sqrt(1.0 + a1 * a1))
+    return x, -z
+
+
+def _length_and_lift(H: float, span: float, rise: float, EA: float, w: float, L0: float, V: float) -> tuple[float, float]:
+    """Newton on (L0, V) for a catenary of horizontal tension H ending at (span, rise)."""
+    for _ in range(100):
+        x, z = catenary_end(L0, H, V, EA, w)
+        r = np.array([x - span, z - rise])
+        if abs(r[0]) + abs(r[1]) <= 1e-13 * (span + abs(rise)):
+            break
+        d = 1e-7 * max(L0, 1.0)
+        J = np.empty((2, 2))
+        for k, (dL, dV) in enumerate(((d, 0.0), (0.0, 1e-7 * max(abs(V), w * L0)))):
+            xp, zp = catenary_end(L0 + dL, H, V + dV, EA, w)
+            J[:, k] = ((xp - x) / (dL or dV), (zp - z) / (dL or dV))
+        step = np.linalg.solve(J, r)
+        L0, V = L0 - step[0], V - step[1]
+    return L0, V
+
+
+def unstretched_length_at(span: float, rise: float, EA: float, w: float, *, H: float | None = None,
+                          sag: float | None = None) -> float:
+    """The unstretched length of an elastic catenary between supports a horizontal distance `span`
+    apart, the second `rise` higher (negative: lower), with weight w per unstretched length:
+    given its horizontal tension H, or its sag (the vertical distance between the chord and the
+    cable at mid-span)."""
+    chord = math.hypot(span, rise)
+    if H is not None:
+        if not H > 0.0:
+            raise ValueError("the horizontal tension must be > 0")
+        # start from the parabola: L0 ~ chord + w^2 span^3 / (24 H^2 cos)
+        L0 = chord * (1.0 + (w * span) ** 2 / (24.0 * H * H)) / (1.0 + H / EA)
+        V = 0.5 * w * L0 + H * rise / span
+        return _length_and_lift(H, span, rise, EA, w, L0, V)[0]
+    if sag is None or not sag > 0.0:
+        raise ValueError("give H > 0 or sag > 0")
+
+    def sag_at(H: float) -> float:
+        L0 = unstretched_length_at(span, rise, EA, w, H=H)
+        _, V = _length_and_lift(H, span, rise, EA, w, L0, 0.5 * w * L0 + H * rise / span)
+        lo, hi = 0.0, L0  # the arc length at mid-span: x grows with s
+        for _ in range(100):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if catenary_end(L0, H, V, EA, w, mid)[0] < 0.5 * span else (lo, mid)
+        return 0.5 * rise - catenary_end(L0, H, V, EA, w, 0.5 * (lo + hi))[1]
+
+    lo, hi = 1e-3 * w * span, w * span * span / sag  # sag falls as H grows
+    while sag_at(lo) < sag:
+        lo *= 0.5
+    while sag_at(hi) > sag:
+        hi *= 2.0
+    for _ in range(80):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if sag_at(mid) > sag else (lo, mid)
+    return unstretched_length_at(span, rise, EA, w, H=math.sqrt(lo * hi))

@@ -526,6 +526,7 @@ _INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 _BEAM_KEYS = (
     "name", "start", "end", "polyline", "arc", "d2", "spans", "quadrature", "strain",
     "formulation", "velocity", "angular_velocity", "rotation_center", "section", "unstretched_length", "pretension",
+    "horizontal_tension", "sag",
 )
 _ARC_KEYS = ("center", "radius", "normal", "start", "angle")
 _SHAPE_KEYS = ("shape", "b", "h", "r", "E", "nu", "rho", "k")
@@ -589,7 +590,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
     default_name = Path(file).stem if file != "<dict>" else "scene"
 
     analysis = _parse_analysis(_Table(top.raw("analysis", {}), file, "[analysis]", "analysis"))
-    beams = _parse_beams(_array_of_tables(data, "beam", file), file, _sag_direction_hint(data))
+    beams = _parse_beams(_array_of_tables(data, "beam", file), file, _gravity_hint(data))
     if analysis.type == "dynamic":
         for b in beams:
             if not b.section.rhoA > 0:
@@ -868,23 +869,24 @@ def _parse_track_point(t: _Table, beams: tuple[Beam, ...]) -> TrackPoint:
 # [[beam]]
 
 
-def _sag_direction_hint(data: dict[str, Any]) -> np.ndarray:
-    """Where a slack rope drawn straight sags: along [gravity] g when the scene has it (checked
-    later with the rest of [gravity]), else down (-z)."""
+def _gravity_hint(data: dict[str, Any]) -> np.ndarray | None:
+    """[gravity] g when the scene has a usable one (checked later with the rest of [gravity]):
+    where a slack rope drawn straight sags, and what a rope given by its sag or horizontal
+    tension weighs."""
     g = data.get("gravity", {}).get("g") if isinstance(data.get("gravity"), dict) else None
     if isinstance(g, list) and len(g) == 3 and all(isinstance(v, (int, float)) and math.isfinite(v) for v in g):
         if any(g):
             return np.asarray(g, dtype=float)
-    return np.array([0.0, 0.0, -1.0])
+    return None
 
 
-def _parse_beams(raws: list[Any], file: str, sag: np.ndarray | None = None) -> tuple[Beam, ...]:
+def _parse_beams(raws: list[Any], file: str, gravity: np.ndarray | None = None) -> tuple[Beam, ...]:
     if not raws:
         raise SceneError("at least one [[beam]] is required", file, "top level", "beam")
     beams: list[Beam] = []
     for index, raw in enumerate(raws):
         t = _Table(raw, file, f"[[beam]] #{index + 1}", "beam")
-        beam = _parse_beam(t, index, np.array([0.0, 0.0, -1.0]) if sag is None else sag)
+        beam = _parse_beam(t, index, gravity)
         for other in beams:
             if other.name == beam.name:
                 raise t.error("name", f"duplicate beam name '{beam.name}' (also [[beam]] #{other.index + 1})")
@@ -892,7 +894,7 @@ def _parse_beams(raws: list[Any], file: str, sag: np.ndarray | None = None) -> t
     return tuple(beams)
 
 
-def _parse_beam(t: _Table, index: int, sag: np.ndarray) -> Beam:
+def _parse_beam(t: _Table, index: int, gravity: np.ndarray | None) -> Beam:
     name = t.string("name")
     if not name.strip():
         raise t.error("name", "must be a non-empty string")
@@ -903,16 +905,16 @@ def _parse_beam(t: _Table, index: int, sag: np.ndarray) -> Beam:
         raise t.error("section", "missing required table [beam.section]")
     formulation = t.choice("formulation", ("director", "ancf"), "director")
     if formulation == "ancf":
-        return _parse_ancf_beam(t, index, name, geometry, sag)
+        return _parse_ancf_beam(t, index, name, geometry, gravity)
     section = _parse_section(t.sub("section", f"{t.label}.section"))
     spans = t.integer("spans")
     quadrature = t.choice("quadrature", ("auto", "full", "reduced", "assumed_strain"), "auto")
     if quadrature == "auto":
         quadrature = auto_quadrature(section, geometry.length / max(spans, 1))
     strain = t.choice("strain", ("simo-reissner", "seed"), "simo-reissner")
-    unstretched = _parse_unstretched_length(t, geometry, section, strain, quadrature)
-    if geometry.kind == "line" and unstretched > geometry.length:
-        geometry = sagging_arc(geometry, unstretched, sag)  # drawn straight it would be a compressed strut
+    unstretched = _parse_unstretched_length(t, geometry, section, strain, quadrature, gravity)
+    if geometry.kind == "line" and unstretched > geometry.length:  # drawn straight it would be a compressed strut
+        geometry = sagging_arc(geometry, unstretched, _DOWN if gravity is None else gravity)
     return Beam(
         name=name,
         index=index,
@@ -930,25 +932,53 @@ def _parse_beam(t: _Table, index: int, sag: np.ndarray) -> Beam:
     )
 
 
-def _parse_unstretched_length(t: _Table, geometry: Geometry, section: Section, strain: str, quadrature: str) -> float:
-    """A rope given by its length at rest (``unstretched_length``) or by its tension where drawn
-    (``pretension``): its unstretched length, 0 when neither is given."""
-    given = [k for k in ("unstretched_length", "pretension") if t.has(k)]
+_DOWN = np.array([0.0, 0.0, -1.0])
+_ROPE_KEYS = ("unstretched_length", "pretension", "horizontal_tension", "sag")
+
+
+def _parse_unstretched_length(t: _Table, geometry: Geometry, section: Section, strain: str, quadrature: str,
+                              gravity: np.ndarray | None) -> float:
+    """A rope given by its length at rest (``unstretched_length``), its tension where drawn
+    (``pretension``), or as it hangs under [gravity] between the ends of its straight drawing: by
+    its horizontal tension or its mid-span sag (the elastic catenary's). Its unstretched length,
+    0 when none of them is given."""
+    given = [k for k in _ROPE_KEYS if t.has(k)]
     if not given:
         return 0.0
-    if len(given) == 2:
-        raise t.error("pretension", "give unstretched_length or pretension, not both (the one follows from the other)")
+    if len(given) > 1:
+        raise t.error(given[1], f"give one of {', '.join(_ROPE_KEYS)}, not {' and '.join(given)} (one fixes the others)")
+    key = given[0]
     if strain != "simo-reissner":
-        raise t.error(given[0], "needs strain = \"simo-reissner\" (the seed measure is not linear in the stretch)")
-    if given[0] == "unstretched_length":
-        length = t.number("unstretched_length")
-        if not (length > 0.0 and math.isfinite(length)):
-            raise t.error("unstretched_length", f"must be a length > 0, got {_show(length)}")
-        return length
-    tension = t.number("pretension")
-    if not (math.isfinite(tension) and 0.0 <= tension < section.EA):
-        raise t.error("pretension", f"must be a tension >= 0 and below EA = {section.EA:g} N, got {_show(tension)}")
-    return geometry.length / stretch_at_tension(tension / section.EA, quadrature == "assumed_strain")
+        raise t.error(key, "needs strain = \"simo-reissner\" (the seed measure is not linear in the stretch)")
+    value = t.number(key)
+    if key == "unstretched_length":
+        if not (value > 0.0 and math.isfinite(value)):
+            raise t.error(key, f"must be a length > 0, got {_show(value)}")
+        return value
+    if key == "pretension":
+        if not (math.isfinite(value) and 0.0 <= value < section.EA):
+            raise t.error(key, f"must be a tension >= 0 and below EA = {section.EA:g} N, got {_show(value)}")
+        return geometry.length / stretch_at_tension(value / section.EA, quadrature == "assumed_strain")
+    if not (value > 0.0 and math.isfinite(value)):
+        raise t.error(key, f"must be > 0, got {_show(value)}")
+    if geometry.kind != "line":
+        raise t.error(key, "needs a straight drawing (start + end): the rope hangs between its ends")
+    if gravity is None or not section.rhoA > 0.0:
+        raise t.error(key, "a rope hangs by its weight: needs [gravity] and a section with mass (rho or rhoA)")
+    up = -gravity / np.linalg.norm(gravity)
+    chord = np.subtract(geometry.points[-1], geometry.points[0])
+    rise = float(chord @ up)
+    span = float(np.linalg.norm(chord - rise * up))
+    if span < 1e-9 * geometry.length:
+        raise t.error(key, "the rope's ends are one above the other: it does not sag")
+    from .catenary import unstretched_length_at
+
+    w = section.rhoA * float(np.linalg.norm(gravity))
+    try:
+        return unstretched_length_at(span, rise, section.EA, w, **({"H": value} if key == "horizontal_tension"
+                                                                    else {"sag": value}))
+    except (ValueError, np.linalg.LinAlgError, OverflowError) as err:
+        raise t.error(key, f"no hanging rope has this {key.replace('_', ' ')} between these ends ({err})") from None
 
 
 def stretch_at_tension(tension_over_EA: float, centre_line_axial: bool) -> float:
@@ -987,7 +1017,7 @@ def auto_quadrature(section: Section, span_length: float) -> str:
     return "assumed_strain" if span_slenderness(section, span_length) >= AUTO_SLENDERNESS else "full"
 
 
-def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry, sag: np.ndarray) -> Beam:
+def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry, gravity: np.ndarray | None) -> Beam:
     """A [[beam]] with formulation = "ancf": the gradient-deficient ANCF cable, `spans` equal
     elements (spans + 1 nodes with r and r'), stress free when straight: drawn straight, or drawn
     as an arc with its unstretched length given."""
@@ -997,9 +1027,9 @@ def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry, sag: 
                                f"strains or B-spline quadrature); remove '{key}' or use formulation = 'director'")
     section = _parse_ancf_section(t.sub("section", f"{t.label}.section"))
     # the cable's axial strain is the centre line's 1/2 (r'.r' - 1): its law is the assumed strains'
-    unstretched = _parse_unstretched_length(t, geometry, section, "simo-reissner", "assumed_strain")
+    unstretched = _parse_unstretched_length(t, geometry, section, "simo-reissner", "assumed_strain", gravity)
     if geometry.kind == "line" and unstretched > geometry.length:
-        geometry = sagging_arc(geometry, unstretched, sag)
+        geometry = sagging_arc(geometry, unstretched, _DOWN if gravity is None else gravity)
     if geometry.kind == "polyline" or (geometry.kind == "arc" and not unstretched):
         raise t.error(geometry.kind, "formulation = 'ancf' needs a straight stress-free state: draw it straight "
                                      "('start' + 'end'), or give unstretched_length or pretension, with which "

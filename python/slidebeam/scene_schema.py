@@ -96,6 +96,11 @@ BEAM = Table("beam", "[[beam]]", "One beam or cable. Give its reference centre l
                       "length over the stretch at which the element's law gives this tension), stress-free "
                       "straight and untwisted", "N", "",
         ">= 0, < EA; not with unstretched_length; strain = \"simo-reissner\" (director beams)"),
+    Key("horizontal_tension", "a rope hung under [gravity] between the ends of its straight drawing, given by its "
+                              "horizontal tension: its unstretched length is the elastic catenary's with it",
+        "N", "", "> 0; one of unstretched_length, pretension, horizontal_tension, sag; needs [gravity] and mass"),
+    Key("sag", "the same, given by its sag: the vertical distance between the chord and the rope at mid-span", "m",
+        "", "> 0; one of unstretched_length, pretension, horizontal_tension, sag; needs [gravity] and mass"),
     Key("velocity", "initial velocity, a rigid translation (dynamic)", "m/s", "[0.0, 0.0, 0.0]", "3 numbers"),
     Key("angular_velocity", "initial angular velocity, a rigid rotation about rotation_center (dynamic)", "rad/s",
         "[0.0, 0.0, 0.0]", "3 numbers"),

@@ -107,7 +107,9 @@ def test_a_pretensioned_rope_conserves_energy():
 
 
 @pytest.mark.parametrize("beam, key, text", [
-    ({"unstretched_length": 99.0, "pretension": 10.0}, "pretension", "not both"),
+    ({"unstretched_length": 99.0, "pretension": 10.0}, "pretension", "not unstretched_length and pretension"),
+    ({"sag": 2.0, "horizontal_tension": 10.0}, "sag", "not horizontal_tension and sag"),
+    ({"sag": -2.0}, "sag", "> 0"),
     ({"unstretched_length": -1.0}, "unstretched_length", "> 0"),
     ({"pretension": -5.0}, "pretension", ">= 0"),
     ({"pretension": 10.0, "strain": "seed"}, "pretension", "simo-reissner"),
@@ -122,6 +124,26 @@ def test_bad_ropes_are_clear_errors(beam, key, text):
     with pytest.raises(SceneError) as err:
         slidebeam.scene_from_dict(scene)
     assert key in str(err.value) and text in str(err.value)
+
+
+def test_a_rope_by_its_horizontal_tension_or_sag():
+    """Given by the horizontal tension or the sag of the elastic catenary of 100.6 m, a level rope
+    is 100.6 m long; raised 20 m at one end and given a horizontal tension, it settles with that
+    horizontal pull at its supports (within 5e-5)."""
+    exact = ElasticCatenary(span=100.0, length=100.6, EA=EA, w=RHO_A * G)
+    for key, value in (("horizontal_tension", exact.H), ("sag", exact.sag)):
+        beam = slidebeam.scene_from_dict(rope_scene({key: value})).beams[0]
+        assert beam.unstretched_length == pytest.approx(100.6, rel=1e-9), key
+    scene = rope_scene({"horizontal_tension": 3000.0}, dynamic=True)
+    scene["beam"][0]["end"] = [100.0, 0.0, 20.0]
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(scene))
+    outcome = sim.run_dynamic()
+    assert outcome.complete and sim.settled.converged
+    for force in reactions(sim).values():
+        assert abs(force[0]) == pytest.approx(3000.0, rel=5e-5)  # measured 1.3e-5
+    no_gravity = rope_scene({"sag": 2.0}, gravity=False)
+    with pytest.raises(SceneError, match="needs \\[gravity\\]"):
+        slidebeam.scene_from_dict(no_gravity)
 
 
 def test_stretch_at_tension():
