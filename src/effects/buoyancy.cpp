@@ -82,23 +82,20 @@ class Buoyancy final : public GapPotential<W, Submersion> {
 void register_buoyancy_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
   const double inf = std::numeric_limits<double>::infinity();
-  EffectSpec s;
-  s.type = "buoyancy";
-  s.table = "buoyancy";
-  s.meaning = "buoyancy of a beam in still water: per unit length rho_w |g| A (A = pi D^2 / 4) against g, times "
-              "the part of the section below the surface (smooth over the diameter)";
-  s.role = EnergyRole::Stored;
-  s.stored = "potential";
-  s.params = {
-      {"beam", K::Beam, "", "the beam in the water (director beam or ANCF cable)", ""},
-      {"density", K::Number, "kg/m^3", "rho_w of the water (fresh 1000, sea 1025)", "", 0.0, inf, true},
-      {"diameter", K::Number, "m", "D: the section displaces pi D^2 / 4 per unit length (a chain: its volume's "
-                                   "equivalent diameter)", "", 0.0, inf, true},
-      {"surface", K::Vector, "m", "a point of the water's surface (the surface is normal to g)", "", -inf, inf,
-       false, 3},
-      {"g", K::Vector, "m/s^2", "the gravity the water weighs under; [0, 0, 0]: [gravity]'s", "[0.0, 0.0, 0.0]",
-       -inf, inf, false, 3},
-  };
+  const EffectSpec s = table_effect_spec(
+      "buoyancy", "buoyancy", "", EnergyRole::Stored,
+      "buoyancy of a beam in still water: per unit length rho_w |g| A (A = pi D^2 / 4) against g, times the part "
+      "of the section below the surface (smooth over the diameter)",
+      {{"beam", K::Beam, "", "the beam in the water (director beam or ANCF cable)", ""},
+       {"density", K::Number, "kg/m^3", "rho_w of the water (fresh 1000, sea 1025)", "", 0.0, inf, true},
+       {"diameter", K::Number, "m",
+        "D: the section displaces pi D^2 / 4 per unit length (a chain: its volume's equivalent diameter)", "", 0.0, inf,
+        true},
+       {"surface", K::Vector, "m", "a point of the water's surface (the surface is normal to g)", "", -inf, inf, false,
+        3},
+       {"g", K::Vector, "m/s^2", "the gravity the water weighs under; [0, 0, 0]: [gravity]'s", "[0.0, 0.0, 0.0]", -inf,
+        inf, false, 3}},
+      "potential");
   r.add(s, [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
     const int beam = beam_param(m, p);
     if (m.beam(beam).is_ancf()) return std::make_unique<Buoyancy<4>>(beam, m, p);

@@ -90,18 +90,6 @@ std::unique_ptr<Effect> make_contact(const Model& m, const EffectParams& p, cons
   return std::make_unique<Contact<3, Shape>>(beam, m, p, type, shape(p));
 }
 
-EffectSpec contact_spec(const std::string& type, const std::string& variant, const std::string& meaning,
-                        std::vector<ParamSpec> params) {
-  EffectSpec s;
-  s.type = type;
-  s.table = "contact";
-  s.variant = variant;
-  s.meaning = meaning;
-  s.role = EnergyRole::Stored;
-  s.stored = "potential";
-  s.params = std::move(params);
-  return s;
-}
 }  // namespace
 
 void register_contact_effects(EffectRegistry& r) {
@@ -114,7 +102,10 @@ void register_contact_effects(EffectRegistry& r) {
                             "", 0.0, inf, true};
   const ParamSpec radius{"radius", K::Number, "m",
                          "R, where the centre line touches: the shape's radius plus the rope's", "", 0.0, inf, true};
-  r.add(contact_spec("plane_contact", "plane",
+  const auto spec = [](const char* type, const char* variant, const char* meaning, std::vector<ParamSpec> params) {
+    return table_effect_spec(type, "contact", variant, EnergyRole::Stored, meaning, std::move(params), "potential");
+  };
+  r.add(spec("plane_contact", "plane",
                      "contact of a beam with a rigid plane (the ground, a seabed, a slope): a penalty 1/2 k <-g>^2 "
                      "per unit length, g the distance of the centre line from the plane, checked at the mass "
                      "quadrature points",
@@ -125,7 +116,7 @@ void register_contact_effects(EffectRegistry& r) {
                        -inf, inf, false, 3},
                       stiffness}),
         [](const Model& m, const EffectParams& p) { return make_contact(m, p, "plane_contact", &plane); });
-  r.add(contact_spec("cylinder_contact", "cylinder",
+  r.add(spec("cylinder_contact", "cylinder",
                      "contact of a beam with a fixed rigid cylinder from outside (a drum, a sheave, a pipe, a "
                      "bollard; frictionless): a penalty as for the plane",
                      {beam,
@@ -133,7 +124,7 @@ void register_contact_effects(EffectRegistry& r) {
                       {"axis", K::Vector, "", "the axis' direction (the cylinder is endless)", "", -inf, inf, false, 3},
                       radius, stiffness}),
         [](const Model& m, const EffectParams& p) { return make_contact(m, p, "cylinder_contact", &cylinder); });
-  r.add(contact_spec("sphere_contact", "sphere",
+  r.add(spec("sphere_contact", "sphere",
                      "contact of a beam with a fixed rigid sphere from outside (frictionless): a penalty as for the "
                      "plane",
                      {beam, {"center", K::Vector, "m", "the sphere's centre", "", -inf, inf, false, 3}, radius,
