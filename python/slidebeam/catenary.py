@@ -12,6 +12,17 @@ from functools import cached_property
 import numpy as np
 
 
+def root_of_increasing(f, target: float, lo: float, hi: float, grow: bool = True, rounds: int = 200) -> float:
+    """x in [lo, hi] with f(x) = target for f increasing, by bisection; with grow, hi doubles first
+    until f(hi) >= target."""
+    while grow and f(hi) < target:
+        hi *= 2.0
+    for _ in range(rounds):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if f(mid) < target else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
 @dataclass(frozen=True)
 class ElasticCatenary:
     span: float      # l, horizontal distance of the supports [m]
@@ -33,13 +44,7 @@ class ElasticCatenary:
         """Horizontal tension: the root of x(L0) = l (bisection, once; x grows with H)."""
         if self.horizontal_span(1e-12 * self.w * self.length) > self.span:
             raise ValueError("the supports are further apart than the cable reaches")
-        lo, hi = 1e-12 * self.w * self.length, self.w * self.length
-        while self.horizontal_span(hi) < self.span:
-            hi *= 2.0
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if self.horizontal_span(mid) < self.span else (lo, mid)
-        return 0.5 * (lo + hi)
+        return root_of_increasing(self.horizontal_span, self.span, 1e-12 * self.w * self.length, self.w * self.length)
 
     def tension(self, s: np.ndarray | float) -> np.ndarray:
         """T(s) = sqrt(H^2 + (V - w s)^2) at unstretched arc length s from the left support."""
@@ -77,13 +82,9 @@ class MooringLine:
 
     def _suspended(self, H: float) -> float:
         """The suspended unstretched length that reaches the fairlead's height at tension H."""
-        lo, hi = 0.0, self.length
-        if self.rise(H, hi) < self.height:
+        if self.rise(H, self.length) < self.height:
             raise ValueError("the line is too short to rest on the seabed at this tension")
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if self.rise(H, mid) < self.height else (lo, mid)
-        return 0.5 * (lo + hi)
+        return root_of_increasing(lambda Ls: self.rise(H, Ls), self.height, 0.0, self.length, grow=False)
 
     def rise(self, H: float, suspended: float) -> float:
         """Height of the fairlead above the touch-down point for a suspended length at tension H."""
@@ -98,13 +99,7 @@ class MooringLine:
     @cached_property
     def H(self) -> float:
         """Horizontal tension: the root of reach(H) = span (bisection; the reach grows with H)."""
-        lo, hi = 1e-9 * self.w * self.length, self.w * self.length
-        while self.reach(hi) < self.span:
-            hi *= 2.0
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if self.reach(mid) < self.span else (lo, mid)
-        return 0.5 * (lo + hi)
+        return root_of_increasing(self.reach, self.span, 1e-9 * self.w * self.length, self.w * self.length)
 
     @property
     def suspended_length(self) -> float:
@@ -168,11 +163,9 @@ def unstretched_length_at(span: float, rise: float, EA: float, w: float, *, H: f
     def sag_at(H: float) -> float:
         L0 = unstretched_length_at(span, rise, EA, w, H=H)
         _, V = _length_and_lift(H, span, rise, EA, w, L0, 0.5 * w * L0 + H * rise / span)
-        lo, hi = 0.0, L0  # the arc length at mid-span: x grows with s
-        for _ in range(100):
-            mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if catenary_end(L0, H, V, EA, w, mid)[0] < 0.5 * span else (lo, mid)
-        return 0.5 * rise - catenary_end(L0, H, V, EA, w, 0.5 * (lo + hi))[1]
+        # the arc length at mid-span (x grows with s)
+        s = root_of_increasing(lambda s: catenary_end(L0, H, V, EA, w, s)[0], 0.5 * span, 0.0, L0, grow=False, rounds=100)
+        return 0.5 * rise - catenary_end(L0, H, V, EA, w, s)[1]
 
     lo, hi = 1e-3 * w * span, w * span * span / sag  # sag falls as H grows
     while sag_at(lo) < sag:
