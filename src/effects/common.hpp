@@ -89,6 +89,12 @@ inline void knot_spans(const Beam& b, int i, int& left, int& right) {
   left = i >= 1 ? i - 1 : -1;
   right = i < b.n_spans() ? i : -1;
 }
+/// A 3-vector parameter of an effect.
+inline Eigen::Vector3d vector3_param(const EffectParams& p, const char* key) {
+  const auto& v = p.vector(key, 3);
+  return {v[0], v[1], v[2]};
+}
+
 /// The first control point (beam-local) of knot i's patch.
 inline int knot_first_cp(const Beam& b, int i) {
   int l, r;
@@ -279,7 +285,6 @@ class AncfElementEffect : public ElementEffect<2, kernels::ancf::kElDofs> {
           v.segment<kernels::ancf::kNodeDofs>(kernels::ancf::kNodeDofs * a);
   }
 };
-
 
 /// A quadrature point on a beam's centre line: weight (reference arc length) and the W basis
 /// weights of the position x = sum_i N_i y_i and its derivative x' = sum_i dN_i y_i (y_i: 3-blocks).

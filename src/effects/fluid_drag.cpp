@@ -94,8 +94,7 @@ class FluidDrag final : public CentreLineEffect<W> {
     law_.ct = p.number("cd_tangential", 0.0);
     law_.eps = p.number("regularization", 1e-3);
     law_.k = 0.5 * rho * D;
-    const auto& u = p.vector("flow", 3);
-    flow_ = Vec3(u[0], u[1], u[2]);
+    flow_ = vector3_param(p, "flow");
     if (!(rho > 0.0) || !(D > 0.0) || !(law_.cn >= 0.0) || !(law_.ct >= 0.0) || !(law_.eps > 0.0) || !flow_.allFinite())
       throw std::invalid_argument("drag: density, diameter and regularization must be > 0, the coefficients >= 0");
   }

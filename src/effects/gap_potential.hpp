@@ -27,12 +27,6 @@
 
 namespace slidebeam::effects {
 
-/// A 3-vector parameter of an effect.
-inline Eigen::Vector3d vector3_param(const EffectParams& p, const char* key) {
-  const auto& v = p.vector(key, 3);
-  return {v[0], v[1], v[2]};
-}
-
 /// DG(g0, g1) and d DG / d g1 of a law with V'(g) (dV), V''(g) (ddV) and its breakpoints (where
 /// the polynomial pieces meet; each piece of degree <= 5 in V').
 template <class Law>
@@ -63,16 +57,22 @@ std::pair<double, double> gap_discrete_gradient(const Law& law, double g0, doubl
   return {dg, ddg};
 }
 
+/// A point's gaps at a step's start and end, a discrete gradient w of the gap (w . (x1 - x0) =
+/// g1 - g0), the gap's gradient n1 at the end and dw / dx1.
+struct GapStep {
+  double g0 = 0.0, g1 = 0.0;
+  Eigen::Vector3d w, n1;
+  Eigen::Matrix3d dw;
+};
+
 /// A plane through p with unit normal n: g = n . (x - p) (g > 0 on n's side).
 struct PlaneGap {
   Eigen::Vector3d n, p;
   double gap(const Eigen::Vector3d& x) const { return n.dot(x - p); }
   Eigen::Vector3d gradient(const Eigen::Vector3d&) const { return n; }
   Eigen::Matrix3d hessian(const Eigen::Vector3d&) const { return Eigen::Matrix3d::Zero(); }
-  /// w with w . (x1 - x0) = g(x1) - g(x0), and dw / dx1.
-  Eigen::Vector3d discrete_gradient(const Eigen::Vector3d&, const Eigen::Vector3d&) const { return n; }
-  Eigen::Matrix3d discrete_gradient_derivative(const Eigen::Vector3d&, const Eigen::Vector3d&) const {
-    return Eigen::Matrix3d::Zero();
+  GapStep step(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1) const {
+    return {gap(x0), gap(x1), n, n, Eigen::Matrix3d::Zero()};
   }
 };
 
@@ -91,15 +91,16 @@ struct RoundGap {
     const double r = v.norm();
     return (P - v * v.transpose() / (r * r)) / r;
   }
-  Eigen::Vector3d discrete_gradient(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1) const {
+  GapStep step(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1) const {
     const Eigen::Vector3d y0 = y(x0), y1 = y(x1);
-    return (y0 + y1) / (y0.norm() + y1.norm());  // in P's range already
-  }
-  Eigen::Matrix3d discrete_gradient_derivative(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1) const {
-    const Eigen::Vector3d y0 = y(x0), y1 = y(x1);
-    const double m = y0.norm() + y1.norm(), r1 = y1.norm();
-    const Eigen::Vector3d w = (y0 + y1) / m;
-    return P / m - w * y1.transpose() / (m * r1);
+    const double r0 = y0.norm(), r1 = y1.norm(), m = r0 + r1;
+    GapStep s;
+    s.g0 = r0 - R;
+    s.g1 = r1 - R;
+    s.w = (y0 + y1) / m;  // in P's range already
+    s.n1 = y1 / r1;
+    s.dw = (P - s.w * s.n1.transpose()) / m;
+    return s;
   }
 };
 
@@ -136,11 +137,11 @@ class GapPotential : public CentreLineEffect<W> {
       Eigen::Vector3d force;       // d(energy)/dx at the point
       Eigen::Matrix3d stiffness;  // its derivative with respect to the step's end
       if (em) {
-        const auto [dg, ddg] = gap_discrete_gradient(law_, shape_.gap(xf), shape_.gap(x1));
+        const GapStep s = shape_.step(xf, x1);
+        const auto [dg, ddg] = gap_discrete_gradient(law_, s.g0, s.g1);
         if (dg == 0.0 && ddg == 0.0) continue;
-        const Eigen::Vector3d w = shape_.discrete_gradient(xf, x1);
-        force = dg * w;
-        if (K) stiffness = ddg * w * shape_.gradient(x1).transpose() + dg * shape_.discrete_gradient_derivative(xf, x1);
+        force = dg * s.w;
+        if (K) stiffness = ddg * s.w * s.n1.transpose() + dg * s.dw;
       } else {
         const double gf = shape_.gap(xf), dv = law_.dV(gf), ddv = law_.ddV(gf);
         if (dv == 0.0 && ddv == 0.0) continue;

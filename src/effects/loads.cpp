@@ -108,10 +108,7 @@ class PointMass final : public Effect {
 /// cable the consistent load int rhoA S^T g dx of each element (kernels/ancf_kernels.hpp).
 class Gravity final : public Effect {
  public:
-  Gravity(const Model&, const EffectParams& p) : f_(TimeFunction::from(p)) {
-    const auto& g = p.vector("g", 3);
-    g_ = Eigen::Vector3d(g[0], g[1], g[2]);
-  }
+  Gravity(const Model&, const EffectParams& p) : f_(TimeFunction::from(p)), g_(vector3_param(p, "g")) {}
   bool time_dependent() const override { return f_.kind != TimeFunction::Kind::Constant; }
   std::string type() const override { return "gravity"; }
   std::string label() const override { return "gravity"; }
@@ -192,8 +189,7 @@ class PointLoad final : public Effect {
  public:
   PointLoad(const Model& m, const EffectParams& p, bool moment)
       : point_(m, p, moment ? "moment" : "force"), moment_(moment), f_(TimeFunction::from(p)) {
-    const auto& v = p.vector("value", 3);
-    value_ = Eigen::Vector3d(v[0], v[1], v[2]);
+    value_ = vector3_param(p, "value");
     const std::string frame = p.string("frame", "spatial");
     if (frame != "spatial" && frame != "material") throw std::invalid_argument("load frame must be spatial or material");
     material_ = frame == "material";

@@ -69,13 +69,11 @@ struct SupportMotion {
 
   explicit SupportMotion(const EffectParams& p) {
     if (p.vec.count("motion_displacement")) {
-      const auto& u = p.vector("motion_displacement", 3);
-      U = Eigen::Vector3d(u[0], u[1], u[2]);
+      U = vector3_param(p, "motion_displacement");
       active = true;
     }
     if (p.vec.count("motion_rotation")) {
-      const auto& r = p.vector("motion_rotation", 3);
-      Theta = Eigen::Vector3d(r[0], r[1], r[2]);
+      Theta = vector3_param(p, "motion_rotation");
       active = true;
     }
     f = TimeFunction::from(p);
