@@ -127,7 +127,7 @@ class Geometry:
         """Unit tangent of a line or an arc at arc length s."""
         if self.kind == "arc":
             assert self.radius is not None and self.angle_deg is not None
-            c, n = (np.asarray(v) for v in (self.center, self.normal))
+            n = np.asarray(self.normal)
             return _vec(_rotate(np.asarray(self.tangent_at_start()), n, math.copysign(s / self.radius, self.angle_deg)))
         return self.tangent_at_start()
 
@@ -912,9 +912,7 @@ def _parse_beam(t: _Table, index: int, gravity: np.ndarray | None) -> Beam:
     if quadrature == "auto":
         quadrature = auto_quadrature(section, geometry.length / max(spans, 1))
     strain = t.choice("strain", ("simo-reissner", "seed"), "simo-reissner")
-    unstretched = _parse_unstretched_length(t, geometry, section, strain, quadrature, gravity)
-    if geometry.kind == "line" and unstretched > geometry.length:  # drawn straight it would be a compressed strut
-        geometry = sagging_arc(geometry, unstretched, _DOWN if gravity is None else gravity)
+    unstretched, geometry = _parse_rope(t, geometry, section, strain, quadrature, gravity)
     return Beam(
         name=name,
         index=index,
@@ -981,6 +979,17 @@ def _parse_unstretched_length(t: _Table, geometry: Geometry, section: Section, s
         raise t.error(key, f"no hanging rope has this {key.replace('_', ' ')} between these ends ({err})") from None
 
 
+def _parse_rope(t: _Table, geometry: Geometry, section: Section, strain: str, quadrature: str,
+                gravity: np.ndarray | None) -> tuple[float, Geometry]:
+    """The beam's unstretched length (0: the drawing is stress free) and where it starts: a rope
+    drawn straight but longer than its chord starts as the arc of its length sagging along gravity
+    (drawn straight it would be a compressed strut)."""
+    unstretched = _parse_unstretched_length(t, geometry, section, strain, quadrature, gravity)
+    if geometry.kind == "line" and unstretched > geometry.length:
+        geometry = sagging_arc(geometry, unstretched, _DOWN if gravity is None else gravity)
+    return unstretched, geometry
+
+
 def stretch_at_tension(tension_over_EA: float, centre_line_axial: bool) -> float:
     """The stretch lambda (drawn over unstretched length) at which a straight rope carries the
     tension T = tension_over_EA EA in the element's own law: T = EA (lambda - 1) for the strain
@@ -1027,9 +1036,7 @@ def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry, gravi
                                f"strains or B-spline quadrature); remove '{key}' or use formulation = 'director'")
     section = _parse_ancf_section(t.sub("section", f"{t.label}.section"))
     # the cable's axial strain is the centre line's 1/2 (r'.r' - 1): its law is the assumed strains'
-    unstretched = _parse_unstretched_length(t, geometry, section, "simo-reissner", "assumed_strain", gravity)
-    if geometry.kind == "line" and unstretched > geometry.length:
-        geometry = sagging_arc(geometry, unstretched, _DOWN if gravity is None else gravity)
+    unstretched, geometry = _parse_rope(t, geometry, section, "simo-reissner", "assumed_strain", gravity)
     if geometry.kind == "polyline" or (geometry.kind == "arc" and not unstretched):
         raise t.error(geometry.kind, "formulation = 'ancf' needs a straight stress-free state: draw it straight "
                                      "('start' + 'end'), or give unstretched_length or pretension, with which "
