@@ -64,7 +64,7 @@ def figure(kind: str, runs: Sequence[str | Path | Run], drift: bool = False):
     if missing:
         raise RunFolderError(f"no {kind} plot for {', '.join(map(str, missing))}: {_WHY_NOT[kind]}")
     if kind == "energy":
-        return energy_figure([r.folder for r in opened], drift=drift)
+        return energy_figure(opened, drift=drift)
     return getattr(engineering, f"{kind}_figure")(opened)
 
 
@@ -114,7 +114,7 @@ def _pdf(kinds: list[str], runs: list[Run], path: Path, drift: bool) -> Path:
 
 def plot_energy_momentum(run_dirs: Sequence[str | Path], out_png: str | Path, drift: bool = False) -> Path:
     """The energy plot of ``run_dirs`` as one PNG (``slidebeam plot RUN... --what energy``)."""
-    return save(energy_figure([Path(r) for r in run_dirs], drift=drift), Path(out_png))
+    return save(figure("energy", run_dirs, drift), Path(out_png))
 
 
 __all__ = ["KINDS", "available", "figure", "parse_kinds", "plot", "plot_energy_momentum"]
