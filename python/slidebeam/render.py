@@ -116,22 +116,24 @@ class Renderer:
             return np.empty((0, 3))
         return series.positions(int(np.argmin(np.abs(series.times - t))))
 
+    def _sampled_records(self) -> list[int]:
+        """The records the camera and the colour scale are set from: all, or 200 evenly over the run."""
+        if len(self.records) <= 200:
+            return self.records
+        return [self.records[i] for i in np.linspace(0, len(self.records) - 1, 200).astype(int)]
+
     def _extent(self) -> tuple[np.ndarray, np.ndarray]:
-        """Bounding box of every beam point over the records (sampled: at most 200 records)."""
+        """Bounding box of every beam point over the sampled records."""
         b = self.run.beams
         assert b is not None
-        picks = self.records if len(self.records) <= 200 else \
-            [self.records[i] for i in np.linspace(0, len(self.records) - 1, 200).astype(int)]
         lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
-        for r in picks:
+        for r in self._sampled_records():
             x = b.positions(r)
             lo, hi = np.minimum(lo, x.min(axis=0)), np.maximum(hi, x.max(axis=0))
         return lo, hi
 
     def _colour_range(self) -> tuple[float, float]:
-        picks = self.records if len(self.records) <= 200 else \
-            [self.records[i] for i in np.linspace(0, len(self.records) - 1, 200).astype(int)]
-        values = [self._values(r) for r in picks]
+        values = [self._values(r) for r in self._sampled_records()]
         lo = min(float(v.min()) for v in values if v is not None)
         hi = max(float(v.max()) for v in values if v is not None)
         return (lo, hi) if hi > lo else (lo - 0.5 * abs(lo) - 1e-12, hi + 0.5 * abs(hi) + 1e-12)
