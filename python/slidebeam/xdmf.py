@@ -552,17 +552,10 @@ class XdmfOutput:
 
     def _velocities(self, points: Sequence[tuple[int, float]]) -> np.ndarray:
         """Velocities of beam points (collective; zero in a static run). The beam's coordinates
-        are interpolated linearly, so their rates interpolate the same way."""
-        v = self.sim.v
-        vel = np.zeros((len(points), 3))
-        if v is None:
-            return vel
-        on: dict[int, list[int]] = {}
-        for i, (beam, _) in enumerate(points):
-            on.setdefault(beam, []).append(i)
-        for beam, which in on.items():
-            vel[which] = self.sim.evaluate(beam, [points[i][1] for i in which], v)[:, :3]
-        return vel
+        are interpolated linearly, so their rates interpolate the same way: _positions in v."""
+        if self.sim.v is None:
+            return np.zeros((len(points), 3))
+        return self._positions(points, [None] * len(points), np.empty((0, 3)), self.sim.v)
 
     def _lines(self) -> np.ndarray:
         cells, first = [], 0
