@@ -96,7 +96,7 @@ def _allowed(p: ParamSpec) -> str:
     if k == "beam":
         return "a beam's name" + (f" ({' or '.join(_FORMULATION[c] for c in p.choices)})" if p.choices else "")
     if k == "beams":
-        return f"{p.size} beam names" + (f" ({' or '.join(_FORMULATION[c] + 's' for c in p.choices)})"
+        return f"{p.size} beam names" + (f" ({' or '.join(_FORMULATION[c].split(' ', 1)[1] + 's' for c in p.choices)})"
                                          if p.choices else "")
     if k == "point":
         return '"start", "end" or an arc length in [0, L]' + (f" of `{p.on}`" if p.on else "")
@@ -104,6 +104,8 @@ def _allowed(p: ParamSpec) -> str:
         return '"start", "end"' + (f" of `{p.on}`" if p.on else "")
     if k == "ends":
         return f'{p.size} of "start", "end" (one per beam)'
+    if k == "points":
+        return f'{p.size} of "start", "end" or an arc length (one per beam)'
     if k == "position":
         return "3 numbers: the reference point at `at`"
     if k == "motion":

@@ -23,7 +23,7 @@ SPECS_FILE = Path(__file__).with_name("effect_specs.json")
 @dataclass(frozen=True)
 class ParamSpec:
     key: str
-    kind: str          # number, integer, vector, choice, beam, point, end, position, motion, beams, ends,
+    kind: str          # number, integer, vector, choice, beam, point, end, position, motion, beams, ends, points,
                        # time_function (see ParamSpec::Kind in src/model/effect.hpp)
     unit: str
     meaning: str

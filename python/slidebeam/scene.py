@@ -1505,8 +1505,8 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
             stem = p.key.removesuffix("s")
             num.update({f"{stem}_a": float(pair[0]), f"{stem}_b": float(pair[1])})
             label_parts[p.key] = "-".join(beams[b].name for b in pair)
-        elif p.kind == "ends":
-            ends = _parse_ends(t, p.key, value, [beams[b] for b in pair])
+        elif p.kind in ("ends", "points"):
+            ends = (_parse_ends if p.kind == "ends" else _parse_points)(t, p.key, value, [beams[b] for b in pair])
             num.update({"s_a": ends[0], "s_b": ends[1]})
             label_parts["beams"] = "-".join(_where(beams[b], s) for b, s in zip(pair, ends))
         elif p.kind == "time_function":
@@ -1598,6 +1598,13 @@ def _parse_beam_pair(t: _Table, p: ParamSpec, beams: tuple[Beam, ...], spec: Eff
     if len(set(out)) < len(out):
         raise t.error(p.key, f"needs {p.size} different beams, got {_show(names)}")
     return out
+
+
+def _parse_points(t: _Table, key: str, value: Any, beams: list[Beam]) -> list[float]:
+    if not (isinstance(value, list) and len(value) == len(beams)):
+        raise t.error(key, f"must be {len(beams)} points, one per beam ('start', 'end' or an arc length), "
+                           f"got {_show(value)}")
+    return [_parse_at(t, b.geometry.length, key, v) for v, b in zip(value, beams)]
 
 
 def _parse_ends(t: _Table, key: str, value: Any, beams: list[Beam]) -> list[float]:

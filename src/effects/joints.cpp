@@ -1,7 +1,18 @@
 // SPDX-License-Identifier: MIT
-/// @file Joints between beams. A rigid joint welds the end of one beam to the end of another:
-/// same position, and the relative orientation of their end triads kept as in the reference
-/// (an elbow, a T). Six multipliers: 3 for the positions, 3 for the orientation.
+/// @file Joints between two beam points, anywhere along either beam ([[joint]]; [[rigid_joint]]
+/// is the rigid kind at beam ends):
+///  - spherical: the two centre-line points coincide (3 multipliers);
+///  - universal: and an axis fixed to the first beam stays perpendicular to one fixed to the
+///    second (the cross of a Cardan joint; 4);
+///  - revolute: and a hinge axis fixed to the first beam stays perpendicular to two directions
+///    fixed to the second, so that the hinge turns about it alone (5);
+///  - rigid: and the relative orientation of the two triads is kept (welded; 6).
+/// Positions are the beams' centre-line interpolation at the two arc lengths (director beams and
+/// ANCF cables); orientations use the director triad interpolated there, D(s) = sum_j N_j(s)
+/// (d1, d2, d3)_j (director beams only: an ANCF cable has no section frame). Each orientation
+/// constraint is a bilinear form (D_A u) . (D_B v) - g0 with constant component vectors u, v and
+/// its reference value g0; the positions are linear. So the midpoint gradient is every
+/// constraint's exact discrete gradient, and under energy-momentum a joint does no work over a step.
 
 #include "effects/common.hpp"
 
@@ -11,196 +22,406 @@
 namespace slidebeam::effects {
 
 namespace {
-/// Control point index at a beam end, or an error naming the joint and the beam.
-int joint_end_cp(const Beam& b, double s) {
-  const int c = end_cp(b, s);
-  if (c < 0) throw std::invalid_argument("rigid_joint: beam '" + b.name() + "' can only be joined at an end (start or end)");
-  return c;
+
+enum class JointKind { Spherical, Universal, Revolute, Rigid };
+
+int orientation_constraints(JointKind k) {
+  switch (k) {
+    case JointKind::Spherical: return 0;
+    case JointKind::Universal: return 1;
+    case JointKind::Revolute: return 2;
+    case JointKind::Rigid: return 3;
+  }
+  return 0;
 }
-// The three orientation constraints e_a . dB_b = 0 with e_a = sum_i C_ia dA_i, for these (a, b)
-// pairs: their gradients are the three axes of the relative rotation, hence independent.
-constexpr int kPairs[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+
+const char* kind_type(JointKind k) {
+  switch (k) {
+    case JointKind::Spherical: return "spherical_joint";
+    case JointKind::Universal: return "universal_joint";
+    case JointKind::Revolute: return "revolute_joint";
+    case JointKind::Rigid: return "welded_joint";
+  }
+  return "joint";
+}
+
+/// One side of a joint: the control points its beam point interpolates from.
+struct JointSide {
+  int beam = -1;
+  double s = 0.0;
+  int coords = 12;  ///< coordinates per control point (director 12, ANCF 6)
+  int n = 0;        ///< control points with a nonzero weight
+  std::array<int, 4> cp{};  ///< their indices within the beam
+  /// The position r(s) = sum_e w[e] y(point[e], comp[e] .. + 2): director beams one entry per
+  /// control point (phi), ANCF cables r and r' of the element's two nodes.
+  int entries = 0;
+  std::array<int, 4> point{}, comp{};
+  std::array<double, 4> w{};
+  /// Director beams: N_j of control point j, which also interpolates the directors.
+  std::array<double, 4> N{};
+  /// The control point with the largest weight: where the joint's multipliers find pivots.
+  int main = 0;
+
+  JointSide() = default;
+  JointSide(const Beam& b, int index, double s_) : beam(index), s(s_), coords(b.coordinates_per_cp()) {
+    const PositionStencil st = b.position_at(s);
+    double largest = -1.0;
+    for (int e = 0; e < st.n; ++e) {
+      if (std::abs(st.w[e]) <= 1e-14) continue;  // (the other points of a span at its end)
+      int j = 0;
+      while (j < n && cp[j] != st.cp[e]) ++j;
+      if (j == n) cp[n++] = st.cp[e];
+      point[entries] = j;
+      comp[entries] = st.comp[e];
+      w[entries] = st.w[e];
+      ++entries;
+      if (st.comp[e] == 0) {
+        N[j] = st.w[e];
+        if (std::abs(st.w[e]) > largest) {
+          largest = std::abs(st.w[e]);
+          main = j;
+        }
+      }
+    }
+  }
+  int size() const { return n * coords; }
+};
+
+/// An orthonormal pair perpendicular to the unit vector a.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> perpendicular_pair(const Eigen::Vector3d& a) {
+  const Eigen::Vector3d helper = std::abs(a.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d p = a.cross(helper).normalized();
+  return {p, a.cross(p)};
+}
+
+Eigen::Vector3d unit_axis(const EffectParams& p, const char* key) {
+  const Eigen::Vector3d a = vector3_param(p, key);
+  if (!(a.norm() > 0.0)) throw ParamError(key, "must be a nonzero vector, got " + format_point(a));
+  return a.normalized();
+}
+
 }  // namespace
 
-/// Rigid connection of two beam ends (formulation: position coincidence, plus e_a . dB_b = 0 for
-/// three pairs, where e = A's triad turned into B's reference orientation). All constraints are
-/// linear or bilinear in q, so the midpoint gradient is their exact discrete gradient.
-class RigidJoint final : public Effect, public ReactionSource {
+class Joint final : public Effect, public ReactionSource {
  public:
-  RigidJoint(const Model& m, const EffectParams& p)
-      : a_(static_cast<int>(p.number("beam_a"))), b_(static_cast<int>(p.number("beam_b"))) {
-    for (int beam : {a_, b_})
+  Joint(const Model& m, const EffectParams& p, JointKind kind, std::string type)
+      : kind_(kind), type_(std::move(type)), n_orient_(orientation_constraints(kind)) {
+    const int a = static_cast<int>(p.number("beam_a")), b = static_cast<int>(p.number("beam_b"));
+    for (int beam : {a, b})
       if (beam < 0 || beam >= static_cast<int>(m.beams().size()))
-        throw std::invalid_argument("rigid_joint: no beam with index " + std::to_string(beam));
-    if (a_ == b_) throw std::invalid_argument("rigid_joint: a beam cannot be joined to itself");
-    const Beam &A = m.beam(a_), &B = m.beam(b_);
-    for (const Beam* X : {&A, &B})
-      if (X->is_ancf())
-        throw std::invalid_argument("rigid_joint: beam '" + X->name() + "' is an ANCF cable (it has no directors to weld)");
-    ca_ = joint_end_cp(A, p.number("s_a"));
-    cb_ = joint_end_cp(B, p.number("s_b"));
-    const double* qa = A.q_ref().data() + 12 * ca_;
-    const double* qb = B.q_ref().data() + 12 * cb_;
-    const Eigen::Vector3d pa(qa[0], qa[1], qa[2]), pb(qb[0], qb[1], qb[2]);
+        throw std::invalid_argument(type_ + ": no beam with index " + std::to_string(beam));
+    if (a == b) throw std::invalid_argument(type_ + ": a beam cannot be joined to itself");
+    const Beam &A = m.beam(a), &B = m.beam(b);
+    if (n_orient_ > 0)
+      for (const Beam* X : {&A, &B})
+        if (X->is_ancf())
+          throw ParamError("beams", "beam '" + X->name() + "' is an ANCF cable: it has no section frame for a " +
+                                        type_ + " (a spherical joint joins ANCF cables)");
+    for (int k = 0; k < 2; ++k) {
+      const Beam& X = k == 0 ? A : B;
+      const double s = p.number(k == 0 ? "s_a" : "s_b");
+      if (s < -1e-12 * X.length() || s > X.length() * (1 + 1e-12))
+        throw ParamError("at", "s = " + format_number(s) + " is outside beam '" + X.name() + "'");
+      side_[k] = JointSide(X, k == 0 ? a : b, std::clamp(s, 0.0, X.length()));
+    }
+    label_ = type_ + "[" + where(A, side_[0].s) + "-" + where(B, side_[1].s) + "]";
+    // the reference state: the points must meet (the discretised centre lines')
+    const Eigen::VectorXd y0 = reference(m);
+    const Eigen::Vector3d pa = position(0, y0), pb = position(1, y0);
     const double scale = std::max(A.length(), B.length());
     if ((pa - pb).norm() > 1e-9 * scale)
-      throw ParamError("beams", "'" + A.name() + "' " + (ca_ == 0 ? "start" : "end") + " at " + format_point(pa) +
-                                    " and '" + B.name() + "' " + (cb_ == 0 ? "start" : "end") + " at " +
-                                    format_point(pb) + " do not meet (distance " + format_number((pa - pb).norm()) + ")");
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        C_(i, j) = Eigen::Map<const Eigen::Vector3d>(qa + 3 + 3 * i).dot(Eigen::Map<const Eigen::Vector3d>(qb + 3 + 3 * j));
-    label_ = "rigid_joint[" + A.name() + (ca_ == 0 ? "@start" : "@end") + "-" + B.name() + (cb_ == 0 ? "@start" : "@end") + "]";
+      throw ParamError("beams", describe(A, side_[0].s) + " at " + format_point(pa) + " and " + describe(B, side_[1].s) +
+                                    " at " + format_point(pb) + " do not meet (distance " +
+                                    format_number((pa - pb).norm()) + ")");
+    if (n_orient_ == 0) return;
+    const Eigen::Matrix3d DA = triad(0, y0), DB = triad(1, y0);
+    switch (kind_) {
+      case JointKind::Rigid: {
+        // e_a . dB_b = 0 for the pairs (a, b) below, e_a = DA C e_a turned into B's reference
+        // orientation (C = DA^T DB): their gradients are the three axes of the relative rotation
+        constexpr int kPairs[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+        const Eigen::Matrix3d C = DA.transpose() * DB;
+        for (int k = 0; k < 3; ++k) {
+          u_[k] = C.col(kPairs[k][0]);
+          v_[k] = Eigen::Vector3d::Unit(kPairs[k][1]);
+        }
+        break;
+      }
+      case JointKind::Revolute: {
+        const Eigen::Vector3d axis = unit_axis(p, "axis");
+        const auto [e1, e2] = perpendicular_pair(axis);
+        u_[0] = u_[1] = DA.transpose() * axis;
+        v_[0] = DB.transpose() * e1;
+        v_[1] = DB.transpose() * e2;
+        break;
+      }
+      case JointKind::Universal: {
+        const Eigen::Vector3d na = unit_axis(p, "axis"), nb = unit_axis(p, "axis_b");
+        if (std::abs(na.dot(nb)) > 1e-6)
+          throw ParamError("axis_b", "must be perpendicular to axis (the cross's two arms), but axis . axis_b = " +
+                                         format_number(na.dot(nb)) + " for unit vectors");
+        u_[0] = DA.transpose() * na;
+        v_[0] = DB.transpose() * nb;
+        break;
+      }
+      case JointKind::Spherical: break;
+    }
+    // (interpolated triads inside a span of a curved beam are not exactly orthonormal)
+    for (int k = 0; k < n_orient_; ++k) g0_[k] = (DA * u_[k]).dot(DB * v_[k]);
   }
-  std::string type() const override { return "rigid_joint"; }
+
+  std::string type() const override { return type_; }
   std::string label() const override { return label_; }
-  PetscInt n_extra() const override { return 6; }
+  PetscInt n_extra() const override { return 3 + n_orient_; }
 
   // evaluated where its multipliers live
   void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(anchor()); }
   bool reaction_reads_own() const override { return true; }
-  /// The force and moment on beam A's end: minus the joint's own constraint forces there.
+  /// The force and moment on the first beam's point: minus the joint's own constraint forces on
+  /// its coordinates (the moment about the joint: M = sum d x f over its directors' rows).
   void reaction(const Model& m, const ReactionInput& in, Reaction& out) const override {
-    const PetscInt c = cp(m, a_, ca_);
-    if (!m.dof_map().owns_cp(c)) return;
+    const JointSide& S = side_[0];
+    const Beam& b = m.beam(S.beam);
+    const DofMap& map = m.dof_map();
     Eigen::Vector3d M = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) out.force[k] -= in.own(m.dof_map().q(c, k));
-    for (int i = 0; i < 3; ++i) {
-      Eigen::Vector3d d, f;
-      for (int k = 0; k < 3; ++k) {
-        d(k) = in.x(m.dof_map().q(c, 3 + 3 * i + k));
-        f(k) = in.own(m.dof_map().q(c, 3 + 3 * i + k));
+    for (int j = 0; j < S.n; ++j) {
+      const PetscInt c = b.first_cp() + S.cp[j];
+      if (!map.owns_cp(c)) continue;
+      for (int e = 0; e < S.entries; ++e)
+        if (S.point[e] == j && S.comp[e] == 0)
+          for (int k = 0; k < 3; ++k) out.force[k] -= in.own(map.q(c, k));
+      if (b.is_ancf()) continue;
+      for (int i = 0; i < 3; ++i) {
+        Eigen::Vector3d d, f;
+        for (int k = 0; k < 3; ++k) {
+          d(k) = in.x(map.q(c, 3 + 3 * i + k));
+          f(k) = in.own(map.q(c, 3 + 3 * i + k));
+        }
+        M -= d.cross(f);
       }
-      M -= d.cross(f);
     }
     for (int k = 0; k < 3; ++k) out.moment[k] += M(k);
-    out.has_moment = true;
+    out.has_moment = n_orient_ > 0;
   }
-  PetscInt elimination_anchor(const Model& m) const override { return cp(m, a_, ca_); }
+  PetscInt elimination_anchor(const Model& m) const override { return main_cp(m, 0); }
   void anchor_choices(const Model& m, std::vector<PetscInt>& cps) const override {
-    cps.push_back(cp(m, a_, ca_));
-    cps.push_back(cp(m, b_, cb_));
+    cps.push_back(main_cp(m, 0));
+    cps.push_back(main_cp(m, 1));
+  }
+  /// The anchor's side: its multipliers' pivots are in the coordinates of that side's points.
+  void anchor_points(const Model& m, std::vector<PetscInt>& cps) const override {
+    if (anchor() < 0) return;
+    const int k = anchor() == main_cp(m, 0) ? 0 : 1;
+    for (int j = 0; j < side_[k].n; ++j) cps.push_back(m.beam(side_[k].beam).first_cp() + side_[k].cp[j]);
   }
   void reference_couplings(const Model& m, std::vector<std::pair<PetscInt, PetscInt>>& pairs) const override {
-    pairs.emplace_back(cp(m, a_, ca_), cp(m, b_, cb_));
+    pairs.emplace_back(main_cp(m, 0), main_cp(m, 1));
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
-    add_cp_blocks(m.dof_map(), cp(m, a_, ca_), 1, dofs);
-    add_cp_blocks(m.dof_map(), cp(m, b_, cb_), 1, dofs);
-    for (int k = 0; k < 6; ++k) dofs.push_back(extra_offset() + k);
+    const auto d = local_dofs(m);
+    dofs.insert(dofs.end(), d.begin(), d.end());
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const auto d = dofs(m);
-    const double zero[30 * 30] = {};
-    PetscCall(sink.add(30, d.data(), 30, d.data(), zero));
+    const auto d = local_dofs(m);
+    const auto n = static_cast<PetscInt>(d.size());
+    const std::vector<double> zero(d.size() * d.size(), 0.0);
+    PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const Vec24 y = gather(ctx, ctx.x), yf = gather(ctx, ctx.xf);
-    const Vec6 mu = multipliers(ctx);
-    const Mat6x24 Gf = gradient(yf);
-    const Vec24 f = Gf.transpose() * mu;  // constraint forces at the force state
-    const Vec6 g = value(y);              // constraints at the end of the step
-    const auto d = dofs(ctx.model);
-    for (int k = 0; k < 24; ++k) r.at(d[k]) += f(k);
-    for (int k = 0; k < 6; ++k) r.at(d[24 + k]) += g(k);
+    const Eigen::VectorXd y = gather(ctx, ctx.x), yf = gather(ctx, ctx.xf);
+    const Eigen::VectorXd mu = multipliers(ctx);
+    const Eigen::VectorXd f = gradient(yf).transpose() * mu;  // constraint forces at the force state
+    const Eigen::VectorXd g = value(y);                        // constraints at the end of the step
+    const auto d = local_dofs(ctx.model);
+    const int nq = coordinates();
+    for (int k = 0; k < nq; ++k) r.at(d[static_cast<size_t>(k)]) += f(k);
+    for (int k = 0; k < g.size(); ++k) r.at(d[static_cast<size_t>(nq + k)]) += g(k);
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const Vec24 y = gather(ctx, ctx.x), yf = gather(ctx, ctx.xf);
-    const Vec6 mu = multipliers(ctx);
-    Eigen::Matrix<double, 30, 30, Eigen::RowMajor> A = Eigen::Matrix<double, 30, 30, Eigen::RowMajor>::Zero();
-    // d/dq (G(q_f)^T mu) = theta sum_k mu_k H_k, H_k: C_ia I3 between dA_i and dB_b
-    for (int k = 0; k < 3; ++k) {
-      const int a = kPairs[k][0], b = kPairs[k][1];
-      for (int i = 0; i < 3; ++i)
-        for (int c = 0; c < 3; ++c) {
-          const double h = ctx.theta * mu(3 + k) * C_(i, a);
-          A(3 + 3 * i + c, 15 + 3 * b + c) += h;
-          A(15 + 3 * b + c, 3 + 3 * i + c) += h;
-        }
-    }
-    A.block<24, 6>(0, 24) = gradient(yf).transpose();
-    A.block<6, 24>(24, 0) = gradient(y);
-    const auto d = dofs(ctx.model);
-    PetscCall(J.add(30, d.data(), 30, d.data(), A.data()));
+    const Eigen::VectorXd y = gather(ctx, ctx.x), yf = gather(ctx, ctx.xf);
+    const Eigen::VectorXd mu = multipliers(ctx);
+    const int nq = coordinates(), nc = 3 + n_orient_, n = nq + nc;
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMajor A = RowMajor::Zero(n, n);
+    // d/dq (G(q_f)^T mu) = theta sum_k mu_k H_k; H_k couples director i of A's point j with
+    // director m of B's point l by N_j u_ki N_l v_km I3
+    const JointSide &SA = side_[0], &SB = side_[1];
+    const int offB = SA.size();
+    for (int k = 0; k < n_orient_; ++k)
+      for (int j = 0; j < SA.n; ++j)
+        for (int i = 0; i < 3; ++i)
+          for (int l = 0; l < SB.n; ++l)
+            for (int mm = 0; mm < 3; ++mm) {
+              const double h = ctx.theta * mu(3 + k) * SA.N[j] * u_[k](i) * SB.N[l] * v_[k](mm);
+              for (int c = 0; c < 3; ++c) {
+                const int ra = j * SA.coords + 3 + 3 * i + c, rb = offB + l * SB.coords + 3 + 3 * mm + c;
+                A(ra, rb) += h;
+                A(rb, ra) += h;
+              }
+            }
+    A.block(0, nq, nq, nc) = gradient(yf).transpose();
+    A.block(nq, 0, nc, nq) = gradient(y);
+    const auto d = local_dofs(ctx.model);
+    PetscCall(J.add(n, d.data(), n, d.data(), A.data()));
     PetscFunctionReturn(0);
   }
 
  private:
-  using Vec24 = Eigen::Matrix<double, 24, 1>;
-  using Mat6x24 = Eigen::Matrix<double, 6, 24>;
-  using Vec6 = Eigen::Matrix<double, 6, 1>;
-
-  static PetscInt cp(const Model& m, int beam, int c) { return m.beam(beam).first_cp() + c; }
-  /// The 12 coordinates of A's end control point, B's, then the 6 multipliers.
-  std::array<PetscInt, 30> dofs(const Model& m) const {
-    std::array<PetscInt, 30> d{};
-    for (int k = 0; k < 12; ++k) {
-      d[k] = m.dof_map().q(cp(m, a_, ca_), k);
-      d[12 + k] = m.dof_map().q(cp(m, b_, cb_), k);
-    }
-    for (int k = 0; k < 6; ++k) d[24 + k] = extra_offset() + k;
+  /// "name@start", "name@end" or "name@s" (labels).
+  static std::string where(const Beam& b, double s) {
+    const int c = end_cp(b, s);
+    return b.name() + "@" + (c == 0 ? "start" : c > 0 ? "end" : "s=" + format_number(s));
+  }
+  /// "'name' start", "'name' end" or "'name' at s = 1.5" (messages).
+  static std::string describe(const Beam& b, double s) {
+    const int c = end_cp(b, s);
+    return "'" + b.name() + "' " + (c == 0 ? "start" : c > 0 ? "end" : "at s = " + format_number(s));
+  }
+  PetscInt main_cp(const Model& m, int k) const { return m.beam(side_[k].beam).first_cp() + side_[k].cp[side_[k].main]; }
+  int coordinates() const { return side_[0].size() + side_[1].size(); }
+  /// Both sides' control points' coordinates, then the multipliers.
+  std::vector<PetscInt> local_dofs(const Model& m) const {
+    std::vector<PetscInt> d;
+    for (const JointSide& S : side_)
+      for (int j = 0; j < S.n; ++j)
+        for (int c = 0; c < S.coords; ++c) d.push_back(m.dof_map().q(m.beam(S.beam).first_cp() + S.cp[j], c));
+    for (int k = 0; k < 3 + n_orient_; ++k) d.push_back(extra_offset() + k);
     return d;
   }
-  Vec24 gather(const EvalContext& ctx, const LocalValues& x) const {
-    Vec24 y;
-    y.head<12>() = Eigen::Map<const Eigen::Matrix<double, 12, 1>>(x.cp(ctx.map, cp(ctx.model, a_, ca_)));
-    y.tail<12>() = Eigen::Map<const Eigen::Matrix<double, 12, 1>>(x.cp(ctx.map, cp(ctx.model, b_, cb_)));
+  Eigen::VectorXd gather(const EvalContext& ctx, const LocalValues& x) const {
+    Eigen::VectorXd y(coordinates());
+    int o = 0;
+    for (const JointSide& S : side_)
+      for (int j = 0; j < S.n; ++j, o += S.coords)
+        y.segment(o, S.coords) =
+            Eigen::Map<const Eigen::VectorXd>(x.cp(ctx.map, ctx.model.beam(S.beam).first_cp() + S.cp[j]), S.coords);
     return y;
   }
-  Vec6 multipliers(const EvalContext& ctx) const {
-    Vec6 mu;
-    for (int k = 0; k < 6; ++k) mu(k) = ctx.x.at(extra_offset() + k);
+  Eigen::VectorXd reference(const Model& m) const {
+    Eigen::VectorXd y(coordinates());
+    int o = 0;
+    for (const JointSide& S : side_)
+      for (int j = 0; j < S.n; ++j, o += S.coords)
+        y.segment(o, S.coords) =
+            Eigen::Map<const Eigen::VectorXd>(m.beam(S.beam).q_ref().data() + S.coords * S.cp[j], S.coords);
+    return y;
+  }
+  Eigen::VectorXd multipliers(const EvalContext& ctx) const {
+    Eigen::VectorXd mu(3 + n_orient_);
+    for (int k = 0; k < mu.size(); ++k) mu(k) = ctx.x.at(extra_offset() + k);
     return mu;
   }
-  /// e_a = sum_i C_ia dA_i
-  Eigen::Vector3d turned(const Vec24& y, int a) const {
-    Eigen::Vector3d e = Eigen::Vector3d::Zero();
-    for (int i = 0; i < 3; ++i) e += C_(i, a) * y.segment<3>(3 + 3 * i);
-    return e;
+  int offset(int k) const { return k == 0 ? 0 : side_[0].size(); }
+  Eigen::Vector3d position(int k, const Eigen::VectorXd& y) const {
+    const JointSide& S = side_[k];
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    for (int e = 0; e < S.entries; ++e) r += S.w[e] * y.segment<3>(offset(k) + S.point[e] * S.coords + S.comp[e]);
+    return r;
   }
-  Vec6 value(const Vec24& y) const {
-    Vec6 g;
-    g.head<3>() = y.segment<3>(0) - y.segment<3>(12);
-    for (int k = 0; k < 3; ++k) g(3 + k) = turned(y, kPairs[k][0]).dot(y.segment<3>(15 + 3 * kPairs[k][1]));
+  /// The interpolated triad (d1, d2, d3)(s) as columns.
+  Eigen::Matrix3d triad(int k, const Eigen::VectorXd& y) const {
+    const JointSide& S = side_[k];
+    Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
+    for (int j = 0; j < S.n; ++j)
+      for (int i = 0; i < 3; ++i) D.col(i) += S.N[j] * y.segment<3>(offset(k) + j * S.coords + 3 + 3 * i);
+    return D;
+  }
+  Eigen::VectorXd value(const Eigen::VectorXd& y) const {
+    Eigen::VectorXd g(3 + n_orient_);
+    g.head<3>() = position(0, y) - position(1, y);
+    if (n_orient_ > 0) {
+      const Eigen::Matrix3d DA = triad(0, y), DB = triad(1, y);
+      for (int k = 0; k < n_orient_; ++k) g(3 + k) = (DA * u_[k]).dot(DB * v_[k]) - g0_[k];
+    }
     return g;
   }
-  Mat6x24 gradient(const Vec24& y) const {
-    Mat6x24 G = Mat6x24::Zero();
-    G.block<3, 3>(0, 0) = Eigen::Matrix3d::Identity();
-    G.block<3, 3>(0, 12) = -Eigen::Matrix3d::Identity();
-    for (int k = 0; k < 3; ++k) {
-      const int a = kPairs[k][0], b = kPairs[k][1];
-      const Eigen::Vector3d dB = y.segment<3>(15 + 3 * b);
-      for (int i = 0; i < 3; ++i) G.block<1, 3>(3 + k, 3 + 3 * i) = C_(i, a) * dB.transpose();
-      G.block<1, 3>(3 + k, 15 + 3 * b) = turned(y, a).transpose();
+  Eigen::MatrixXd gradient(const Eigen::VectorXd& y) const {
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 + n_orient_, coordinates());
+    for (int k = 0; k < 2; ++k) {
+      const JointSide& S = side_[k];
+      const double sign = k == 0 ? 1.0 : -1.0;
+      for (int e = 0; e < S.entries; ++e)
+        G.block<3, 3>(0, offset(k) + S.point[e] * S.coords + S.comp[e]) += sign * S.w[e] * Eigen::Matrix3d::Identity();
+    }
+    if (n_orient_ == 0) return G;
+    const Eigen::Matrix3d DA = triad(0, y), DB = triad(1, y);
+    for (int k = 0; k < n_orient_; ++k) {
+      const Eigen::Vector3d a = DA * u_[k], b = DB * v_[k];
+      for (int j = 0; j < side_[0].n; ++j)
+        for (int i = 0; i < 3; ++i)
+          G.block<1, 3>(3 + k, j * side_[0].coords + 3 + 3 * i) += side_[0].N[j] * u_[k](i) * b.transpose();
+      for (int l = 0; l < side_[1].n; ++l)
+        for (int i = 0; i < 3; ++i)
+          G.block<1, 3>(3 + k, offset(1) + l * side_[1].coords + 3 + 3 * i) += side_[1].N[l] * v_[k](i) * a.transpose();
     }
     return G;
   }
 
-  int a_, b_, ca_ = 0, cb_ = 0;
-  Eigen::Matrix3d C_;  ///< C_ij = dA_i . dB_j in the reference
-  std::string label_;
+  JointKind kind_;
+  std::string type_, label_;
+  int n_orient_ = 0;
+  std::array<JointSide, 2> side_;
+  std::array<Eigen::Vector3d, 3> u_{}, v_{};  ///< the orientation constraints' component vectors
+  std::array<double, 3> g0_{};                ///< their reference values
   bool owned_ = false;
 };
 
 void register_joint_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
+  const ParamSpec points{"at", K::Points, "m",
+                         "where on each beam: \"start\", \"end\" or an arc length in [0, L]; the two points must meet",
+                         "", 0, 0, false, 2};
+  const std::string director_only =
+      "the two beams' names, e.g. [\"boom\", \"jib\"] (director beams: the joint holds their section frames)";
+  const ParamSpec director_beams{"beams", K::Beams, "", director_only, "", 0, 0, false, 2, {"director"}};
+  const ParamSpec axis{"axis", K::Vector, "", "", "", -kInf, kInf, false, 3};
+  struct Variant {
+    const char* name;
+    JointKind kind;
+    const char* meaning;
+    std::vector<ParamSpec> params;
+  };
+  ParamSpec hinge = axis;
+  hinge.meaning = "the hinge axis in the drawn state (any length); it turns with both beams";
+  ParamSpec arm_a = axis, arm_b = axis;
+  arm_a.meaning = "the cross's arm fixed to the first beam, in the drawn state (any length)";
+  arm_b.key = "axis_b";
+  arm_b.meaning = "the arm fixed to the second beam, perpendicular to `axis`";
+  const std::vector<Variant> variants = {
+      {"spherical", JointKind::Spherical, "two beam points held together, free to turn",
+       {{"beams", K::Beams, "", "the two beams' names, e.g. [\"rope\", \"net\"] (director beams or ANCF cables)", "", 0,
+         0, false, 2},
+        points}},
+      {"universal", JointKind::Universal,
+       "two beam points held together, an arm of each kept perpendicular (a Cardan joint: no twist passes freely)",
+       {director_beams, points, arm_a, arm_b}},
+      {"revolute", JointKind::Revolute, "two beam points held together, turning about a common hinge axis only",
+       {director_beams, points, hinge}},
+      {"rigid", JointKind::Rigid, "two beam points welded together, positions and section frames",
+       {director_beams, points}},
+  };
+  for (const Variant& v : variants) {
+    const JointKind kind = v.kind;
+    r.add(table_effect_spec(kind_type(kind), "joint", v.name, EnergyRole::Constraint, v.meaning, v.params),
+          [kind](const Model& m, const EffectParams& p) { return std::make_unique<Joint>(m, p, kind, kind_type(kind)); });
+  }
   r.add(table_effect_spec("rigid_joint", "rigid_joint", "", EnergyRole::Constraint,
-                          "two beam ends welded together, positions and directors",
+                          "two beam ends welded together, positions and directors ([[joint]] type = \"rigid\" welds "
+                          "any two points)",
                           {{"beams", K::Beams, "", "the two beams' names, e.g. [\"leg1\", \"leg2\"] (the joint welds director triads, which an ANCF "
                             "cable has not)", "", 0, 0, false, 2,
                             {"director"}},
                            {"at", K::Ends, "", "which end of each beam", "[\"end\", \"start\"]", 0, 0, false, 2}}),
-        [](const Model& m, const EffectParams& p) { return std::make_unique<RigidJoint>(m, p); });
+        [](const Model& m, const EffectParams& p) { return std::make_unique<Joint>(m, p, JointKind::Rigid, "rigid_joint"); });
 }
 
 }  // namespace slidebeam::effects

@@ -216,6 +216,7 @@ const char* kind_name(ParamSpec::Kind k) {
     case ParamSpec::Kind::Motion: return "motion";
     case ParamSpec::Kind::Beams: return "beams";
     case ParamSpec::Kind::Ends: return "ends";
+    case ParamSpec::Kind::Points: return "points";
     case ParamSpec::Kind::TimeFunction: return "time_function";
   }
   return "number";

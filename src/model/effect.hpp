@@ -163,6 +163,7 @@ struct ParamSpec {
                    ///< starting from 0 (vec: motion_displacement, motion_rotation; num/str: tf_*)
     Beams,         ///< two different beams' names (num: <key without s>_a, _b, e.g. beam_a)
     Ends,          ///< one of "start"/"end" per beam of the Beams parameter (num: s_a, s_b)
+    Points,        ///< as Ends, or an arc length in [0, L], per beam of the Beams parameter
     TimeFunction,  ///< a [time_function] table (num/str: tf_*); fallback "load": a ramp over
                    ///< the load steps in statics, constant in dynamics
   };
