@@ -183,10 +183,10 @@ def test_universal_arms_must_be_perpendicular_and_ancf_cables_take_only_spherica
 
 
 def test_the_crane_settles_on_its_joints_and_keeps_its_energy_after_slewing(root):
-    """runs/cables/crane.toml (a boom hinged inside the mast, ropes on spherical joints): the
+    """runs/multibody/crane.toml (a boom hinged inside the mast, ropes on spherical joints): the
     equilibrium start carries every weight into the clamp, the hoist rope's top joint carries
     the hook and the rope, and once the slewing stops the energy is constant to 1e-10."""
-    scene = slidebeam.load_scene(root / "runs" / "cables" / "crane.toml", ["analysis.t_end=6.5", "output.every=10"])
+    scene = slidebeam.load_scene(root / "runs" / "multibody" / "crane.toml", ["analysis.t_end=6.5", "output.every=10"])
     sim = slidebeam.Simulation(scene)
     run = sim.run_dynamic()
     assert run.complete and run.records[-1].rejected_steps == 0, run.message
