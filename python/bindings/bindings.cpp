@@ -162,6 +162,23 @@ PYBIND11_MODULE(_core, m) {
           "add a beam: director (q_ref: (spans+2) x 12) or ANCF cable (q_ref: (spans+1) x 6, r and r'); "
           "unstretched_length > 0: a rope's stress-free state is straight, of that length (q_ref: where it starts)")
       .def(
+          "add_body",
+          [](Model& self, const std::string& name, double mass, const std::array<double, 9>& euler,
+             const std::array<double, 12>& q_ref) {
+            BeamSpec spec;
+            spec.name = name;
+            spec.formulation = Formulation::Rigid;
+            spec.n_spans = 0;
+            spec.length = 0.0;
+            spec.mass = mass;
+            spec.euler = euler;
+            spec.q_ref.assign(q_ref.begin(), q_ref.end());
+            return self.add_beam(spec);
+          },
+          py::arg("name"), py::arg("mass"), py::arg("euler"), py::arg("q_ref"),
+          "add a rigid body: one control point (q_ref: its centre of mass phi and body frame d1, d2, d3), its mass "
+          "and its Euler tensor int X X^T dm in the body frame (row-major); returns its index among the beams")
+      .def(
           "add_effect",
           [](Model& self, const std::string& type, const std::map<std::string, double>& num,
              const std::map<std::string, std::vector<double>>& vec, const std::map<std::string, std::string>& str) {

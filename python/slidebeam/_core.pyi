@@ -71,6 +71,12 @@ class Model:
         (q_ref: where it starts)
         """
         ...
+    def add_body(self, name: str, mass: float, euler: list[float], q_ref: list[float]) -> int:
+        """add a rigid body: one control point (q_ref: its centre of mass phi and body frame d1, d2,
+        d3), its mass and its Euler tensor int X X^T dm in the body frame (row-major); returns
+        its index among the beams
+        """
+        ...
     def add_effect(self, type: str, num: dict[str, float] = ..., vec: dict[str, list[float]] = ..., str: dict[str, str] = ...) -> int: ...
     def finalize(self) -> None:
         """number and distribute the model, spread over the ranks as -sb_serial_below and

@@ -110,14 +110,15 @@ def initial_velocity(sim: "Simulation", v: PETSc.Vec) -> None:
     lo, hi = v.getOwnershipRange()
     arr = v.getArray()
     arr[:] = 0.0
-    for beam in sim.scene.beams:
-        vel, omega = np.asarray(beam.velocity), np.asarray(beam.angular_velocity)
+    movers = [(b.index, b.velocity, b.angular_velocity, b.rotation_center) for b in sim.scene.beams]
+    movers += [(b.index, b.velocity, b.angular_velocity, b.position) for b in sim.scene.bodies]
+    for index, velocity, angular_velocity, center in movers:
+        vel, omega = np.asarray(velocity), np.asarray(angular_velocity)
         if not (vel.any() or omega.any()):
             continue
-        q = sim.control_points(beam.index)
-        origin = (np.asarray(beam.rotation_center) if beam.rotation_center is not None
-                  else sim.evaluate(beam.index, 0.0)[0, :3])
-        first = sim.first_control_point(beam.index)
+        q = sim.control_points(index)
+        origin = np.asarray(center) if center is not None else sim.evaluate(index, 0.0)[0, :3]
+        first = sim.first_control_point(index)
         for c in range(q.shape[0]):
             base, nq = sim.control_point_unknowns(first + c)
             if not lo <= base < hi:

@@ -51,7 +51,13 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             "simo-reissner" if b.formulation == "ancf" else b.strain, b.quadrature, reference,
             b.formulation, b.unstretched_length,
         )
+    for body in scene.bodies:
+        model.add_body(body.name, body.mass, body.euler, body.q_ref())
     dynamic = scene.analysis.type == "dynamic"
+    for body in scene.bodies:  # one control point: its frame keeps the beams' orthonormality constraints
+        add("director_constraints", f"director_constraints[{body.name}]", {"beam": body.index})
+        if dynamic:
+            add("body_inertia", f"body_inertia[{body.name}]", {"beam": body.index})
     for b in scene.beams:
         if b.formulation == "ancf":  # a cable has no constraints of its own
             add("ancf_elastic", f"ancf_elastic[{b.name}]", {"beam": b.index})

@@ -275,6 +275,30 @@ class TrackPoint:
 
 
 @dataclass(frozen=True)
+class Body:
+    """A [[body]]: a rigid body. ``index`` is its place among the core's beams (after every
+    [[beam]]); ``inertia`` the inertia tensor J about its centre of mass in its own frame."""
+
+    name: str
+    index: int
+    mass: float
+    inertia: tuple[Vec3, Vec3, Vec3]
+    position: Vec3
+    frame: tuple[Vec3, Vec3, Vec3]  # d1, d2, d3 in the drawing
+    velocity: Vec3
+    angular_velocity: Vec3
+
+    @property
+    def euler(self) -> list[float]:
+        """E = int X X^T dm = tr(J)/2 I - J, row-major: the body's director inertia."""
+        J = np.array(self.inertia)
+        return (0.5 * np.trace(J) * np.eye(3) - J).ravel().tolist()
+
+    def q_ref(self) -> list[float]:
+        return [*self.position, *(v for d in self.frame for v in d)]
+
+
+@dataclass(frozen=True)
 class Output:
     every: int  # steps between records (dynamic; default: default_every)
     track: tuple[TrackPoint, ...]
@@ -307,6 +331,7 @@ class Scene:
     # the entries of the effect tables the core's registry declares ([[support]], [gravity],
     # [[damping]], ...), tables in file order
     effects: tuple[EffectEntry, ...] = ()
+    bodies: tuple[Body, ...] = ()  # [[body]], in file order
 
     def entries(self, table: str) -> tuple[EffectEntry, ...]:
         """The entries of one table, in file order."""
@@ -516,7 +541,8 @@ def _array_of_tables(data: dict[str, Any], key: str, file: str) -> list[Any]:
 # schema constants
 
 # tables of the scene's own; effect tables ([[support]], [gravity], ...) come from the core's registry
-_TOP_KEYS = ("scene", "analysis", "petsc", "beam", "output")
+_TOP_KEYS = ("scene", "analysis", "petsc", "beam", "body", "output")
+_BODY_KEYS = ("name", "mass", "inertia", "position", "orientation", "velocity", "angular_velocity")
 _SCENE_KEYS = ("name", "description")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
@@ -541,7 +567,7 @@ _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"),
               "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
 # sub-tables an override may create when absent
 _OUTPUT_KEYS = ("every", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
-_TRACK_KEYS = ("beam", "at")
+_TRACK_KEYS = ("beam", "at", "body")
 _MOTION_KEYS = ("displacement", "rotation", "time_function")  # rotation: clamps and fixed beams only (6 components)
 # every key above is described, with its unit and default, in scene_schema.py (the scene reference;
 # tests/python/test_scene_schema.py keeps the two in step)
@@ -597,10 +623,11 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
                 raise SceneError(f"a dynamic analysis needs mass: give rho (shape sections) or rhoA > 0 "
                                  f"(explicit resultants)", file, f"[[beam]] #{b.index + 1} ('{b.name}').section",
                                  "rhoA")
-    entries = _with_gravity_for_buoyancy(_parse_effect_tables(data, registry_tables, beams, analysis, file, base_dir),
-                                         file)
+    bodies = _parse_bodies(_array_of_tables(data, "body", file), file, beams)
+    entries = _with_gravity_for_buoyancy(_parse_effect_tables(data, registry_tables, beams, analysis, file, base_dir,
+                                                              bodies), file)
     options, options_file = _parse_petsc(_Table(top.raw("petsc", {}), file, "[petsc]", "petsc"), base_dir)
-    output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams, analysis)
+    output = _parse_output(_Table(top.raw("output", {}), file, "[output]", "output"), beams, analysis, bodies)
 
     return Scene(
         name=meta.string("name", default_name),
@@ -615,6 +642,7 @@ def scene_from_dict(data: dict[str, Any], file: str = "<dict>", base_dir: str = 
         data=copy.deepcopy(data),
         warnings=_support_warnings(entries, beams),
         effects=entries,
+        bodies=bodies,
     )
 
 
@@ -829,7 +857,7 @@ def default_every(analysis: Analysis) -> int:
     return max(1, steps // RECORDS_BY_DEFAULT)
 
 
-def _parse_output(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Output:
+def _parse_output(t: _Table, beams: tuple[Beam, ...], analysis: Analysis, bodies: tuple[Body, ...] = ()) -> Output:
     t.check_keys(_OUTPUT_KEYS)
     xdmf = t.raw("xdmf", True)
     if not isinstance(xdmf, bool):
@@ -838,10 +866,11 @@ def _parse_output(t: _Table, beams: tuple[Beam, ...], analysis: Analysis) -> Out
         raw = t.raw("track")
         if not isinstance(raw, list):
             raise t.error("track", f"must be an array of tables {{ beam = ..., at = ... }}, got {_type_name(raw)}")
-        track = tuple(_parse_track_point(_Table(item, t.file, f"[output].track #{i + 1}", "track"), beams)
+        track = tuple(_parse_track_point(_Table(item, t.file, f"[output].track #{i + 1}", "track"), beams, bodies)
                       for i, item in enumerate(raw))
     else:
-        track = tuple(TrackPoint(b.index, b.geometry.length) for b in beams)
+        track = tuple(TrackPoint(b.index, b.geometry.length) for b in beams) + tuple(
+            TrackPoint(b.index, 0.0) for b in bodies)
     return Output(
         every=t.integer("every", default_every(analysis)),
         track=track,
@@ -859,8 +888,18 @@ def _non_negative_integer(t: _Table, key: str) -> int:
     return value
 
 
-def _parse_track_point(t: _Table, beams: tuple[Beam, ...]) -> TrackPoint:
+def _parse_track_point(t: _Table, beams: tuple[Beam, ...], bodies: tuple[Body, ...] = ()) -> TrackPoint:
     t.check_keys(_TRACK_KEYS)
+    if t.has("body"):  # its centre of mass
+        if t.has("beam") or t.has("at"):
+            raise t.error("body", "a tracked body is its centre of mass: give body alone, without beam or at")
+        name = t.string("body")
+        for body in bodies:
+            if body.name == name:
+                return TrackPoint(body.index, 0.0)
+        known = [b.name for b in bodies]
+        raise t.error("body", f"body '{name}' does not exist (bodies: {', '.join(known) or 'none'})"
+                              f"{_did_you_mean(name, known)}")
     index = _named_beam(t, "beam", beams)
     return TrackPoint(index, _parse_at(t, beams[index].geometry.length))
 
@@ -878,6 +917,49 @@ def _gravity_hint(data: dict[str, Any]) -> np.ndarray | None:
         if any(g):
             return np.asarray(g, dtype=float)
     return None
+
+
+def _rotation(vector: Vec3) -> np.ndarray:
+    """The rotation matrix of a rotation vector (Rodrigues)."""
+    w = np.asarray(vector, dtype=float)
+    angle = float(np.linalg.norm(w))
+    if angle == 0.0:
+        return np.eye(3)
+    k = w / angle
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * K @ K
+
+
+def _parse_bodies(raws: list[Any], file: str, beams: tuple[Beam, ...]) -> tuple[Body, ...]:
+    """[[body]]: rigid bodies, numbered after the beams in the core."""
+    bodies: list[Body] = []
+    for k, raw in enumerate(raws):
+        t = _Table(raw, file, f"[[body]] #{k + 1}", "body")
+        t.check_keys(_BODY_KEYS)
+        name = t.string("name")
+        if not name:
+            raise t.error("name", "must be a non-empty string")
+        for other in [*beams, *bodies]:
+            if other.name == name:
+                raise t.error("name", f"duplicate name '{name}' (a [[beam]] or [[body]] has it already)")
+        mass = t.number("mass", check=lambda v: v > 0, requirement="> 0 kg")
+        values = t.raw("inertia")
+        if not (isinstance(values, list) and len(values) in (3, 6)):
+            raise t.error("inertia", f"must be [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Iyz, Izx] (kg m^2, about the "
+                                     f"centre of mass, in the body's axes), got {_show(values)}")
+        I = [t._to_float("inertia", v) for v in values] + [0.0] * (6 - len(values))
+        J = np.array([[I[0], I[3], I[5]], [I[3], I[1], I[4]], [I[5], I[4], I[2]]])
+        E = 0.5 * np.trace(J) * np.eye(3) - J  # int X X^T dm: positive semi-definite for a real body
+        scale = max(abs(x) for x in I) or 1.0
+        if np.linalg.eigvalsh(J).min() <= 0 or np.linalg.eigvalsh(E).min() < -1e-12 * scale:
+            raise t.error("inertia", f"is not a body's inertia: positive moments that meet the triangle inequality "
+                                     f"(Ixx <= Iyy + Izz, ...) are needed, got {_show(values)}")
+        R = _rotation(t.vec3("orientation", list(_ZERO)))
+        frame = tuple(tuple(float(v) for v in R[:, i]) for i in range(3))
+        bodies.append(Body(name, len(beams) + k, mass, tuple(tuple(float(v) for v in row) for row in J),
+                           t.vec3("position"), frame, t.vec3("velocity", list(_ZERO)),
+                           t.vec3("angular_velocity", list(_ZERO))))
+    return tuple(bodies)
 
 
 def _parse_beams(raws: list[Any], file: str, gravity: np.ndarray | None = None) -> tuple[Beam, ...]:
@@ -1408,7 +1490,8 @@ _FORMULATIONS = {"director": "a director beam", "ancf": "an ANCF cable"}
 
 
 def _parse_effect_tables(data: dict[str, Any], tables: dict[str, tuple[EffectSpec, ...]], beams: tuple[Beam, ...],
-                         analysis: Analysis, file: str, base_dir: str) -> tuple[EffectEntry, ...]:
+                         analysis: Analysis, file: str, base_dir: str,
+                         bodies: tuple[Body, ...] = ()) -> tuple[EffectEntry, ...]:
     """Every entry of every registry table, tables in file order (the order the model adds them)."""
     entries: list[EffectEntry] = []
     for table in (key for key in data if key in tables):
@@ -1423,7 +1506,7 @@ def _parse_effect_tables(data: dict[str, Any], tables: dict[str, tuple[EffectSpe
             labels = [f"[[{table}]] #{i + 1}" for i in range(len(raws))]
         for i, (raw, label) in enumerate(zip(raws, labels)):
             t = _Table(raw, file, label, table)
-            entries.append(_parse_registry_entry(t, _variant(t, specs), beams, analysis, base_dir, i))
+            entries.append(_parse_registry_entry(t, _variant(t, specs), beams, analysis, base_dir, i, bodies))
     return _unique_labels(entries)
 
 
@@ -1463,7 +1546,7 @@ def _check_formulation(t: _Table, key: str, beam: Beam, p: ParamSpec, spec: Effe
 
 
 def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], analysis: Analysis,
-                          base_dir: str = ".", index: int = 0) -> EffectEntry:
+                          base_dir: str = ".", index: int = 0, bodies: tuple[Body, ...] = ()) -> EffectEntry:
     """Validate one entry of a registry table ([[support]], [[damping]], ...) against its spec
     (kinds, units, defaults and bounds from the core) and turn it into the effect's parameters."""
     t.check_keys((("type",) if spec.variant else ()) + tuple(p.key for p in spec.params))
@@ -1501,14 +1584,27 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
         elif p.kind == "motion":
             _parse_motion(t.sub(p.key, f"{t.label}.{p.key}"), p.size, base_dir, num, vec, text)
         elif p.kind == "beams":
-            pair = _parse_beam_pair(t, p, beams, spec)
+            pair = _parse_beam_pair(t, p, beams, spec, bodies)
             stem = p.key.removesuffix("s")
             num.update({f"{stem}_a": float(pair[0]), f"{stem}_b": float(pair[1])})
-            label_parts[p.key] = "-".join(beams[b].name for b in pair)
+            label_parts[p.key] = "-".join(_part(beams, bodies, b).name for b in pair)
         elif p.kind in ("ends", "points"):
-            ends = (_parse_ends if p.kind == "ends" else _parse_points)(t, p.key, value, [beams[b] for b in pair])
-            num.update({"s_a": ends[0], "s_b": ends[1]})
-            label_parts["beams"] = "-".join(_where(beams[b], s) for b, s in zip(pair, ends))
+            parts = [_part(beams, bodies, b) for b in pair]
+            if p.kind == "ends":
+                for part in parts:
+                    if isinstance(part, Body):
+                        raise t.error(p.key, f"body '{part.name}' has no ends: join it with a [[joint]] at a point "
+                                             f"of the body")
+                ends = _parse_ends(t, p.key, value, parts)  # type: ignore[arg-type]
+            else:
+                ends = _parse_points(t, p.key, value, parts)
+            for side, part, where in zip("ab", parts, ends):
+                if isinstance(part, Body):  # a point of the body, where it is drawn
+                    vec[f"point_{side}"] = list(where)  # type: ignore[arg-type]
+            num.update({f"s_{side}": (0.0 if isinstance(part, Body) else where)  # type: ignore[misc]
+                        for side, part, where in zip("ab", parts, ends)})
+            label_parts["beams"] = "-".join(part.name if isinstance(part, Body) else _where(part, where)  # type: ignore[arg-type]
+                                            for part, where in zip(parts, ends))
         elif p.kind == "time_function":
             if t.has(p.key):
                 tf = _parse_time_function(t.sub(p.key, f"{t.label}.{p.key}"), base_dir)
@@ -1587,12 +1683,26 @@ def _parse_motion(t: _Table, size: int, base_dir: str, num: dict[str, float], ve
     text.update(tf_text)
 
 
-def _parse_beam_pair(t: _Table, p: ParamSpec, beams: tuple[Beam, ...], spec: EffectSpec) -> list[int]:
+def _part(beams: tuple[Beam, ...], bodies: tuple[Body, ...], index: int) -> Beam | Body:
+    """A beam or a body by its index in the core."""
+    return beams[index] if index < len(beams) else bodies[index - len(beams)]
+
+
+def _parse_beam_pair(t: _Table, p: ParamSpec, beams: tuple[Beam, ...], spec: EffectSpec,
+                     bodies: tuple[Body, ...] = ()) -> list[int]:
+    """Two beams' (or, for a [[joint]], bodies') names -> their indices in the core."""
     names = t.raw(p.key)
     if not (isinstance(names, list) and len(names) == p.size and all(isinstance(n, str) for n in names)):
         raise t.error(p.key, f"must be {p.size} beam names, e.g. [\"leg1\", \"leg2\"], got {_show(names)}")
     out = []
     for name in names:
+        body = next((b for b in bodies if b.name == name), None)
+        if body is not None:  # a body has a frame: any joint takes it
+            if spec.table != "joint":
+                raise t.error(p.key, f"'{name}' is a [[body]]: it has no ends; join it with a [[joint]] at a point "
+                                     f"of the body")
+            out.append(body.index)
+            continue
         out.append(_named_beam(t, p.key, beams, name))
         _check_formulation(t, p.key, beams[out[-1]], p, spec)
     if len(set(out)) < len(out):
@@ -1600,11 +1710,14 @@ def _parse_beam_pair(t: _Table, p: ParamSpec, beams: tuple[Beam, ...], spec: Eff
     return out
 
 
-def _parse_points(t: _Table, key: str, value: Any, beams: list[Beam]) -> list[float]:
-    if not (isinstance(value, list) and len(value) == len(beams)):
-        raise t.error(key, f"must be {len(beams)} points, one per beam ('start', 'end' or an arc length), "
-                           f"got {_show(value)}")
-    return [_parse_at(t, b.geometry.length, key, v) for v, b in zip(value, beams)]
+def _parse_points(t: _Table, key: str, value: Any, parts: list[Beam | Body]) -> list[float | Vec3]:
+    """One point per part: on a beam an arc length ('start', 'end' or a number), on a body where the
+    point is drawn (3 numbers)."""
+    if not (isinstance(value, list) and len(value) == len(parts)):
+        raise t.error(key, f"must be {len(parts)} points, one per beam ('start', 'end' or an arc length; on a "
+                           f"body, where the point is drawn), got {_show(value)}")
+    return [t.vec3_value(key, v) if isinstance(p, Body) else _parse_at(t, p.geometry.length, key, v)
+            for v, p in zip(value, parts)]
 
 
 def _parse_ends(t: _Table, key: str, value: Any, beams: list[Beam]) -> list[float]:

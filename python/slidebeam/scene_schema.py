@@ -109,6 +109,22 @@ BEAM = Table("beam", "[[beam]]", "One beam or cable. Give its reference centre l
     Key("section", "the cross-section, a sub-table (see [beam.section])", "", REQUIRED, "table"),
 ))
 
+BODY = Table("body", "[[body]]", "A rigid body (a cabin, hook block, platform, buoy, falling block): a mass with "
+             "rotary inertia, joined to beams by [[joint]] entries at points of the body (docs/user-guide.md, "
+             "\"Rigid bodies\").", (
+    Key("name", "the body's name, used by [[joint]] and [output].track", "", REQUIRED,
+        "non-empty, unique among beams and bodies"),
+    Key("mass", "its mass", "kg", REQUIRED, "> 0"),
+    Key("inertia", "its inertia tensor about the centre of mass, in the body's axes: the moments [Ixx, Iyy, Izz], "
+                   "or with the products of inertia [Ixx, Iyy, Izz, Ixy, Iyz, Izx]", "kg m^2", REQUIRED,
+        "3 or 6 numbers: positive definite, moments meeting the triangle inequality (Ixx <= Iyy + Izz, ...)"),
+    Key("position", "its centre of mass", "m", REQUIRED, "3 numbers"),
+    Key("orientation", "a rotation vector turning the global axes into the body's axes (angle in rad times the "
+                       "unit axis)", "rad", "[0.0, 0.0, 0.0]", "3 numbers"),
+    Key("velocity", "initial velocity of its centre of mass (dynamic)", "m/s", "[0.0, 0.0, 0.0]", "3 numbers"),
+    Key("angular_velocity", "initial angular velocity (dynamic)", "rad/s", "[0.0, 0.0, 0.0]", "3 numbers"),
+))
+
 ARC = Table("beam.arc", "arc = { center, radius, normal, start, angle }",
             "A circular arc as a beam's reference centre line (director beams).", (
     Key("center", "centre of the circle", "m", REQUIRED, "3 numbers"),
@@ -157,9 +173,11 @@ OUTPUT = Table("output", "[output]", "What a run writes to its output folder (do
     Key("warn_size_gb", "warn before a run whose results are estimated larger; 0: never", "GB", "1.0", ">= 0"),
 ))
 
-TRACK = Table("output.track", "track = [{ beam = ..., at = ... }, ...]", "One tracked point.", (
-    Key("beam", "the beam's name", "", REQUIRED, "a beam's name"),
-    Key("at", "the point: \"start\", \"end\" or an arc length", "m", REQUIRED, '"start", "end" or [0, L]'),
+TRACK = Table("output.track", "track = [{ beam = ..., at = ... }, ...]", "One tracked point: a beam's point, or a "
+              "body's centre of mass ({ body = ... }).", (
+    Key("beam", "the beam's name", "", "required unless body", "a beam's name"),
+    Key("at", "the point: \"start\", \"end\" or an arc length", "m", "required with beam", '"start", "end" or [0, L]'),
+    Key("body", "a [[body]]'s name: its centre of mass", "", "", "a body's name; not with beam or at"),
 ))
 
 PETSC = Table("petsc", "[petsc]", "PETSc options for the run, written without the leading dash "
@@ -205,4 +223,4 @@ MOTION = Table("motion", "motion = { displacement = ..., rotation = ..., time_fu
 ))
 
 # the scene's own tables, in the order the reference lists them
-TABLES: tuple[Table, ...] = (SCENE, ANALYSIS, BEAM, ARC, SECTION, OUTPUT, TRACK, PETSC, TIME_FUNCTION, MOTION)
+TABLES: tuple[Table, ...] = (SCENE, ANALYSIS, BEAM, ARC, SECTION, BODY, OUTPUT, TRACK, PETSC, TIME_FUNCTION, MOTION)

@@ -714,7 +714,10 @@ class Simulation:
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
         """Positions (x, y, z) of the scene's ``[output] track`` points in the current state."""
-        return [tuple(float(v) for v in self.evaluate(tp.beam, tp.at)[0, :3]) for tp in self.scene.output.track]
+        beams = len(self.scene.beams)  # after them: bodies, tracked at their centre of mass
+        return [tuple(float(v) for v in (self.evaluate(tp.beam, tp.at)[0, :3] if tp.beam < beams
+                                         else self.control_points(tp.beam)[0, :3]))
+                for tp in self.scene.output.track]
 
     def elimination_order(self) -> list[int]:
         """Permutation of the unknowns (new position -> old index) the serial factorisation uses:

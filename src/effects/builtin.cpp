@@ -15,10 +15,12 @@ void register_drag_effects(EffectRegistry& r);
 void register_friction_effects(EffectRegistry& r);
 void register_contact_effects(EffectRegistry& r);
 void register_buoyancy_effects(EffectRegistry& r);
+void register_body_effects(EffectRegistry& r);
 }  // namespace effects
 
 void register_builtin_effects(EffectRegistry& registry) {
   effects::register_beam_effects(registry);
+  effects::register_body_effects(registry);
   effects::register_ancf_effects(registry);
   effects::register_load_effects(registry);
   effects::register_support_effects(registry);

@@ -84,6 +84,25 @@ struct JointSide {
       }
     }
   }
+  /// A point of a rigid body: X, its body-frame components (from the centre of mass).
+  static JointSide body_point(const Beam& b, int index, const Eigen::Vector3d& X) {
+    JointSide S;
+    S.beam = index;
+    S.body = true;
+    S.X = X;
+    S.n = 1;
+    S.entries = 4;
+    for (int i = 0; i < 4; ++i) {
+      S.point[i] = 0;
+      S.comp[i] = 3 * i;
+      S.w[i] = i == 0 ? 1.0 : X(i - 1);
+    }
+    S.N[0] = 1.0;
+    (void)b;
+    return S;
+  }
+  bool body = false;
+  Eigen::Vector3d X = Eigen::Vector3d::Zero();
   int size() const { return n * coords; }
 };
 
@@ -119,6 +138,12 @@ class Joint final : public Effect, public ReactionSource {
                                         type_ + " (a spherical joint joins ANCF cables)");
     for (int k = 0; k < 2; ++k) {
       const Beam& X = k == 0 ? A : B;
+      if (X.is_rigid()) {  // a point of the body, given where it is drawn
+        const Eigen::Vector3d at = vector3_param(p, k == 0 ? "point_a" : "point_b");
+        const Eigen::Map<const Eigen::Matrix<double, 3, 4>> q(X.q_ref().data());  // phi, d1, d2, d3
+        side_[k] = JointSide::body_point(X, k == 0 ? a : b, q.rightCols<3>().transpose() * (at - q.col(0)));
+        continue;
+      }
       const double s = p.number(k == 0 ? "s_a" : "s_b");
       if (s < -1e-12 * X.length() || s > X.length() * (1 + 1e-12))
         throw ParamError("at", "s = " + format_number(s) + " is outside beam '" + X.name() + "'");
@@ -200,6 +225,15 @@ class Joint final : public Effect, public ReactionSource {
         M -= d.cross(f);
       }
     }
+    if (S.body && map.owns_cp(b.first_cp())) {
+      // M is about the centre of mass there (a body's directors also carry the force's lever
+      // X_i d_i): about the joint, M - (r - phi) x F
+      Eigen::Vector3d lever = Eigen::Vector3d::Zero(), F;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) lever(k) += S.X(i) * in.x(map.q(b.first_cp(), 3 + 3 * i + k));
+      for (int k = 0; k < 3; ++k) F(k) = -in.own(map.q(b.first_cp(), k));
+      M -= lever.cross(F);
+    }
     for (int k = 0; k < 3; ++k) out.moment[k] += M(k);
     out.has_moment = n_orient_ > 0;
   }
@@ -276,13 +310,15 @@ class Joint final : public Effect, public ReactionSource {
   }
 
  private:
-  /// "name@start", "name@end" or "name@s" (labels).
+  /// "name@start", "name@end" or "name@s" (labels); a body: its name.
   static std::string where(const Beam& b, double s) {
+    if (b.is_rigid()) return b.name();
     const int c = end_cp(b, s);
     return b.name() + "@" + (c == 0 ? "start" : c > 0 ? "end" : "s=" + format_number(s));
   }
   /// "'name' start", "'name' end" or "'name' at s = 1.5" (messages).
   static std::string describe(const Beam& b, double s) {
+    if (b.is_rigid()) return "body '" + b.name() + "'";
     const int c = end_cp(b, s);
     return "'" + b.name() + "' " + (c == 0 ? "start" : c > 0 ? "end" : "at s = " + format_number(s));
   }

@@ -119,6 +119,10 @@ class Gravity final : public Effect {
     // quadrature point.
     std::map<PetscInt, Load6> loads;
     for (const auto& b : m.beams()) {
+      if (b.is_rigid()) {  // its weight at its centre of mass
+        if (m.dof_map().owns_cp(b.first_cp())) entry(loads, b.first_cp()).head<3>() += b.body_mass() * g_;
+        continue;
+      }
       if (b.section().rhoA == 0.0) continue;
       for (int e = 0; e < b.n_spans(); ++e) {
         if (!owns_span(m, b, e)) continue;

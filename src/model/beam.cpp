@@ -39,6 +39,12 @@ std::vector<kernels::GaussPoint> gauss_points(int n_spans, double L, kernels::Qu
 }  // namespace
 
 Beam::Beam(const BeamSpec& spec, int id, int first_cp) : spec_(spec), id_(id), first_cp_(first_cp) {
+  if (is_rigid()) {
+    if (spec.n_spans != 0 || spec.q_ref.size() != 12)
+      throw std::invalid_argument("body '" + spec.name + "': a rigid body is one control point of 12 coordinates");
+    if (!(spec.mass > 0)) throw std::invalid_argument("body '" + spec.name + "': mass must be > 0");
+    return;
+  }
   if (spec.n_spans < 1) throw std::invalid_argument("beam '" + spec.name + "': spans must be >= 1");
   if (!(spec.length > 0)) throw std::invalid_argument("beam '" + spec.name + "': length must be > 0");
   if (spec.q_ref.size() != static_cast<size_t>(coordinates_per_cp() * n_cp()))
@@ -145,6 +151,20 @@ void Beam::sample_into(const std::vector<double>& q, const std::vector<double>& 
     out = sample_ancf(q, q_dot, samples_per_span);
     return;
   }
+  if (is_rigid()) {  // the centre of mass and the body frame; no strain, no resultants
+    out = BeamSamples{};
+    out.s = {0.0};
+    out.position.assign(q.begin(), q.begin() + 3);
+    out.velocity = q_dot.empty() ? std::vector<double>(3, 0.0) : std::vector<double>(q_dot.begin(), q_dot.begin() + 3);
+    out.d1.assign(q.begin() + 3, q.begin() + 6);
+    out.d2.assign(q.begin() + 6, q.begin() + 9);
+    out.d3.assign(q.begin() + 9, q.begin() + 12);
+    out.strain.assign(6, 0.0);
+    out.force.assign(3, 0.0);
+    out.moment.assign(3, 0.0);
+    out.tension.assign(1, 0.0);
+    return;
+  }
   const auto& points = sample_points(samples_per_span);
   const int n = static_cast<int>(points.size());
   out.s.resize(static_cast<size_t>(n));
@@ -235,8 +255,18 @@ int Beam::ancf_element_at(double s, double& x) const {
   return e;
 }
 
+PositionStencil Beam::body_point(const std::array<double, 3>& X) const {
+  PositionStencil p;
+  p.n = 4;
+  p.cp = {0, 0, 0, 0};
+  p.comp = {0, 3, 6, 9};
+  p.w = {1.0, X[0], X[1], X[2]};
+  return p;
+}
+
 PositionStencil Beam::position_at(double s) const {
   PositionStencil p;
+  if (is_rigid()) return body_point({0.0, 0.0, 0.0});
   if (is_ancf()) {
     double x = 0.0;
     const int e = ancf_element_at(s, x);

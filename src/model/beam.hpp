@@ -9,6 +9,7 @@
 #include "kernels/beam_kernels.hpp"
 #include "kernels/bspline.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,10 @@ struct Section {
 ///  - Ancf: n_spans equal cubic Hermite elements of the gradient-deficient ANCF cable,
 ///    n_spans + 1 nodes of 6 coordinates (r, r' = dr/ds) and no multipliers. Uses EA, EI2 (the
 ///    one bending stiffness) and rhoA of the section.
-enum class Formulation { Director, Ancf };
+///  - Rigid: a rigid body, one control point (phi its centre of mass, d1, d2, d3 its body
+///    frame) with the director triad's 6 orthonormality multipliers, no spans and no strain; its
+///    inertia is BeamSpec::mass and BeamSpec::euler.
+enum class Formulation { Director, Ancf, Rigid };
 
 /// Everything needed to create a beam.
 struct BeamSpec {
@@ -44,6 +48,10 @@ struct BeamSpec {
   /// untwisted, of this length; q_ref (of arc length `length`) is only where it starts. 0: q_ref
   /// is the stress-free state.
   double unstretched_length = 0.0;
+  /// Rigid: the body's mass and its Euler tensor E = int X X^T dm about the centre of mass, in
+  /// components of its body frame (row-major; E = tr(J)/2 I - J for the inertia tensor J).
+  double mass = 0.0;
+  std::array<double, 9> euler{};
 };
 
 /// Basis at an arc-length coordinate: span, N and dN/ds of its three control points.
@@ -87,8 +95,15 @@ class Beam {
   const std::string& name() const { return spec_.name; }
   Formulation formulation() const { return spec_.formulation; }
   bool is_ancf() const { return spec_.formulation == Formulation::Ancf; }
-  int n_spans() const { return spec_.n_spans; }  ///< knot spans (director) or elements (ANCF)
-  int n_cp() const { return spec_.n_spans + (is_ancf() ? 1 : 2); }  ///< control points or nodes
+  bool is_rigid() const { return spec_.formulation == Formulation::Rigid; }
+  int n_spans() const { return spec_.n_spans; }  ///< knot spans (director) or elements (ANCF); 0 (rigid)
+  int n_cp() const { return is_rigid() ? 1 : spec_.n_spans + (is_ancf() ? 1 : 2); }  ///< control points or nodes
+  /// Rigid: mass and Euler tensor (BeamSpec).
+  double body_mass() const { return spec_.mass; }
+  const std::array<double, 9>& euler() const { return spec_.euler; }
+  /// Rigid: the point X (components in the body frame, from the centre of mass) as a stencil:
+  /// r = phi + X_1 d1 + X_2 d2 + X_3 d3.
+  PositionStencil body_point(const std::array<double, 3>& X) const;
   /// Coordinates and constraint multipliers of each control point (the DofMap block sizes):
   /// director: phi, d1, d2, d3 and the 6 orthonormality multipliers; ANCF: r, r' and none.
   int coordinates_per_cp() const { return is_ancf() ? kernels::ancf::kNodeDofs : 12; }

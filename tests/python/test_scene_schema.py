@@ -22,6 +22,7 @@ ACCEPTED = {
     "scene": set(sc._SCENE_KEYS),
     "analysis": set(sc._ANALYSIS_KEYS),
     "beam": set(sc._BEAM_KEYS),
+    "body": set(sc._BODY_KEYS),
     "beam.arc": set(sc._ARC_KEYS),
     "beam.section": set(sc._SHAPE_KEYS + sc._EXPLICIT_KEYS + sc._ANCF_SHAPE_KEYS + sc._ANCF_EXPLICIT_KEYS),
     "output": set(sc._OUTPUT_KEYS),
@@ -31,7 +32,7 @@ ACCEPTED = {
     "motion": set(sc._MOTION_KEYS),
 }
 # module constants of scene.py that hold accepted keys (each must be covered by ACCEPTED above)
-KEY_CONSTANTS = {"_TOP_KEYS", "_SCENE_KEYS", "_ANALYSIS_KEYS", "_BEAM_KEYS", "_ARC_KEYS", "_SHAPE_KEYS",
+KEY_CONSTANTS = {"_TOP_KEYS", "_SCENE_KEYS", "_ANALYSIS_KEYS", "_BEAM_KEYS", "_BODY_KEYS", "_ARC_KEYS", "_SHAPE_KEYS",
                  "_EXPLICIT_KEYS", "_ANCF_SHAPE_KEYS", "_ANCF_EXPLICIT_KEYS", "_OUTPUT_KEYS", "_TRACK_KEYS",
                  "_TF_PARAMS", "_MOTION_KEYS"}
 
@@ -80,7 +81,7 @@ def test_check_keys_takes_only_documented_constants():
 
 def test_every_key_has_a_meaning_and_units_are_si():
     allowed_units = {"", "m", "s", "m/s", "rad", "rad/s", "Hz", "N", "N m^2", "Pa", "kg/m", "kg m", "kg/m^3",
-                     "degree", "GB"}
+                     "degree", "GB", "kg", "kg m^2"}
     for t in schema.TABLES:
         assert t.meaning
         for k in t.keys:
