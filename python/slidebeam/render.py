@@ -108,7 +108,9 @@ class Renderer:
         assert b is not None
         x = b.positions(record)
         t = float(b.times[record])
-        return Frame(t, x[self.cells], self._values(record), self._at(self.run.masses, t), self._at(self.run.sliders, t))
+        # bodies are drawn at their centres of mass, as point masses are
+        masses = np.concatenate([self._at(self.run.masses, t), self._at(self.run.bodies, t)])
+        return Frame(t, x[self.cells], self._values(record), masses, self._at(self.run.sliders, t))
 
     @staticmethod
     def _at(series, t: float) -> np.ndarray:

@@ -322,7 +322,8 @@ def write_results(sim: Simulation, result, folder: str | Path, wall_time: float 
 
 class ResultWriter:
     """Everything ``slidebeam run`` writes, from a script: the XDMF series (beams.xdmf/.h5 and,
-    with sliding joints, sliders.xdmf/.h5, with point masses, masses.xdmf/.h5, and view.py, the
+    with sliding joints, sliders.xdmf/.h5, with point masses, masses.xdmf/.h5, with rigid bodies,
+    bodies.xdmf/.h5, and view.py, the
     ParaView script that shows them; unless the scene says ``[output] xdmf = false``)
     recorded as the run goes, then history.csv, final_configuration.csv and summary.json.
 

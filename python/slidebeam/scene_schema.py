@@ -169,7 +169,7 @@ OUTPUT = Table("output", "[output]", "What a run writes to its output folder (do
         "", "8", "integer >= 1"),
     Key("checkpoint_every", "write checkpoint.h5 (and bring the .xdmf up to date) every this many steps; "
                             "0: only when the run ends", "", "0", "integer >= 0"),
-    Key("xdmf", "write beams.xdmf/.h5 (and sliders.xdmf/.h5, masses.xdmf/.h5) and the ParaView script view.py", "", "true", "true, false"),
+    Key("xdmf", "write beams.xdmf/.h5 (and sliders.xdmf/.h5, masses.xdmf/.h5, bodies.xdmf/.h5) and the ParaView script view.py", "", "true", "true, false"),
     Key("warn_size_gb", "warn before a run whose results are estimated larger; 0: never", "GB", "1.0", ">= 0"),
 ))
 

@@ -21,6 +21,9 @@ Files in the output folder (names are stable):
   reference position, with ``displacement``, ``velocity``, ``mass`` and ``mass_id``; ``/mesh``
   has the attribute ``mass_names`` (the effects' labels, as summary.json's ``active_effects``:
   ``point_mass[hanger@end]``).
+- ``bodies.xdmf`` + ``bodies.h5`` (scenes with rigid bodies): one vertex per body at its centre
+  of mass in the drawing, with ``displacement``, ``velocity``, its axes ``d1``, ``d2``, ``d3``
+  (for glyphs), ``mass`` and ``body_id``; ``/mesh`` has the attribute ``body_names``.
 - ``view.py``: a ParaView script that opens the series (:mod:`slidebeam.paraview_script`).
 
 In the ``.h5``: ``/mesh/points``, ``/mesh/cells`` and the fields that never change (``s``,
@@ -62,6 +65,8 @@ if TYPE_CHECKING:
 BEAMS = "beams"
 SLIDERS = "sliders"
 MASSES = "masses"
+BODIES = "bodies"
+FLOATS_PER_BODY = 15  # displacement, velocity, d1, d2, d3
 VIEW_SCRIPT = "view.py"
 _XINCLUDE = "{http://www.w3.org/2003/XInclude}include"  # as meshio wrote it (series before issue 22)
 FLUSH_EVERY = 100  # records between writes of the data and the .xdmf text (and at checkpoints, the end)
@@ -406,6 +411,9 @@ def bytes_per_record(scene) -> int:
     masses = len(scene.entries("point_mass"))
     if masses:
         size += 8 * FLOATS_PER_MASS * masses + 2 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD) + XDMF_BYTES_PER_STEP
+    if scene.bodies:
+        size += 8 * FLOATS_PER_BODY * len(scene.bodies) + 5 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD)
+        size += XDMF_BYTES_PER_STEP
     return size
 
 
@@ -453,6 +461,8 @@ class XdmfOutput:
         self._mass_rows = self._end_rows(self._mass_points)
         self._mass_ref = self._positions(self._mass_points, self._mass_rows, ref, self._ref_x)
         self._ref_x.destroy()
+        self._bodies = list(sim.scene.bodies)
+        self._body_ref = np.array([b.position for b in self._bodies]).reshape(-1, 3)
         from . import _core
 
         self._sampler = _core.BeamSeriesSampler(self._beam_indices, self.k, ref, self._half2.ravel(), self._half3.ravel())
@@ -483,6 +493,11 @@ class XdmfOutput:
             constants = {"mass": np.array([m.mass for m in self._masses]), "mass_id": np.arange(n, dtype=np.int32)}
             self._series[MASSES] = Series(out / f"{MASSES}.xdmf", self._mass_ref, _vertices(n), "Polyvertex",
                                           constants, resume_after, names={"mass_names": [m.label for m in self._masses]})
+        if self._bodies:
+            n = len(self._bodies)
+            constants = {"mass": np.array([b.mass for b in self._bodies]), "body_id": np.arange(n, dtype=np.int32)}
+            self._series[BODIES] = Series(out / f"{BODIES}.xdmf", self._body_ref, _vertices(n), "Polyvertex",
+                                          constants, resume_after, names={"body_names": [b.name for b in self._bodies]})
 
     def _write_view_script(self, out: Path, ref: np.ndarray) -> None:
         """view.py beside the series: ParaView opens the run with one command."""
@@ -584,6 +599,13 @@ class XdmfOutput:
         current = self._positions(self._mass_points, self._mass_rows, position)
         return {"displacement": current - self._mass_ref, "velocity": self._velocities(self._mass_points)}
 
+    def body_fields(self) -> dict[str, np.ndarray]:
+        """The bodies' point data (collective): centre of mass, its velocity and the body's axes."""
+        q = np.array([self.sim.control_points(b.index)[0] for b in self._bodies])
+        v = np.array([self.sim.control_points(b.index, self.sim.v)[0, :3] for b in self._bodies])
+        return {"displacement": q[:, :3] - self._body_ref, "velocity": v, "d1": q[:, 3:6], "d2": q[:, 6:9],
+                "d3": q[:, 9:12]}
+
     # -- writing ---------------------------------------------------------------------------
     def write(self, t: float, joints: list[JointState] | None = None) -> None:
         """Append the current state at time t (collective); ``joints`` as for slider_fields."""
@@ -601,7 +623,8 @@ class XdmfOutput:
             position = self._sampler.record(self.sim._model, self.sim.x, self.sim.v,
                                             None if beams is None else beams.writer, -1 if beams is None else beams.next_record)
         points = {SLIDERS: self.slider_fields(position, joints) if self._slider_points else {},
-                  MASSES: self.mass_fields(position) if self._masses else {}}
+                  MASSES: self.mass_fields(position) if self._masses else {},
+                  BODIES: self.body_fields() if self._bodies else {}}
         if data is not None:
             size = sum(v.nbytes for fields in (data, *points.values()) for v in fields.values())
             self._flush_every = max(1, min(FLUSH_EVERY, PENDING_BYTES // max(1, size)))
