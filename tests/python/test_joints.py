@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import slidebeam
-from checks import distributed_and_serial_records, step_jacobian_error, trial_end_state
+from checks import check_step_jacobian_and_rows, distributed_and_serial_records, drifts, joint_multipliers
 
 # b's velocity differs from a's on purpose: projected onto the joint, it sets the cross vibrating
 pytestmark = pytest.mark.filterwarnings("ignore::slidebeam.ConstraintWarning")
@@ -44,25 +44,8 @@ def cross(kind: str, integrator: str = "energy-momentum", *, ancf: bool = False,
 @pytest.mark.parametrize("kind", KINDS + ("spherical to an ANCF cable",))
 def test_step_jacobian_matches_finite_differences(kind, integrator):
     sim = slidebeam.Simulation(cross(kind.split()[0], integrator, ancf="ANCF" in kind))
-    x1 = trial_end_state(sim, steps=2, h=0.01, seed=3)
-    x1.assemble()
-    worst, scale = step_jacobian_error(sim, x1)
-    assert worst <= 1e-6 * scale, f"{kind}, {integrator}: |J - FD| = {worst:.3e}, |J| = {scale:.3e}"
-    # the joint's own rows and columns on their own scale (the beams' stiffness dominates J)
-    (joint,) = [k for k, e in enumerate(sim.active_effects) if e.type.endswith("_joint")]
-    first = sim._model.extra_offset(joint)
-    multipliers = list(range(first, first + 3 + KINDS.index(kind.split()[0])))
-    worst, scale = step_jacobian_error(sim, x1, rows=multipliers)
-    assert scale > 0.1 and worst <= 1e-6 * scale, f"{kind}, {integrator}: joint |J - FD| = {worst:.3e}"
-
-
-def drifts(records) -> dict[str, float]:
-    H = np.array([r.total_energy for r in records])
-    L = np.array([r.linear_momentum for r in records])
-    J = np.array([r.angular_momentum for r in records])
-    return {"energy": float(np.abs(H - H[0]).max() / max(r.kinetic_energy for r in records)),
-            "linear": float(np.abs(L - L[0]).max() / np.linalg.norm(L[0])),
-            "angular": float(np.abs(J - J[0]).max() / np.linalg.norm(J[0]))}
+    multipliers = joint_multipliers(sim, 3 + KINDS.index(kind.split()[0]))
+    check_step_jacobian_and_rows(sim, multipliers, seed=3, label=f"{kind}, {integrator}")
 
 
 @pytest.mark.parametrize("kind", KINDS + ("spherical to an ANCF cable",))

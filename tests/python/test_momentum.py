@@ -14,7 +14,7 @@ import pytest
 from mpi4py import MPI
 
 import slidebeam
-from checks import check_joint_step_jacobian, distributed_and_serial_records
+from checks import check_joint_step_jacobian, distributed_and_serial_records, drifts
 
 ROOT = Path(__file__).resolve().parents[2]
 FREE = ROOT / "runs" / "free_floating"
@@ -30,17 +30,6 @@ def scene(name: str, **sets: object) -> slidebeam.Scene:
 def spatial(name: str) -> dict[str, str]:
     joints = {"two_beams": 1, "three_beams": 2}[name]
     return {f"sliding_joint.{k}.form": '"spatial"' for k in range(joints)}
-
-
-def drifts(records) -> dict[str, float]:
-    """Largest change over the run: energy relative to the largest kinetic energy, momenta
-    relative to their initial size."""
-    H = np.array([r.total_energy for r in records])
-    L = np.array([r.linear_momentum for r in records])
-    J = np.array([r.angular_momentum for r in records])
-    return {"energy": float(np.abs(H - H[0]).max() / max(r.kinetic_energy for r in records)),
-            "linear": float(np.abs(L - L[0]).max() / np.linalg.norm(L[0])),
-            "angular": float(np.abs(J - J[0]).max() / np.linalg.norm(J[0]))}
 
 
 _runs: dict[tuple, object] = {}
