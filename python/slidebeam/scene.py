@@ -672,7 +672,7 @@ def _support_warnings(entries: tuple[EffectEntry, ...], beams: tuple[Beam, ...])
     out = []
     for j, b in enumerate(supports):
         for i, a in enumerate(supports[:j]):
-            if a.beam != b.beam:
+            if a.beam != b.beam or a.beam >= len(beams):  # (supports on a body hold points of it: not compared)
                 continue
             same_point = a.at is None or b.at is None or (
                 abs(a.at - b.at) <= 1e-12 * beams[a.beam].geometry.length)
@@ -1563,7 +1563,23 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
         if not t.has(p.key) and not p.default and p.kind != "time_function":
             raise t.error(p.key, f"missing required key ({p.meaning})")
         value = t.raw(p.key) if t.has(p.key) else (_spec_default(p) if p.default and p.default != "load" else None)
-        if p.kind == "beam":
+        body = _named_body(t, p, spec, bodies)
+        if body is not None:  # a [[support]] or [[load]] on a body
+            on[p.key] = body.index
+            num[p.key] = float(body.index)
+            label_parts[p.key] = body.name
+        elif p.kind in ("point", "end", "position") and on.get(p.on or "beam", -1) >= len(beams):
+            host = p.on or "beam"
+            part = bodies[on[host] - len(beams)]
+            if p.kind == "end":
+                raise t.error(p.key, f"body '{part.name}' has no ends: hold it by a point (a spherical support, or "
+                                     f"type = \"fixed\" for the whole body) or by a [[joint]]")
+            if p.kind == "point":  # where on the body, as drawn
+                point = t.vec3_value(p.key, value)
+                vec["point"] = list(point)
+                num["s" if host == "beam" else f"{host}_s"] = 0.0
+                label_parts[host] = f"{part.name}@({', '.join(f'{v:g}' for v in point)})"
+        elif p.kind == "beam":
             index_b = _named_beam(t, p.key, beams)
             _check_formulation(t, p.key, beams[index_b], p, spec)
             on[p.key] = index_b
@@ -1681,6 +1697,17 @@ def _parse_motion(t: _Table, size: int, base_dir: str, num: dict[str, float], ve
     num.update(tf_num)
     vec.update(tf_vec)
     text.update(tf_text)
+
+
+_BODY_TABLES = ("support", "load")  # registry tables whose `beam` may name a [[body]] (beside [[joint]])
+
+
+def _named_body(t: _Table, p: ParamSpec, spec: EffectSpec, bodies: tuple[Body, ...]) -> Body | None:
+    """The body a `beam` parameter names, in the tables that take bodies."""
+    if p.kind != "beam" or spec.table not in _BODY_TABLES or not t.has(p.key):
+        return None
+    name = t.raw(p.key)
+    return next((b for b in bodies if b.name == name), None)
 
 
 def _part(beams: tuple[Beam, ...], bodies: tuple[Body, ...], index: int) -> Beam | Body:

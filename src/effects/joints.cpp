@@ -85,7 +85,7 @@ struct JointSide {
     }
   }
   /// A point of a rigid body: X, its body-frame components (from the centre of mass).
-  static JointSide body_point(const Beam& b, int index, const Eigen::Vector3d& X) {
+  static JointSide body_point(int index, const Eigen::Vector3d& X) {
     JointSide S;
     S.beam = index;
     S.body = true;
@@ -98,7 +98,6 @@ struct JointSide {
       S.w[i] = i == 0 ? 1.0 : X(i - 1);
     }
     S.N[0] = 1.0;
-    (void)b;
     return S;
   }
   bool body = false;
@@ -140,8 +139,8 @@ class Joint final : public Effect, public ReactionSource {
       const Beam& X = k == 0 ? A : B;
       if (X.is_rigid()) {  // a point of the body, given where it is drawn
         const Eigen::Vector3d at = vector3_param(p, k == 0 ? "point_a" : "point_b");
-        const Eigen::Map<const Eigen::Matrix<double, 3, 4>> q(X.q_ref().data());  // phi, d1, d2, d3
-        side_[k] = JointSide::body_point(X, k == 0 ? a : b, q.rightCols<3>().transpose() * (at - q.col(0)));
+        const PositionStencil st = X.body_point_drawn({at(0), at(1), at(2)});
+        side_[k] = JointSide::body_point(k == 0 ? a : b, Eigen::Vector3d(st.w[1], st.w[2], st.w[3]));
         continue;
       }
       const double s = p.number(k == 0 ? "s_a" : "s_b");

@@ -33,6 +33,14 @@ struct BeamPoint {
     if (s < -1e-12 * b.length() || s > b.length() * (1 + 1e-12))
       throw std::invalid_argument(who + ": point s = " + std::to_string(s) + " is outside beam '" + b.name() +
                                   "' (length " + std::to_string(b.length()) + ")");
+    if (b.is_rigid()) {  // a body's point, given where it is drawn
+      if (who == "moment" || who == "point_mass")
+        throw ParamError("beam", who + ": body '" + b.name() + "' takes forces only (a moment or a point mass on a body "
+                                 "is not supported)");
+      const Eigen::Vector3d at = vector3_param(p, "point");
+      stencil = b.body_point_drawn({at(0), at(1), at(2)});
+      return;
+    }
     stencil = b.position_at(s);
     if (!b.is_ancf()) basis = b.basis_at(s);
   }

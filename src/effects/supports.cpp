@@ -199,8 +199,13 @@ class Spherical final : public Effect, public ReactionSource {
     const Beam& b = m.beam(beam_);
     if (s_ < -1e-12 * b.length() || s_ > b.length() * (1 + 1e-12))
       throw std::invalid_argument("spherical support: s = " + std::to_string(s_) + " outside beam '" + b.name() + "'");
-    cp_ = end_cp(b, s_);
-    stencil_ = b.position_at(s_);
+    if (b.is_rigid()) {  // a body's point, given where it is drawn: held by multipliers
+      const Eigen::Vector3d at = vector3_param(p, "point");
+      stencil_ = b.body_point_drawn({at(0), at(1), at(2)});
+    } else {
+      cp_ = end_cp(b, s_);
+      stencil_ = b.position_at(s_);
+    }
     // the discretised reference centre line's point (a spline through a polyline's corner or
     // along an arc passes beside the drawn one): the reference state meets the support
     X_.setZero();

@@ -264,6 +264,14 @@ PositionStencil Beam::body_point(const std::array<double, 3>& X) const {
   return p;
 }
 
+PositionStencil Beam::body_point_drawn(const std::array<double, 3>& drawn) const {
+  const double* q = spec_.q_ref.data();  // phi, d1, d2, d3
+  std::array<double, 3> X{};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) X[static_cast<size_t>(i)] += q[3 + 3 * i + k] * (drawn[static_cast<size_t>(k)] - q[k]);
+  return body_point(X);
+}
+
 PositionStencil Beam::position_at(double s) const {
   PositionStencil p;
   if (is_rigid()) return body_point({0.0, 0.0, 0.0});

@@ -104,13 +104,15 @@ class Beam {
   /// Rigid: the point X (components in the body frame, from the centre of mass) as a stencil:
   /// r = phi + X_1 d1 + X_2 d2 + X_3 d3.
   PositionStencil body_point(const std::array<double, 3>& X) const;
+  /// Rigid: the body point drawn at `drawn` (global coordinates of the reference state).
+  PositionStencil body_point_drawn(const std::array<double, 3>& drawn) const;
   /// Coordinates and constraint multipliers of each control point (the DofMap block sizes):
   /// director: phi, d1, d2, d3 and the 6 orthonormality multipliers; ANCF: r, r' and none.
   int coordinates_per_cp() const { return is_ancf() ? kernels::ancf::kNodeDofs : 12; }
   int multipliers_per_cp() const { return is_ancf() ? 0 : 6; }
   /// The control point (index within the beam) whose owner evaluates span e: the middle one of
   /// a director span (neighbouring spans mostly stay on one rank), the first node of an element.
-  int span_owner_cp(int e) const { return is_ancf() ? e : e + 1; }
+  int span_owner_cp(int e) const { return is_rigid() ? 0 : is_ancf() ? e : e + 1; }
   /// Centre-line point s as a combination of coordinate blocks (both formulations).
   PositionStencil position_at(double s) const;
 

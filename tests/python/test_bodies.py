@@ -223,3 +223,65 @@ def test_bodies_are_written_for_paraview_and_read_back(run_cli, tmp_path):
     d3 = run.bodies.field("d3", last)[0]
     assert abs(np.linalg.norm(d3) - 1.0) < 1e-9 and abs(centre[0]) > 0.01  # it swung
     assert "'bodies'" in (tmp_path / "res" / "view.py").read_text()
+
+
+def hung_by_support(force: float, **analysis: object) -> slidebeam.Scene:
+    """The body hung from a spherical support at its point ARM above the centre, pushed sideways
+    at its centre."""
+    return slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "start": "equilibrium", "dt": 0.01, "t_end": 0.02, **analysis},
+        "beam": [{"name": "stub", "start": [5, 0, 0], "end": [6, 0, 0], "spans": 1, "section": STIFF}],
+        "support": [{"type": "clamp", "beam": "stub", "at": "start"},
+                    {"type": "spherical", "beam": "bob", "at": [0, 0, 0]}],
+        "body": [{"name": "bob", "mass": MASS, "inertia": INERTIA, "position": [0, 0, -ARM]}],
+        "load": [{"type": "force", "beam": "bob", "at": [0, 0, -ARM], "value": [force, 0, 0]}],
+        "gravity": {"g": [0, 0, -9.81]},
+    })
+
+
+def test_a_body_on_a_spherical_support_leans_under_a_force_as_statics_says():
+    """A spherical support at a body point and a force at its centre: the equilibrium start
+    leans the body by atan(F / (m g)) and the support carries F and the weight (1e-12)."""
+    sim = slidebeam.Simulation(hung_by_support(5.0))
+    run = sim.run_dynamic()
+    assert run.complete, run.message
+    first = run.records[0]
+    centre = np.array(first.tracked[-1])
+    assert abs(math.atan2(centre[0], -centre[2]) - math.atan(5.0 / (MASS * 9.81))) < 1e-12
+    (support,) = [r for r in first.reactions if r.effect.startswith("spherical[bob")]
+    assert np.allclose(support.force, [-5.0, 0.0, MASS * 9.81], atol=1e-10)
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"support": [{"type": "clamp", "beam": "bob", "at": "start"}]}, ["[[support]] #1", "'at'", "no ends"]),
+    ({"load": [{"type": "moment", "beam": "bob", "at": [0, 0, -ARM], "value": [0, 0, 1.0]}]},
+     ["[[load]] #1", "'beam'", "forces only"]),
+    ({"point_mass": [{"beam": "bob", "at": "start", "mass": 1.0}]}, ["[[point_mass]] #1", "'beam'", "does not exist"]),
+])
+def test_what_a_body_cannot_take_is_refused_by_name(change, words):
+    data = {"analysis": {"type": "dynamic", "dt": 0.01, "t_end": 0.02},
+            "beam": [{"name": "stub", "start": [5, 0, 0], "end": [6, 0, 0], "spans": 1, "section": STIFF}],
+            "body": [{"name": "bob", "mass": MASS, "inertia": INERTIA, "position": [0, 0, -ARM]}], **change}
+    with pytest.raises(slidebeam.SceneError) as err:
+        slidebeam.Simulation(slidebeam.scene_from_dict(data))
+    assert all(w in str(err.value) for w in words), str(err.value)
+
+
+def test_a_fixed_body_driven_through_a_turn_carries_a_welded_rod():
+    """[[support]] type = "fixed" on a body with a driven rotation of 1 rad about z: the body's
+    axes turn exactly (1e-12); a stiff rod welded to it by a rigid joint at a point of the body
+    follows, its tip within 1e-5 of the rigid turn (the rod's elastic bending)."""
+    scene = slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "dt": 0.01, "t_end": 1.0},
+        "beam": [{"name": "rod", "start": [0.5, 0, 0], "end": [1.5, 0, 0], "spans": 4, "section": STIFF}],
+        "support": [{"type": "fixed", "beam": "plate",
+                     "motion": {"rotation": [0, 0, 1.0], "time_function": {"type": "smooth_ramp", "t0": 0, "t1": 1}}}],
+        "body": [{"name": "plate", "mass": 5.0, "inertia": [0.1, 0.2, 0.3], "position": [0, 0, 0]}],
+        "joint": [{"type": "rigid", "beams": ["plate", "rod"], "at": [[0.5, 0, 0], "start"]}],
+    })
+    sim = slidebeam.Simulation(scene)
+    run = sim.run_dynamic()
+    assert run.complete, run.message
+    axes = sim.control_points(sim.scene.bodies[0].index)[0]
+    assert np.allclose(axes[3:6], [math.cos(1.0), math.sin(1.0), 0.0], atol=1e-12)
+    assert np.allclose(sim.evaluate("rod", 1.0)[0, :3], [1.5 * math.cos(1.0), 1.5 * math.sin(1.0), 0.0], atol=1e-5)
