@@ -115,6 +115,23 @@ def end_positions(sim: Simulation) -> dict[str, dict[str, list[float]]]:
     return out
 
 
+def body_states(sim: Simulation) -> dict[str, dict[str, list[float]]]:
+    """Each rigid body's centre of mass and axes in the current state (collective)."""
+    out = {}
+    for b in sim.scene.bodies:
+        q = sim.control_points(b.index)[0]
+        out[b.name] = {"position": q[:3].tolist(), "d1": q[3:6].tolist(), "d2": q[6:9].tolist(), "d3": q[9:12].tolist()}
+    return out
+
+
+def _final_positions(sim: Simulation) -> dict[str, Any]:
+    """The summary's final state: beam ends, and bodies (scenes with [[body]])."""
+    final: dict[str, Any] = {"final_end_positions": end_positions(sim)}
+    if sim.scene.bodies:
+        final["final_bodies"] = body_states(sim)
+    return final
+
+
 def write_files(sim: Simulation, out: Path, records: list[StepRecord] | list[DynamicRecord], summary: dict[str, Any],
                 rank: int) -> None:
     """history.csv, final_configuration.csv and summary.json (with the final end positions
@@ -122,7 +139,7 @@ def write_files(sim: Simulation, out: Path, records: list[StepRecord] | list[Dyn
     summary marked complete is never beside partial files."""
     history = history_csv(sim, records)
     config = configuration_csv(sim)
-    summary = {**summary, "final_end_positions": end_positions(sim)}
+    summary = {**summary, **_final_positions(sim)}
     if rank != 0:
         return
     _atomic_write(out / "history.csv", history)
@@ -317,7 +334,7 @@ def write_results(sim: Simulation, result, folder: str | Path, wall_time: float 
     _prepare(sim, folder)
     records, summary = _records_and_summary(sim, result, wall_time)
     write_files(sim, folder, records, summary, _rank(sim))
-    return {**summary, "final_end_positions": end_positions(sim)}
+    return {**summary, **_final_positions(sim)}
 
 
 class ResultWriter:

@@ -223,6 +223,7 @@ def test_bodies_are_written_for_paraview_and_read_back(run_cli, tmp_path):
     d3 = run.bodies.field("d3", last)[0]
     assert abs(np.linalg.norm(d3) - 1.0) < 1e-9 and abs(centre[0]) > 0.01  # it swung
     assert "'bodies'" in (tmp_path / "res" / "view.py").read_text()
+    assert np.allclose(run.summary["final_bodies"]["bob"]["position"], centre, atol=1e-12)
 
 
 def hung_by_support(force: float, **analysis: object) -> slidebeam.Scene:
