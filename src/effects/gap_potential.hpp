@@ -43,7 +43,10 @@ std::pair<double, double> gap_discrete_gradient(const Law& law, double g0, doubl
       const double t = (b - g0) / d;
       if (t > 0.0 && t < 1.0) tau[static_cast<size_t>(n++)] = t;
     }
-  std::sort(tau.begin() + 1, tau.begin() + n);
+  // insertion sort of the few breakpoints inside (std::sort's unrolled code misleads -Warray-bounds)
+  for (int i = 2; i < n; ++i)
+    for (int j = i; j > 1 && tau[static_cast<size_t>(j - 1)] > tau[static_cast<size_t>(j)]; --j)
+      std::swap(tau[static_cast<size_t>(j - 1)], tau[static_cast<size_t>(j)]);
   tau[static_cast<size_t>(n++)] = 1.0;
   double dg = 0.0, ddg = 0.0;
   for (int p = 0; p + 1 < n; ++p) {
@@ -135,7 +138,7 @@ class GapPotential : public CentreLineEffect<W> {
       const CentreLinePoint<W> q = Base::point(b, e, g);
       const Eigen::Vector3d xf = position(q, yf), x1 = position(q, y1);
       Eigen::Vector3d force;       // d(energy)/dx at the point
-      Eigen::Matrix3d stiffness;  // its derivative with respect to the step's end
+      Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();  // its derivative with respect to the step's end
       if (em) {
         const GapStep s = shape_.step(xf, x1);
         const auto [dg, ddg] = gap_discrete_gradient(law_, s.g0, s.g1);
