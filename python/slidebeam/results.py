@@ -47,8 +47,8 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
     w = csv.writer(buf)
     track_cols = []
     for tp in sim.scene.output.track:
-        name = (f"{sim.scene.beams[tp.beam].name}@{tp.at:g}" if tp.beam < len(sim.scene.beams)
-                else sim.scene.bodies[tp.beam - len(sim.scene.beams)].name)
+        body = sim.scene.body_at(tp.beam)
+        name = body.name if body is not None else f"{sim.scene.beams[tp.beam].name}@{tp.at:g}"
         track_cols += [f"{name}.x", f"{name}.y", f"{name}.z"]
     joint_cols = [f"{name}.{q}" for name in joint_names(sim)
                   for q in ("s", "ds_dt", "reaction.x", "reaction.y", "reaction.z", "gap")]

@@ -361,6 +361,10 @@ class Scene:
         """The [[support]] entries (type: the entry's variant)."""
         return _supports(self.effects)
 
+    def body_at(self, index: int) -> Body | None:
+        """The [[body]] at a core index (bodies come after the beams), or None for a beam."""
+        return self.bodies[index - len(self.beams)] if index >= len(self.beams) else None
+
     def beam_index(self, name: str) -> int:
         for beam in self.beams:
             if beam.name == name:
@@ -894,9 +898,9 @@ def _parse_track_point(t: _Table, beams: tuple[Beam, ...], bodies: tuple[Body, .
         if t.has("beam") or t.has("at"):
             raise t.error("body", "a tracked body is its centre of mass: give body alone, without beam or at")
         name = t.string("body")
-        for body in bodies:
-            if body.name == name:
-                return TrackPoint(body.index, 0.0)
+        body = _body_named(bodies, name)
+        if body is not None:
+            return TrackPoint(body.index, 0.0)
         known = [b.name for b in bodies]
         raise t.error("body", f"body '{name}' does not exist (bodies: {', '.join(known) or 'none'})"
                               f"{_did_you_mean(name, known)}")
@@ -917,17 +921,6 @@ def _gravity_hint(data: dict[str, Any]) -> np.ndarray | None:
         if any(g):
             return np.asarray(g, dtype=float)
     return None
-
-
-def _rotation(vector: Vec3) -> np.ndarray:
-    """The rotation matrix of a rotation vector (Rodrigues)."""
-    w = np.asarray(vector, dtype=float)
-    angle = float(np.linalg.norm(w))
-    if angle == 0.0:
-        return np.eye(3)
-    k = w / angle
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * K @ K
 
 
 def _parse_bodies(raws: list[Any], file: str, beams: tuple[Beam, ...]) -> tuple[Body, ...]:
@@ -954,8 +947,10 @@ def _parse_bodies(raws: list[Any], file: str, beams: tuple[Beam, ...]) -> tuple[
         if np.linalg.eigvalsh(J).min() <= 0 or np.linalg.eigvalsh(E).min() < -1e-12 * scale:
             raise t.error("inertia", f"is not a body's inertia: positive moments that meet the triangle inequality "
                                      f"(Ixx <= Iyy + Izz, ...) are needed, got {_show(values)}")
-        R = _rotation(t.vec3("orientation", list(_ZERO)))
-        frame = tuple(tuple(float(v) for v in R[:, i]) for i in range(3))
+        turn = np.asarray(t.vec3("orientation", list(_ZERO)))
+        angle = float(np.linalg.norm(turn))
+        axis = turn / angle if angle > 0.0 else turn
+        frame = tuple(_vec(_rotate(e, axis, angle)) for e in np.eye(3))
         bodies.append(Body(name, len(beams) + k, mass, tuple(tuple(float(v) for v in row) for row in J),
                            t.vec3("position"), frame, t.vec3("velocity", list(_ZERO)),
                            t.vec3("angular_velocity", list(_ZERO))))
@@ -1706,7 +1701,10 @@ def _named_body(t: _Table, p: ParamSpec, spec: EffectSpec, bodies: tuple[Body, .
     """The body a `beam` parameter names, in the tables that take bodies."""
     if p.kind != "beam" or spec.table not in _BODY_TABLES or not t.has(p.key):
         return None
-    name = t.raw(p.key)
+    return _body_named(bodies, t.raw(p.key))
+
+
+def _body_named(bodies: tuple[Body, ...], name: Any) -> Body | None:
     return next((b for b in bodies if b.name == name), None)
 
 
@@ -1723,7 +1721,7 @@ def _parse_beam_pair(t: _Table, p: ParamSpec, beams: tuple[Beam, ...], spec: Eff
         raise t.error(p.key, f"must be {p.size} beam names, e.g. [\"leg1\", \"leg2\"], got {_show(names)}")
     out = []
     for name in names:
-        body = next((b for b in bodies if b.name == name), None)
+        body = _body_named(bodies, name)
         if body is not None:  # a body has a frame: any joint takes it
             if spec.table != "joint":
                 raise t.error(p.key, f"'{name}' is a [[body]]: it has no ends; join it with a [[joint]] at a point "

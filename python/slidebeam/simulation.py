@@ -714,8 +714,8 @@ class Simulation:
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
         """Positions (x, y, z) of the scene's ``[output] track`` points in the current state."""
-        beams = len(self.scene.beams)  # after them: bodies, tracked at their centre of mass
-        return [tuple(float(v) for v in (self.evaluate(tp.beam, tp.at)[0, :3] if tp.beam < beams
+        # a body is tracked at its centre of mass
+        return [tuple(float(v) for v in (self.evaluate(tp.beam, tp.at)[0, :3] if self.scene.body_at(tp.beam) is None
                                          else self.control_points(tp.beam)[0, :3]))
                 for tp in self.scene.output.track]
 

@@ -57,14 +57,14 @@ struct JointSide {
   int entries = 0;
   std::array<int, 4> point{}, comp{};
   std::array<double, 4> w{};
-  /// Director beams: N_j of control point j, which also interpolates the directors.
+  /// Director beams (and bodies: 1): N_j of control point j, which also interpolates the directors.
   std::array<double, 4> N{};
   /// The control point with the largest weight: where the joint's multipliers find pivots.
   int main = 0;
 
   JointSide() = default;
-  JointSide(const Beam& b, int index, double s_) : beam(index), s(s_), coords(b.coordinates_per_cp()) {
-    const PositionStencil st = b.position_at(s);
+  /// From the point's position stencil (a beam's at arc length s, or a body point's).
+  JointSide(const PositionStencil& st, int index, double s_, int coords_) : beam(index), s(s_), coords(coords_) {
     double largest = -1.0;
     for (int e = 0; e < st.n; ++e) {
       if (std::abs(st.w[e]) <= 1e-14) continue;  // (the other points of a span at its end)
@@ -84,24 +84,6 @@ struct JointSide {
       }
     }
   }
-  /// A point of a rigid body: X, its body-frame components (from the centre of mass).
-  static JointSide body_point(int index, const Eigen::Vector3d& X) {
-    JointSide S;
-    S.beam = index;
-    S.body = true;
-    S.X = X;
-    S.n = 1;
-    S.entries = 4;
-    for (int i = 0; i < 4; ++i) {
-      S.point[i] = 0;
-      S.comp[i] = 3 * i;
-      S.w[i] = i == 0 ? 1.0 : X(i - 1);
-    }
-    S.N[0] = 1.0;
-    return S;
-  }
-  bool body = false;
-  Eigen::Vector3d X = Eigen::Vector3d::Zero();
   int size() const { return n * coords; }
 };
 
@@ -139,14 +121,14 @@ class Joint final : public Effect, public ReactionSource {
       const Beam& X = k == 0 ? A : B;
       if (X.is_rigid()) {  // a point of the body, given where it is drawn
         const Eigen::Vector3d at = vector3_param(p, k == 0 ? "point_a" : "point_b");
-        const PositionStencil st = X.body_point_drawn({at(0), at(1), at(2)});
-        side_[k] = JointSide::body_point(k == 0 ? a : b, Eigen::Vector3d(st.w[1], st.w[2], st.w[3]));
+        side_[k] = JointSide(X.body_point_drawn({at(0), at(1), at(2)}), k == 0 ? a : b, 0.0, X.coordinates_per_cp());
         continue;
       }
       const double s = p.number(k == 0 ? "s_a" : "s_b");
       if (s < -1e-12 * X.length() || s > X.length() * (1 + 1e-12))
         throw ParamError("at", "s = " + format_number(s) + " is outside beam '" + X.name() + "'");
-      side_[k] = JointSide(X, k == 0 ? a : b, std::clamp(s, 0.0, X.length()));
+      const double at = std::clamp(s, 0.0, X.length());
+      side_[k] = JointSide(X.position_at(at), k == 0 ? a : b, at, X.coordinates_per_cp());
     }
     label_ = type_ + "[" + where(A, side_[0].s) + "-" + where(B, side_[1].s) + "]";
     // the reference state: the points must meet (the discretised centre lines')
@@ -224,12 +206,13 @@ class Joint final : public Effect, public ReactionSource {
         M -= d.cross(f);
       }
     }
-    if (S.body && map.owns_cp(b.first_cp())) {
+    if (b.is_rigid() && map.owns_cp(b.first_cp())) {
       // M is about the centre of mass there (a body's directors also carry the force's lever
-      // X_i d_i): about the joint, M - (r - phi) x F
+      // r - phi = X_i d_i, the stencil's director entries): about the joint, M - (r - phi) x F
       Eigen::Vector3d lever = Eigen::Vector3d::Zero(), F;
-      for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) lever(k) += S.X(i) * in.x(map.q(b.first_cp(), 3 + 3 * i + k));
+      for (int e = 0; e < S.entries; ++e)
+        if (S.comp[e] > 0)
+          for (int k = 0; k < 3; ++k) lever(k) += S.w[e] * in.x(map.q(b.first_cp(), S.comp[e] + k));
       for (int k = 0; k < 3; ++k) F(k) = -in.own(map.q(b.first_cp(), k));
       M -= lever.cross(F);
     }
