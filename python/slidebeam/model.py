@@ -51,10 +51,9 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             "simo-reissner" if b.formulation == "ancf" else b.strain, b.quadrature, reference,
             b.formulation, b.unstretched_length,
         )
-    for body in scene.bodies:
-        model.add_body(body.name, body.mass, body.euler, body.q_ref())
     dynamic = scene.analysis.type == "dynamic"
     for body in scene.bodies:  # one control point: its frame keeps the beams' orthonormality constraints
+        model.add_body(body.name, body.mass, body.euler, body.q_ref())
         add("director_constraints", f"director_constraints[{body.name}]", {"beam": body.index})
         if dynamic:
             add("body_inertia", f"body_inertia[{body.name}]", {"beam": body.index})
