@@ -672,7 +672,8 @@ def _support_warnings(entries: tuple[EffectEntry, ...], beams: tuple[Beam, ...])
     """Supports that repeat what another already holds: allowed (the motion is the same), but
     both report the reaction of the point they share, so the reactions count it twice."""
     supports = _supports(entries)
-    holds = {"fixed": 3, "clamp": 2, "spherical": 1}  # fixed holds everything, a clamp a spherical's point
+    # fixed holds everything, a clamp what a hinge holds, a hinge a spherical support's point
+    holds = {"fixed": 4, "clamp": 3, "revolute": 2, "universal": 2, "spherical": 1}
     out = []
     for j, b in enumerate(supports):
         for i, a in enumerate(supports[:j]):
@@ -1570,11 +1571,18 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
                 raise t.error(p.key, f"body '{part.name}' has no ends: hold it by a point (a spherical support, or "
                                      f"type = \"fixed\" for the whole body) or by a [[joint]]")
             if p.kind == "point":  # where on the body, as drawn
+                if isinstance(value, str):
+                    raise t.error(p.key, f"body '{part.name}' has no ends: give the point of the body where it is "
+                                         f"drawn, [x, y, z], got {_show(value)}")
                 point = t.vec3_value(p.key, value)
                 vec["point"] = list(point)
                 num["s" if host == "beam" else f"{host}_s"] = 0.0
                 label_parts[host] = f"{part.name}@({', '.join(f'{v:g}' for v in point)})"
         elif p.kind == "beam":
+            if t.has(p.key) and _body_named(bodies, t.raw(p.key)) is not None:
+                raise t.error(p.key, f"'{t.raw(p.key)}' is a [[body]]: a [[{spec.table}]] takes beams only"
+                                     + (" (a mass on a body is part of its mass and inertia)"
+                                        if spec.table == "point_mass" else ""))
             index_b = _named_beam(t, p.key, beams)
             _check_formulation(t, p.key, beams[index_b], p, spec)
             on[p.key] = index_b

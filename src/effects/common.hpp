@@ -79,6 +79,10 @@ void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, con
 /// the end points.
 int end_cp(const Beam& b, double s);
 
+/// A clamp inside a beam or on a body (params beam, s, point): a rigid joint to the ground
+/// (joints.cpp); a clamp at a beam end prescribes the end control point instead (supports.cpp).
+std::unique_ptr<Effect> make_clamp_inside(const Model& m, const EffectParams& p);
+
 /// The sliding joint an effect on beam `slider`'s slider acts on (friction, a drive): the last
 /// effect before `self` whose slider is that beam (the model creates constraints first:
 /// model.py), or nullptr.

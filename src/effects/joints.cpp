@@ -7,6 +7,9 @@
 ///  - revolute: and a hinge axis fixed to the first beam stays perpendicular to two directions
 ///    fixed to the second, so that the hinge turns about it alone (5);
 ///  - rigid: and the relative orientation of the two triads is kept (welded; 6).
+/// The same joints hold a beam point (or a body point) to a point fixed in space ([[support]]
+/// type = "revolute", "universal", and a clamp inside a beam or on a body): the second side is
+/// then the ground, whose position and triad (the global axes) are constants.
 /// Positions are the beams' centre-line interpolation at the two arc lengths (director beams and
 /// ANCF cables); orientations use the director triad interpolated there, D(s) = sum_j N_j(s)
 /// (d1, d2, d3)_j (director beams only: an ANCF cable has no section frame). Each orientation
@@ -61,6 +64,8 @@ struct JointSide {
   std::array<double, 4> N{};
   /// The control point with the largest weight: where the joint's multipliers find pivots.
   int main = 0;
+  /// The ground (beam < 0): the fixed point.
+  Eigen::Vector3d X = Eigen::Vector3d::Zero();
 
   JointSide() = default;
   /// From the point's position stencil (a beam's at arc length s, or a body point's).
@@ -85,7 +90,16 @@ struct JointSide {
     }
   }
   int size() const { return n * coords; }
+  bool ground() const { return beam < 0; }
 };
+
+/// The ground: a side with no unknowns, at the fixed point X.
+JointSide ground_side(const Eigen::Vector3d& X) {
+  JointSide g;
+  g.coords = 0;
+  g.X = X;
+  return g;
+}
 
 /// An orthonormal pair perpendicular to the unit vector a.
 std::pair<Eigen::Vector3d, Eigen::Vector3d> perpendicular_pair(const Eigen::Vector3d& a) {
@@ -104,41 +118,40 @@ Eigen::Vector3d unit_axis(const EffectParams& p, const char* key) {
 
 class Joint final : public Effect, public ReactionSource {
  public:
-  Joint(const Model& m, const EffectParams& p, JointKind kind, std::string type)
+  /// Two beam (or body) points: beam_a at s_a and beam_b at s_b (on a body: point_a, point_b,
+  /// where drawn). to_ground: one point, beam at s (on a body: point), held to the ground.
+  Joint(const Model& m, const EffectParams& p, JointKind kind, std::string type, bool to_ground = false)
       : kind_(kind), type_(std::move(type)), n_orient_(orientation_constraints(kind)) {
-    const int a = static_cast<int>(p.number("beam_a")), b = static_cast<int>(p.number("beam_b"));
+    const int a = static_cast<int>(p.number(to_ground ? "beam" : "beam_a"));
+    const int b = to_ground ? -1 : static_cast<int>(p.number("beam_b"));
     for (int beam : {a, b})
-      if (beam < 0 || beam >= static_cast<int>(m.beams().size()))
+      if ((beam < 0 && (beam != b || !to_ground)) || beam >= static_cast<int>(m.beams().size()))
         throw std::invalid_argument(type_ + ": no beam with index " + std::to_string(beam));
     if (a == b) throw std::invalid_argument(type_ + ": a beam cannot be joined to itself");
-    const Beam &A = m.beam(a), &B = m.beam(b);
-    if (n_orient_ > 0)
-      for (const Beam* X : {&A, &B})
-        if (X->is_ancf())
-          throw ParamError("beams", "beam '" + X->name() + "' is an ANCF cable: it has no section frame for a " +
-                                        type_ + " (a spherical joint joins ANCF cables)");
-    for (int k = 0; k < 2; ++k) {
-      const Beam& X = k == 0 ? A : B;
-      if (X.is_rigid()) {  // a point of the body, given where it is drawn
-        const Eigen::Vector3d at = vector3_param(p, k == 0 ? "point_a" : "point_b");
-        side_[k] = JointSide(X.body_point_drawn({at(0), at(1), at(2)}), k == 0 ? a : b, 0.0, X.coordinates_per_cp());
-        continue;
-      }
-      const double s = p.number(k == 0 ? "s_a" : "s_b");
-      if (s < -1e-12 * X.length() || s > X.length() * (1 + 1e-12))
-        throw ParamError("at", "s = " + format_number(s) + " is outside beam '" + X.name() + "'");
-      const double at = std::clamp(s, 0.0, X.length());
-      side_[k] = JointSide(X.position_at(at), k == 0 ? a : b, at, X.coordinates_per_cp());
+    for (int beam : {a, b})
+      if (beam >= 0 && n_orient_ > 0 && m.beam(beam).is_ancf())
+        throw ParamError(to_ground ? "beam" : "beams",
+                         "beam '" + m.beam(beam).name() + "' is an ANCF cable: it has no section frame for a " + type_ +
+                             " (a spherical " + (to_ground ? "support holds" : "joint joins") + " ANCF cables)");
+    side_[0] = side_at(m, p, a, to_ground ? "s" : "s_a", to_ground ? "point" : "point_a");
+    if (to_ground) {
+      side_[1] = ground_side(Eigen::Vector3d::Zero());
+      side_[1].X = position(0, reference(m));  // where the point is drawn (the discretised centre line's)
+    } else {
+      side_[1] = side_at(m, p, b, "s_b", "point_b");
     }
-    label_ = type_ + "[" + where(A, side_[0].s) + "-" + where(B, side_[1].s) + "]";
+    const Beam& A = m.beam(a);
+    label_ = type_ + "[" + where(A, side_[0].s) + (to_ground ? "" : "-" + where(m.beam(b), side_[1].s)) + "]";
     // the reference state: the points must meet (the discretised centre lines')
     const Eigen::VectorXd y0 = reference(m);
     const Eigen::Vector3d pa = position(0, y0), pb = position(1, y0);
-    const double scale = std::max(A.length(), B.length());
-    if ((pa - pb).norm() > 1e-9 * scale)
-      throw ParamError("beams", describe(A, side_[0].s) + " at " + format_point(pa) + " and " + describe(B, side_[1].s) +
-                                    " at " + format_point(pb) + " do not meet (distance " +
-                                    format_number((pa - pb).norm()) + ")");
+    if (!to_ground) {
+      const Beam& B = m.beam(b);
+      if ((pa - pb).norm() > 1e-9 * std::max(A.length(), B.length()))
+        throw ParamError("beams", describe(A, side_[0].s) + " at " + format_point(pa) + " and " +
+                                      describe(B, side_[1].s) + " at " + format_point(pb) + " do not meet (distance " +
+                                      format_number((pa - pb).norm()) + ")");
+    }
     if (n_orient_ == 0) return;
     const Eigen::Matrix3d DA = triad(0, y0), DB = triad(1, y0);
     switch (kind_) {
@@ -222,16 +235,16 @@ class Joint final : public Effect, public ReactionSource {
   PetscInt elimination_anchor(const Model& m) const override { return main_cp(m, 0); }
   void anchor_choices(const Model& m, std::vector<PetscInt>& cps) const override {
     cps.push_back(main_cp(m, 0));
-    cps.push_back(main_cp(m, 1));
+    if (!side_[1].ground()) cps.push_back(main_cp(m, 1));
   }
   /// The anchor's side: its multipliers' pivots are in the coordinates of that side's points.
   void anchor_points(const Model& m, std::vector<PetscInt>& cps) const override {
     if (anchor() < 0) return;
-    const int k = anchor() == main_cp(m, 0) ? 0 : 1;
+    const int k = side_[1].ground() || anchor() == main_cp(m, 0) ? 0 : 1;
     for (int j = 0; j < side_[k].n; ++j) cps.push_back(m.beam(side_[k].beam).first_cp() + side_[k].cp[j]);
   }
   void reference_couplings(const Model& m, std::vector<std::pair<PetscInt, PetscInt>>& pairs) const override {
-    pairs.emplace_back(main_cp(m, 0), main_cp(m, 1));
+    if (!side_[1].ground()) pairs.emplace_back(main_cp(m, 0), main_cp(m, 1));
   }
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
@@ -292,6 +305,19 @@ class Joint final : public Effect, public ReactionSource {
   }
 
  private:
+  /// The side at a beam's arc length p[s_key], or at a body's point p[point_key] as drawn.
+  static JointSide side_at(const Model& m, const EffectParams& p, int index, const char* s_key, const char* point_key) {
+    const Beam& X = m.beam(index);
+    if (X.is_rigid()) {
+      const Eigen::Vector3d at = vector3_param(p, point_key);
+      return JointSide(X.body_point_drawn({at(0), at(1), at(2)}), index, 0.0, X.coordinates_per_cp());
+    }
+    const double s = p.number(s_key);
+    if (s < -1e-12 * X.length() || s > X.length() * (1 + 1e-12))
+      throw ParamError("at", "s = " + format_number(s) + " is outside beam '" + X.name() + "'");
+    const double at = std::clamp(s, 0.0, X.length());
+    return JointSide(X.position_at(at), index, at, X.coordinates_per_cp());
+  }
   /// "name@start", "name@end" or "name@s" (labels); a body: its name.
   static std::string where(const Beam& b, double s) {
     if (b.is_rigid()) return b.name();
@@ -341,6 +367,7 @@ class Joint final : public Effect, public ReactionSource {
   int offset(int k) const { return k == 0 ? 0 : side_[0].size(); }
   Eigen::Vector3d position(int k, const Eigen::VectorXd& y) const {
     const JointSide& S = side_[k];
+    if (S.ground()) return S.X;
     Eigen::Vector3d r = Eigen::Vector3d::Zero();
     for (int e = 0; e < S.entries; ++e) r += S.w[e] * y.segment<3>(offset(k) + S.point[e] * S.coords + S.comp[e]);
     return r;
@@ -348,6 +375,7 @@ class Joint final : public Effect, public ReactionSource {
   /// The interpolated triad (d1, d2, d3)(s) as columns.
   Eigen::Matrix3d triad(int k, const Eigen::VectorXd& y) const {
     const JointSide& S = side_[k];
+    if (S.ground()) return Eigen::Matrix3d::Identity();
     Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
     for (int j = 0; j < S.n; ++j)
       for (int i = 0; i < 3; ++i) D.col(i) += S.N[j] * y.segment<3>(offset(k) + j * S.coords + 3 + 3 * i);
@@ -393,6 +421,10 @@ class Joint final : public Effect, public ReactionSource {
   bool owned_ = false;
 };
 
+std::unique_ptr<Effect> make_clamp_inside(const Model& m, const EffectParams& p) {
+  return std::make_unique<Joint>(m, p, JointKind::Rigid, "clamp", true);
+}
+
 void register_joint_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
   const ParamSpec points{"at", K::Points, "m",
@@ -432,6 +464,29 @@ void register_joint_effects(EffectRegistry& r) {
     r.add(table_effect_spec(kind_type(kind), "joint", v.name, EnergyRole::Constraint, v.meaning, v.params),
           [kind](const Model& m, const EffectParams& p) { return std::make_unique<Joint>(m, p, kind, kind_type(kind)); });
   }
+  // the ground's joints: [[support]] variants
+  const ParamSpec held_beam{"beam", K::Beam, "", "the beam (or body) it holds (director beams: the support holds "
+                            "its section frame)", "", 0, 0, false, 0, {"director"}};
+  const ParamSpec held_point{"at", K::Point, "m",
+                             "the point: \"start\", \"end\" or an arc length in [0, L]; on a body, where it is drawn",
+                             ""};
+  ParamSpec ground_hinge = axis, ground_arm_a = arm_a, ground_arm_b = arm_b;
+  ground_hinge.meaning = "the hinge axis, fixed in space (any length)";
+  ground_arm_a.meaning = "the cross's arm fixed to the beam, in the drawn state (any length)";
+  ground_arm_b.meaning = "the arm fixed in space, perpendicular to `axis`";
+  r.add(table_effect_spec("revolute", "support", "revolute", EnergyRole::Constraint,
+                          "a beam point held in place, turning about an axis fixed in space only (a pin)",
+                          {held_beam, held_point, ground_hinge}),
+        [](const Model& m, const EffectParams& p) {
+          return std::make_unique<Joint>(m, p, JointKind::Revolute, "revolute", true);
+        });
+  r.add(table_effect_spec("universal", "support", "universal", EnergyRole::Constraint,
+                          "a beam point held in place, an arm of the beam kept perpendicular to one fixed in space "
+                          "(a Cardan joint to the ground)",
+                          {held_beam, held_point, ground_arm_a, ground_arm_b}),
+        [](const Model& m, const EffectParams& p) {
+          return std::make_unique<Joint>(m, p, JointKind::Universal, "universal", true);
+        });
   r.add(table_effect_spec("rigid_joint", "rigid_joint", "", EnergyRole::Constraint,
                           "two beam ends welded together, positions and directors ([[joint]] type = \"rigid\" welds "
                           "any two points)",

@@ -20,12 +20,14 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 }
 
 /// A point of a beam given by arc length: its position stencil (both formulations) and, on a
-/// director beam, the basis of the span that holds it (directors at the point).
+/// director beam, the basis of the span that holds it (directors at the point); on a body, the
+/// body's one control point (its directors are the body's axes).
 struct BeamPoint {
   int beam = 0;
   double s = 0.0;
   PositionStencil stencil;
   PointBasis basis;
+  int n_basis = 3;  ///< control points the directors interpolate from (a body: 1)
 
   BeamPoint(const Model& m, const EffectParams& p, const std::string& who) : beam(beam_param(m, p)) {
     const Beam& b = m.beam(beam);
@@ -34,11 +36,13 @@ struct BeamPoint {
       throw std::invalid_argument(who + ": point s = " + std::to_string(s) + " is outside beam '" + b.name() +
                                   "' (length " + std::to_string(b.length()) + ")");
     if (b.is_rigid()) {  // a body's point, given where it is drawn
-      if (who == "moment" || who == "point_mass")
-        throw ParamError("beam", who + ": body '" + b.name() + "' takes forces only (a moment or a point mass on a body "
-                                 "is not supported)");
+      if (who == "point_mass")
+        throw ParamError("beam", "body '" + b.name() + "' takes no point mass: a mass on a body is part of its mass and "
+                                 "inertia");
       const Eigen::Vector3d at = vector3_param(p, "point");
       stencil = b.body_point_drawn({at(0), at(1), at(2)});
+      basis.N = {1.0, 0.0, 0.0};
+      n_basis = 1;
       return;
     }
     stencil = b.position_at(s);
@@ -61,7 +65,8 @@ struct BeamPoint {
   /// Interpolated block (0 = phi, 1..3 = d1..d3) at the point in the state x.
   Eigen::Vector3d field(const EvalContext& ctx, const LocalValues& x, int block) const {
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
-    for (int a = 0; a < 3; ++a) v += basis.N[a] * Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, cp(ctx.model, a)) + 3 * block);
+    for (int a = 0; a < n_basis; ++a)
+      v += basis.N[a] * Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, cp(ctx.model, a)) + 3 * block);
     return v;
   }
 };
@@ -221,8 +226,9 @@ class PointLoad final : public Effect {
     PetscFunctionBeginUser;
     if (!owned_ || !moment_) PetscFunctionReturn(0);
     const auto d = director_dofs(m.dof_map(), m);
-    const double zero[27 * 27] = {};
-    PetscCall(sink.add(27, d.data(), 27, d.data(), zero));
+    const auto n = static_cast<PetscInt>(d.size());
+    const std::vector<double> zero(d.size() * d.size(), 0.0);
+    PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
@@ -236,7 +242,7 @@ class PointLoad final : public Effect {
     const Eigen::Vector3d M = amp * moment_vector(ctx);
     for (int i = 1; i <= 3; ++i) {
       const Eigen::Vector3d Fi = 0.5 * M.cross(point_.field(ctx, ctx.xf, i));
-      for (int a = 0; a < 3; ++a)
+      for (int a = 0; a < point_.n_basis; ++a)
         Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, point_.cp(ctx.model, a)) + 3 * i) -= point_.basis.N[a] * Fi;
     }
     PetscFunctionReturn(0);
@@ -247,20 +253,23 @@ class PointLoad final : public Effect {
     const double amp = f_(ctx.t);
     const Eigen::Vector3d M = amp * moment_vector(ctx);
     // dF_i/dd_k = 1/2 (delta_ik [M]x - m_k [d_i]x), the second term only in the material frame.
-    Eigen::Matrix<double, 27, 27, Eigen::RowMajor> K = Eigen::Matrix<double, 27, 27, Eigen::RowMajor>::Zero();
+    const int nb = point_.n_basis;
+    using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+    RowMajor K = RowMajor::Zero(9 * nb, 9 * nb);
     for (int i = 1; i <= 3; ++i) {
       const Eigen::Vector3d di = point_.field(ctx, ctx.xf, i);
       for (int k = 1; k <= 3; ++k) {
         Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
         if (i == k) D += 0.5 * ctx.theta * skew(M);
         if (material_) D -= 0.5 * ctx.theta * amp * value_(k - 1) * skew(di);
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b)
+        for (int a = 0; a < nb; ++a)
+          for (int b = 0; b < nb; ++b)
             K.block<3, 3>(9 * a + 3 * (i - 1), 9 * b + 3 * (k - 1)) -= point_.basis.N[a] * point_.basis.N[b] * D;
       }
     }
     const auto d = director_dofs(ctx.map, ctx.model);
-    PetscCall(J.add(27, d.data(), 27, d.data(), K.data()));
+    const auto n = static_cast<PetscInt>(d.size());
+    PetscCall(J.add(n, d.data(), n, d.data(), K.data()));
     PetscFunctionReturn(0);
   }
   double energy(const EvalContext& ctx) const override {
@@ -275,10 +284,10 @@ class PointLoad final : public Effect {
     return value_(0) * point_.field(ctx, ctx.xf, 1) + value_(1) * point_.field(ctx, ctx.xf, 2) +
            value_(2) * point_.field(ctx, ctx.xf, 3);
   }
-  std::array<PetscInt, 27> director_dofs(const DofMap& map, const Model& m) const {
-    std::array<PetscInt, 27> d{};
-    for (int a = 0; a < 3; ++a)
-      for (int k = 0; k < 9; ++k) d[9 * a + k] = map.q(point_.cp(m, a), 3 + k);
+  std::vector<PetscInt> director_dofs(const DofMap& map, const Model& m) const {
+    std::vector<PetscInt> d;
+    for (int a = 0; a < point_.n_basis; ++a)
+      for (int k = 0; k < 9; ++k) d.push_back(map.q(point_.cp(m, a), 3 + k));
     return d;
   }
   BeamPoint point_;

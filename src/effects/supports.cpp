@@ -311,9 +311,21 @@ void register_support_effects(EffectRegistry& r) {
       "prescribed motion: {displacement = [m], rotation = [rad], time_function = {...}} (the end moves by f(t) times "
       "the displacement and turns by the rotation vector f(t) times rotation; f(0) = 0)";
   r.add(table_effect_spec("clamp", "support", "clamp", EnergyRole::Constraint,
-                          "a beam end held in place and orientation",
-                          {beam, {"at", K::End, "", "which end: \"start\" or \"end\"", ""}, optional_param(clamp_motion)}),
-        [](const Model& m, const EffectParams& p) { return std::make_unique<Clamp>(m, p); });
+                          "a beam point held in place and orientation",
+                          {beam,
+                           {"at", K::Point, "m",
+                            "the point: \"start\", \"end\" or an arc length in [0, L] (inside a beam, a rigid joint "
+                            "to the ground); on a body, where it is drawn",
+                            ""},
+                           optional_param(clamp_motion)}),
+        [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
+          const Beam& b = m.beam(beam_param(m, p));
+          if (!b.is_rigid() && end_cp(b, p.number("s")) >= 0) return std::make_unique<Clamp>(m, p);
+          if (SupportMotion(p).active)
+            throw ParamError("motion", "only a clamp at a beam end moves (a clamp inside a beam or on a body is welded "
+                                       "to the ground; a body moves with [[support]] type = \"fixed\")");
+          return make_clamp_inside(m, p);
+        });
   ParamSpec fixed_motion = clamp_motion;
   fixed_motion.meaning =
       "prescribed rigid motion: {displacement = [m], rotation = [rad], time_function = {...}} (the beam moves by "

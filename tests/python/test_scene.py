@@ -506,9 +506,9 @@ def test_support_on_missing_beam(tmp_path):
     _assert_names(err, "[[support]] #1", "key 'beam'", "beam 'x' does not exist (beams: strip)")
 
 
-def test_clamp_in_the_middle(tmp_path):
-    err = _error(tmp_path, SMALL + '[[support]]\ntype = "clamp"\nbeam = "strip"\nat = 5.0\n')
-    _assert_names(err, "[[support]] #1", "key 'at'", "'start' or 'end'")
+def test_clamp_beyond_the_beam(tmp_path):
+    err = _error(tmp_path, SMALL + '[[support]]\ntype = "clamp"\nbeam = "strip"\nat = 12.0\n')
+    _assert_names(err, "[[support]] #1", "key 'at'", "[0, L]")
 
 
 def test_fixed_with_at(tmp_path):
