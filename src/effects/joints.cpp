@@ -12,7 +12,10 @@
 /// then the ground, whose position and triad (the global axes) are constants.
 /// Positions are the beams' centre-line interpolation at the two arc lengths (director beams and
 /// ANCF cables); orientations use the director triad interpolated there, D(s) = sum_j N_j(s)
-/// (d1, d2, d3)_j (director beams only: an ANCF cable has no section frame). Each orientation
+/// (d1, d2, d3)_j. An ANCF cable has no section frame: a rigid joint holds its slope r' at a node
+/// (D = [r', 0, 0]), perpendicular to two directions fixed to the other side's frame (2
+/// constraints), or, between two cables, equal to the other's slope scaled as drawn (3, linear:
+/// the cable continues as through one of its own nodes). Each orientation
 /// constraint is a bilinear form (D_A u) . (D_B v) - g0 with constant component vectors u, v and
 /// its reference value g0; the positions are linear. So the midpoint gradient is every
 /// constraint's exact discrete gradient, and under energy-momentum a joint does no work over a step.
@@ -66,6 +69,8 @@ struct JointSide {
   int main = 0;
   /// The ground (beam < 0): the fixed point.
   Eigen::Vector3d X = Eigen::Vector3d::Zero();
+  /// Columns of the side's triad D that are unknowns: 3 (d1, d2, d3), 1 (an ANCF node's r').
+  int directors = 3;
 
   JointSide() = default;
   /// From the point's position stencil (a beam's at arc length s, or a body point's).
@@ -129,10 +134,11 @@ class Joint final : public Effect, public ReactionSource {
         throw std::invalid_argument(type_ + ": no beam with index " + std::to_string(beam));
     if (a == b) throw std::invalid_argument(type_ + ": a beam cannot be joined to itself");
     for (int beam : {a, b})
-      if (beam >= 0 && n_orient_ > 0 && m.beam(beam).is_ancf())
+      if (beam >= 0 && n_orient_ > 0 && kind_ != JointKind::Rigid && m.beam(beam).is_ancf())
         throw ParamError(to_ground ? "beam" : "beams",
                          "beam '" + m.beam(beam).name() + "' is an ANCF cable: it has no section frame for a " + type_ +
-                             " (a spherical " + (to_ground ? "support holds" : "joint joins") + " ANCF cables)");
+                             " (a spherical or rigid " + (to_ground ? "support holds" : "joint joins") +
+                             " ANCF cables)");
     side_[0] = side_at(m, p, a, to_ground ? "s" : "s_a", to_ground ? "point" : "point_a");
     if (to_ground) {
       side_[1] = ground_side(Eigen::Vector3d::Zero());
@@ -153,7 +159,21 @@ class Joint final : public Effect, public ReactionSource {
                                       format_number((pa - pb).norm()) + ")");
     }
     if (n_orient_ == 0) return;
+    for (int k = 0; k < 2; ++k) {
+      JointSide& S = side_[k];
+      if (S.ground() || !m.beam(S.beam).is_ancf()) continue;
+      if (S.n != 1 || S.entries != 1)
+        throw ParamError("at", "an ANCF cable's slope is held at a node: put the " + type_ + " on '" +
+                                   m.beam(S.beam).name() + "' at one of its " +
+                                   std::to_string(m.beam(S.beam).n_spans() + 1) + " nodes (s = k L / " +
+                                   std::to_string(m.beam(S.beam).n_spans()) + "), not at s = " + format_number(S.s));
+      S.directors = 1;
+    }
     const Eigen::Matrix3d DA = triad(0, y0), DB = triad(1, y0);
+    if (side_[0].directors == 1 || side_[1].directors == 1) {
+      ancf_rigid(DA, DB);
+      return;
+    }
     switch (kind_) {
       case JointKind::Rigid: {
         // e_a . dB_b = 0 for the pairs (a, b) below, e_a = DA C e_a turned into B's reference
@@ -209,8 +229,9 @@ class Joint final : public Effect, public ReactionSource {
       for (int e = 0; e < S.entries; ++e)
         if (S.point[e] == j && S.comp[e] == 0)
           for (int k = 0; k < 3; ++k) out.force[k] -= in.own(map.q(c, k));
-      if (b.is_ancf()) continue;
-      for (int i = 0; i < 3; ++i) {
+      // an ANCF node's r' (in a rigid joint) turns as a director would
+      const int directors = b.is_ancf() ? (S.directors == 1 ? 1 : 0) : 3;
+      for (int i = 0; i < directors; ++i) {
         Eigen::Vector3d d, f;
         for (int k = 0; k < 3; ++k) {
           d(k) = in.x(map.q(c, 3 + 3 * i + k));
@@ -285,11 +306,11 @@ class Joint final : public Effect, public ReactionSource {
     // director m of B's point l by N_j u_ki N_l v_km I3
     const JointSide &SA = side_[0], &SB = side_[1];
     const int offB = SA.size();
-    for (int k = 0; k < n_orient_; ++k)
+    for (int k = 0; k < (slopes_equal_ ? 0 : n_orient_); ++k)
       for (int j = 0; j < SA.n; ++j)
-        for (int i = 0; i < 3; ++i)
+        for (int i = 0; i < SA.directors; ++i)
           for (int l = 0; l < SB.n; ++l)
-            for (int mm = 0; mm < 3; ++mm) {
+            for (int mm = 0; mm < SB.directors; ++mm) {
               const double h = ctx.theta * mu(3 + k) * SA.N[j] * u_[k](i) * SB.N[l] * v_[k](mm);
               for (int c = 0; c < 3; ++c) {
                 const int ra = j * SA.coords + 3 + 3 * i + c, rb = offB + l * SB.coords + 3 + 3 * mm + c;
@@ -317,6 +338,32 @@ class Joint final : public Effect, public ReactionSource {
       throw ParamError("at", "s = " + format_number(s) + " is outside beam '" + X.name() + "'");
     const double at = std::clamp(s, 0.0, X.length());
     return JointSide(X.position_at(at), index, at, X.coordinates_per_cp());
+  }
+  /// A rigid joint with an ANCF cable's node on one side or both: n_orient_ and the constraints.
+  void ancf_rigid(const Eigen::Matrix3d& DA, const Eigen::Matrix3d& DB) {
+    const bool cable_a = side_[0].directors == 1, cable_b = side_[1].directors == 1;
+    if (cable_a && cable_b) {  // r'_A = kappa r'_B: the drawn slopes must be parallel
+      const Eigen::Vector3d ta = DA.col(0), tb = DB.col(0);
+      if (ta.cross(tb).norm() > 1e-9 * ta.norm() * tb.norm())
+        throw ParamError("beams", "two ANCF cables are welded only where their drawn slopes are parallel (a cable has "
+                                  "no section frame to hold an angle): the slopes here are " + format_point(ta) +
+                                      " and " + format_point(tb));
+      slopes_equal_ = true;
+      kappa_ = ta.dot(tb) / tb.squaredNorm();
+      n_orient_ = 3;
+      return;
+    }
+    // the slope stays perpendicular to two directions fixed to the other side's frame
+    const Eigen::Vector3d t = (cable_a ? DA : DB).col(0);
+    const auto [p, q] = perpendicular_pair(t.normalized());
+    const Eigen::Matrix3d& frame = cable_a ? DB : DA;
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3d in_frame = frame.transpose() * (k == 0 ? p : q);
+      u_[k] = cable_a ? Eigen::Vector3d::UnitX() : in_frame;
+      v_[k] = cable_a ? in_frame : Eigen::Vector3d::UnitX();
+      g0_[k] = (DA * u_[k]).dot(DB * v_[k]);
+    }
+    n_orient_ = 2;
   }
   /// "name@start", "name@end" or "name@s" (labels); a body: its name.
   static std::string where(const Beam& b, double s) {
@@ -378,7 +425,7 @@ class Joint final : public Effect, public ReactionSource {
     if (S.ground()) return Eigen::Matrix3d::Identity();
     Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
     for (int j = 0; j < S.n; ++j)
-      for (int i = 0; i < 3; ++i) D.col(i) += S.N[j] * y.segment<3>(offset(k) + j * S.coords + 3 + 3 * i);
+      for (int i = 0; i < S.directors; ++i) D.col(i) += S.N[j] * y.segment<3>(offset(k) + j * S.coords + 3 + 3 * i);
     return D;
   }
   Eigen::VectorXd value(const Eigen::VectorXd& y) const {
@@ -386,6 +433,10 @@ class Joint final : public Effect, public ReactionSource {
     g.head<3>() = position(0, y) - position(1, y);
     if (n_orient_ > 0) {
       const Eigen::Matrix3d DA = triad(0, y), DB = triad(1, y);
+      if (slopes_equal_) {
+        g.tail<3>() = DA.col(0) - kappa_ * DB.col(0);
+        return g;
+      }
       for (int k = 0; k < n_orient_; ++k) g(3 + k) = (DA * u_[k]).dot(DB * v_[k]) - g0_[k];
     }
     return g;
@@ -399,14 +450,19 @@ class Joint final : public Effect, public ReactionSource {
         G.block<3, 3>(0, offset(k) + S.point[e] * S.coords + S.comp[e]) += sign * S.w[e] * Eigen::Matrix3d::Identity();
     }
     if (n_orient_ == 0) return G;
+    if (slopes_equal_) {  // each side one node, its r' at 3..5
+      G.block<3, 3>(3, 3) = side_[0].N[0] * Eigen::Matrix3d::Identity();
+      G.block<3, 3>(3, offset(1) + 3) = -kappa_ * side_[1].N[0] * Eigen::Matrix3d::Identity();
+      return G;
+    }
     const Eigen::Matrix3d DA = triad(0, y), DB = triad(1, y);
     for (int k = 0; k < n_orient_; ++k) {
       const Eigen::Vector3d a = DA * u_[k], b = DB * v_[k];
       for (int j = 0; j < side_[0].n; ++j)
-        for (int i = 0; i < 3; ++i)
+        for (int i = 0; i < side_[0].directors; ++i)
           G.block<1, 3>(3 + k, j * side_[0].coords + 3 + 3 * i) += side_[0].N[j] * u_[k](i) * b.transpose();
       for (int l = 0; l < side_[1].n; ++l)
-        for (int i = 0; i < 3; ++i)
+        for (int i = 0; i < side_[1].directors; ++i)
           G.block<1, 3>(3 + k, offset(1) + l * side_[1].coords + 3 + 3 * i) += side_[1].N[l] * v_[k](i) * a.transpose();
     }
     return G;
@@ -418,6 +474,8 @@ class Joint final : public Effect, public ReactionSource {
   std::array<JointSide, 2> side_;
   std::array<Eigen::Vector3d, 3> u_{}, v_{};  ///< the orientation constraints' component vectors
   std::array<double, 3> g0_{};                ///< their reference values
+  bool slopes_equal_ = false;  ///< two ANCF cables welded: r'_A - kappa r'_B = 0 instead
+  double kappa_ = 1.0;
   bool owned_ = false;
 };
 
@@ -456,8 +514,12 @@ void register_joint_effects(EffectRegistry& r) {
        {director_beams, points, arm_a, arm_b}},
       {"revolute", JointKind::Revolute, "two beam points held together, turning about a common hinge axis only",
        {director_beams, points, hinge}},
-      {"rigid", JointKind::Rigid, "two beam points welded together, positions and section frames",
-       {director_beams, points}},
+      {"rigid", JointKind::Rigid,
+       "two beam points welded together, positions and section frames (an ANCF cable: its slope at a node)",
+       {{"beams", K::Beams, "",
+         "the two beams' names, e.g. [\"boom\", \"jib\"] (an ANCF cable at one of its nodes: the joint holds its slope)",
+         "", 0, 0, false, 2},
+        points}},
   };
   for (const Variant& v : variants) {
     const JointKind kind = v.kind;
@@ -467,6 +529,7 @@ void register_joint_effects(EffectRegistry& r) {
   // the ground's joints: [[support]] variants
   const ParamSpec held_beam{"beam", K::Beam, "", "the beam (or body) it holds (director beams: the support holds "
                             "its section frame)", "", 0, 0, false, 0, {"director"}};
+  // (a clamp's beam may be an ANCF cable: at an end it fixes r and r', at a node inside its slope)
   const ParamSpec held_point{"at", K::Point, "m",
                              "the point: \"start\", \"end\" or an arc length in [0, L]; on a body, where it is drawn",
                              ""};

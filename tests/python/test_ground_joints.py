@@ -53,6 +53,22 @@ def test_step_jacobian_matches_finite_differences(kind, integrator):
                                  label=f"{kind} support, {integrator}")
 
 
+@pytest.mark.parametrize("integrator", INTEGRATORS)
+def test_a_clamp_at_a_node_inside_an_ancf_cable_has_the_step_jacobian_of_finite_differences(integrator):
+    """It holds the node's position and the direction of its slope (2 constraints), not the
+    stretch."""
+    scene = slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "integrator": integrator, "dt": 0.01, "t_end": 0.3},
+        "beam": [{"name": "a", "formulation": "ancf", "start": [0.0, 0.0, 0.0], "end": [2.0, 0.0, 0.0], "spans": 6,
+                  "section": {"EA": 2e3, "EI": 3.0, "rhoA": 1.0}, "angular_velocity": [0.3, -0.5, 1.0],
+                  "rotation_center": [2.0 / 3.0, 0.0, 0.0]}],
+        "support": [{"type": "clamp", "beam": "a", "at": 2.0 / 3.0}],
+        "gravity": {"g": [0.0, 0.0, -9.81]},
+    })
+    sim = slidebeam.Simulation(scene)
+    check_step_jacobian_and_rows(sim, support_multipliers(sim, 5), seed=5, label=f"clamp in a cable, {integrator}")
+
+
 @pytest.mark.parametrize("kind", ("revolute", "universal"))
 def test_energy_momentum_keeps_the_energy_of_a_beam_swinging_on_the_support(kind):
     run = slidebeam.Simulation(swinging(kind, t_end=1.0, dt=0.02)).run_dynamic()
@@ -167,7 +183,7 @@ BASE = {"analysis": {"type": "dynamic", "dt": 0.01, "t_end": 0.02},
     ({"type": "clamp", "beam": "a", "at": 0.5, "motion": {"displacement": [0, 0, 1],
                                                           "time_function": {"type": "ramp", "t1": 1.0}}},
      ["[[support]] #1", "'motion'", "beam end"]),
-    ({"type": "clamp", "beam": "c", "at": 0.5}, ["[[support]] #1", "ANCF", "section frame"]),
+    ({"type": "clamp", "beam": "c", "at": 0.6}, ["[[support]] #1", "'at'", "ANCF", "node"]),
 ])
 def test_ground_joint_errors_name_the_table_and_key(support, words):
     with pytest.raises(slidebeam.SceneError) as err:

@@ -124,6 +124,7 @@ def test_reactions_leave_the_free_rotations_free():
 def test_joints_run_alike_on_one_and_two_ranks():
     distributed_and_serial_records(cross("rigid", t_end=0.1))
     distributed_and_serial_records(cross("spherical", ancf=True, t_end=0.1))
+    distributed_and_serial_records(welded_cable("cable", t_end=0.1))
 
 
 @pytest.mark.parametrize("change, words", [
@@ -146,7 +147,7 @@ def test_joint_errors_name_the_table_and_key(change, words):
     assert all(w in str(err.value) for w in words), str(err.value)
 
 
-def test_universal_arms_must_be_perpendicular_and_ancf_cables_take_only_spherical_joints():
+def test_universal_arms_must_be_perpendicular_and_ancf_cables_take_no_hinges():
     bad = cross("universal")
     with pytest.raises(slidebeam.SceneError, match="perpendicular"):
         slidebeam.Simulation(slidebeam.scene_from_dict({
@@ -162,7 +163,7 @@ def test_universal_arms_must_be_perpendicular_and_ancf_cables_take_only_spherica
             "beam": [{"name": "a", "start": [0, 0, 0], "end": [2, 0, 0], "spans": 6, "section": SECTION},
                      {"name": "b", "start": [0.7, -0.5, 0], "end": [0.7, 0.7, 0], "spans": 5, "formulation": "ancf",
                       "section": {"EA": 2e3, "EI": 3.0, "rhoA": 1.0}}],
-            "joint": [{"type": "rigid", "beams": ["a", "b"], "at": [0.7, 0.5]}]})
+            "joint": [{"type": "revolute", "beams": ["a", "b"], "at": [0.7, 0.5], "axis": [0, 0, 1]}]})
 
 
 def test_the_crane_settles_on_its_joints_and_keeps_its_energy_after_slewing(root):
@@ -181,3 +182,83 @@ def test_the_crane_settles_on_its_joints_and_keeps_its_energy_after_slewing(root
     assert abs(-hoist[2] - g * (500.0 + 1.6 * 15.0)) <= 1e-6 * weight and np.abs(hoist[:2]).max() <= 1e-6 * weight
     H = np.array([r.total_energy for r in run.records if r.t >= 5.5])
     assert len(H) >= 10 and np.abs(H - H[0]).max() <= 1e-10 * abs(H[0])
+
+
+CABLE = {"EA": 2e3, "EI": 3.0, "rhoA": 1.0}
+
+
+def welded_cable(other: str, integrator: str = "energy-momentum", t_end: float = 0.3, dt: float = 0.01
+                 ) -> slidebeam.Scene:
+    """An ANCF cable b welded (rigid joint) at one of its nodes: across the director beam a
+    (other = "beam"; b's node at s = 0.48 sits on a's s = 0.7), or end to end onto the ANCF
+    cable a, drawn in line (other = "cable"); spinning and vibrating free."""
+    spin = {"angular_velocity": [0.3, -0.5, 1.0], "rotation_center": [0.7, 0.0, 0.0]}
+    if other == "beam":
+        a = {"name": "a", "start": [0.0, 0.0, 0.0], "end": [2.0, 0.0, 0.0], "spans": 6, "section": SECTION, **spin}
+        b_line, at = {"start": [0.7, -0.48, 0.0], "end": [0.7, 0.72, 0.0]}, [0.7, 0.48]
+    else:
+        a = {"name": "a", "formulation": "ancf", "start": [0.0, 0.0, 0.0], "end": [1.0, 0.0, 0.0], "spans": 4,
+             "section": CABLE, **spin}
+        b_line, at = {"start": [1.0, 0.0, 0.0], "end": [2.2, 0.0, 0.0]}, ["end", "start"]
+    b = {"name": "b", "formulation": "ancf", **b_line, "spans": 5, "section": CABLE,
+         "velocity": [0.0, 0.0, 0.8], **spin}
+    return slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "integrator": integrator, "dt": dt, "t_end": t_end},
+        "beam": [a, b],
+        "joint": [{"type": "rigid", "beams": ["a", "b"], "at": at}],
+    })
+
+
+@pytest.mark.parametrize("integrator", INTEGRATORS)
+@pytest.mark.parametrize("other", ("beam", "cable"))
+def test_a_cable_welded_by_its_slope_has_the_step_jacobian_of_finite_differences(other, integrator):
+    sim = slidebeam.Simulation(welded_cable(other, integrator))
+    multipliers = joint_multipliers(sim, {"beam": 5, "cable": 6}[other])
+    check_step_jacobian_and_rows(sim, multipliers, seed=9, label=f"cable welded to a {other}, {integrator}")
+
+
+@pytest.mark.parametrize("other", ("beam", "cable"))
+def test_a_welded_cable_keeps_energy_and_both_momenta(other):
+    run = slidebeam.Simulation(welded_cable(other, t_end=1.0, dt=0.02)).run_dynamic()
+    assert run.complete, run.message
+    d = drifts(run.records)
+    assert d["energy"] <= 1e-9 and d["linear"] <= 2e-12 and d["angular"] <= 2e-12, d
+    assert max(r.constraint_residual for r in run.records) < 1e-9
+
+
+def test_two_cables_welded_end_to_end_bend_as_one():
+    """A cantilever of two ANCF cables (4 elements each) welded end to end bends under a tip
+    force exactly as one cable of 8 elements (1e-10 of the deflection): the weld makes the slope
+    continuous, as a node of one cable does."""
+    def tip(beams: list[dict], joints: list[dict]) -> np.ndarray:
+        scene = slidebeam.scene_from_dict({
+            "analysis": {"type": "static", "steps": 4},
+            "beam": beams,
+            "support": [{"type": "clamp", "beam": "a", "at": "start"}],
+            "joint": joints,
+            "load": [{"type": "force", "beam": beams[-1]["name"], "at": "end", "value": [0.0, -2.0, 1.0]}],
+            "output": {"track": [{"beam": beams[-1]["name"], "at": "end"}]},
+        })
+        return np.array(slidebeam.Simulation(scene).solve_static()[-1].tracked[0])
+    cable = {"formulation": "ancf", "section": CABLE}
+    one = tip([{"name": "a", "start": [0, 0, 0], "end": [2, 0, 0], "spans": 8, **cable}], [])
+    two = tip([{"name": "a", "start": [0, 0, 0], "end": [1, 0, 0], "spans": 4, **cable},
+               {"name": "b", "start": [1, 0, 0], "end": [2, 0, 0], "spans": 4, **cable}],
+              [{"type": "rigid", "beams": ["a", "b"], "at": ["end", "start"]}])
+    assert np.linalg.norm(one - [2, 0, 0]) > 0.1
+    assert np.abs(one - two).max() <= 1e-10 * np.linalg.norm(one - [2, 0, 0]), (one, two)
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"at": [0.7, 0.5]}, ["[[joint]] #1", "'at'", "node"]),
+    ({"type": "revolute", "axis": [0, 0, 1]}, ["[[joint]] #1", "'beams'", "ANCF"]),
+])
+def test_a_cable_is_welded_at_its_nodes_only(change, words):
+    data = {"analysis": {"type": "dynamic", "dt": 0.01, "t_end": 0.02},
+            "beam": [{"name": "a", "start": [0, 0, 0], "end": [2, 0, 0], "spans": 6, "section": SECTION},
+                     {"name": "b", "formulation": "ancf", "start": [0.7, -0.5, 0], "end": [0.7, 0.7, 0], "spans": 5,
+                      "section": CABLE}],
+            "joint": [{"type": "rigid", "beams": ["a", "b"], "at": [0.7, 0.5], **change}]}
+    with pytest.raises(slidebeam.SceneError) as err:
+        slidebeam.Simulation(slidebeam.scene_from_dict(data))
+    assert all(w in str(err.value) for w in words), str(err.value)
