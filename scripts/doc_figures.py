@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Redraw the user guide's plots and pictures (docs/figures/) from shipped scenes:
-``runs/effects/ropeway.toml`` (every kind of plot, pictures from two views) and a 7 x 7 rockfall
-net from ``scripts/make_cables.py`` (a picture of a 12 978-unknown structure). About a minute.
+``runs/effects/ropeway.toml`` (every kind of plot, pictures from two views), a 7 x 7 rockfall
+net from ``scripts/make_cables.py`` (a picture of a 12 978-unknown structure), and the multibody
+scenes ``runs/multibody/crane.toml`` and ``cable_robot.toml`` (pictures). About a minute.
 
     scripts/doc_figures.py [--out docs/figures] [--work out/doc_figures]
 """
@@ -23,6 +24,15 @@ def run(*args: str) -> None:
     subprocess.run([str(ROOT / "scripts" / "slidebeam"), *args], check=True)
 
 
+def multibody_pictures(out: Path, work: Path) -> list[Path]:
+    """The crane slewed (t = 6 s) and the cable robot half way (t = 2.5 s)."""
+    written = []
+    for scene, t in (("crane", 6.0), ("cable_robot", 2.5)):
+        run("run", str(ROOT / "runs" / "multibody" / f"{scene}.toml"), "--out", str(work / scene), "-q")
+        written += render.pictures(work / scene, times=[t], out=out / f"render_{scene}.png", size=(1100, 650))
+    return written
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", type=Path, default=ROOT / "docs" / "figures", help="where the figures go")
@@ -40,6 +50,7 @@ def main() -> int:
         written += plots.plot([ropeway], what=[kind], out=args.out / f"plot_{kind}.png")
     written += render.pictures(ropeway, times=[3.0], out=args.out / "render_ropeway_iso.png", size=(1100, 600))
     written += render.pictures(net, out=args.out / "render_net.png", size=(1100, 650))
+    written += multibody_pictures(args.out, args.work)
     for f in written:
         print(f"wrote {f.relative_to(ROOT) if f.is_relative_to(ROOT) else f}")
     return 0

@@ -161,7 +161,8 @@ class Renderer:
         ax.set_xlim(centre[0] - half[0], centre[0] + half[0])
         ax.set_ylim(centre[1] - half[1], centre[1] + half[1])
         ax.set_zlim(centre[2] - half[2], centre[2] + half[2])
-        ax.set_box_aspect(tuple(span), zoom=1.1)  # equal scales on every axis
+        # equal scales on every axis; a box taller than wide overhangs the axes in the oblique views
+        ax.set_box_aspect(tuple(span), zoom=1.1 if span[2] <= max(span[0], span[1]) else 0.8)
         ax.view_init(elev=self.elevation, azim=self.azimuth)
         from matplotlib.ticker import MaxNLocator
 

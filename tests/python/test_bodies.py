@@ -361,3 +361,15 @@ def test_a_fixed_body_driven_through_a_turn_carries_a_welded_rod():
     axes = sim.control_points(sim.scene.bodies[0].index)[0]
     assert np.allclose(axes[3:6], [math.cos(1.0), math.sin(1.0), 0.0], atol=1e-12)
     assert np.allclose(sim.evaluate("rod", 1.0)[0, :3], [1.5 * math.cos(1.0), 1.5 * math.sin(1.0), 0.0], atol=1e-5)
+
+
+def test_the_cable_robot_brings_its_platform_to_the_target_on_taut_ropes(root):
+    """runs/multibody/cable_robot.toml: the anchors' travels bring the platform's centre to
+    (0.6, 0, 2.0) within 1e-4 m, every rope pulls at least 20 N at its anchor all the way, no
+    step is cut, and the energy balance (the driven anchors' work) closes to 1e-9 of it."""
+    run = slidebeam.Simulation(slidebeam.load_scene(root / "runs" / "multibody" / "cable_robot.toml")).run_dynamic()
+    assert run.complete and run.records[-1].rejected_steps == 0, run.message
+    assert np.abs(np.subtract(run.records[-1].tracked[-1], [0.6, 0.0, 2.0])).max() < 1e-4
+    pulls = [r.force[2] for rec in run.records for r in rec.reactions if r.effect.startswith("spherical[cable")]
+    assert min(pulls) > 20.0
+    assert max(abs(r.energy_balance_error) for r in run.records) <= 1e-9 * abs(run.records[-1].work)
