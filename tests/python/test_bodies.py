@@ -373,3 +373,22 @@ def test_the_cable_robot_brings_its_platform_to_the_target_on_taut_ropes(root):
     pulls = [r.force[2] for rec in run.records for r in rec.reactions if r.effect.startswith("spherical[cable")]
     assert min(pulls) > 20.0
     assert max(abs(r.energy_balance_error) for r in run.records) <= 1e-9 * abs(run.records[-1].work)
+
+
+def test_the_ropeway_hangs_its_cabin_on_a_rope_given_by_its_length(root):
+    """runs/multibody/ropeway.toml: the equilibrium start's anchors carry the rope's weight (rho A
+    times its unstretched length, 60.5 m), the hanger's and the cabin's (1e-8), with equal and
+    opposite horizontal pulls; the cabin hangs straight under the carriage (1e-9); and, driven,
+    the energy balance closes with the drive's work (1e-9 of it)."""
+    scene = slidebeam.load_scene(root / "runs" / "multibody" / "ropeway.toml", ["analysis.t_end=2.0"])
+    run = slidebeam.Simulation(scene).run_dynamic()
+    assert run.complete and run.records[-1].rejected_steps == 0, run.message
+    first = run.records[0]
+    anchors = [np.array(r.force) for r in first.reactions if r.effect.startswith("spherical[track")]
+    weight = 9.81 * (math.pi * 0.01 ** 2 * 7850.0 * 60.5 + math.pi * 0.015 ** 2 * 7800.0 * 2.0 + 300.0)
+    assert abs(sum(f[2] for f in anchors) - weight) <= 1e-8 * weight
+    assert abs(anchors[0][0] + anchors[1][0]) <= 1e-8 * weight and abs(anchors[0][0]) > 1e4
+    hanger_foot, cabin = np.array(first.tracked[0]), np.array(first.tracked[1])
+    assert np.abs((hanger_foot - cabin)[:2]).max() < 1e-9
+    work = run.records[-1].work
+    assert abs(work) > 100.0 and max(abs(r.energy_balance_error) for r in run.records) <= 1e-9 * abs(work)
