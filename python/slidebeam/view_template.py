@@ -32,6 +32,7 @@ WRITTEN_IN = "."  # the folder the run wrote this script into (if neither __file
 RANGE_RECORDS = 200  # records read for the colour scale and the camera: spread over the run
 SIZE = (1280, 720)
 SPHERE_COLOUR = {"sliders": (0.95, 0.55, 0.1), "masses": (0.25, 0.25, 0.3), "bodies": (0.2, 0.45, 0.75)}
+AXIS_COLOUR = {"d1": (0.85, 0.15, 0.15), "d2": (0.15, 0.65, 0.2), "d3": (0.15, 0.3, 0.85)}  # a body's axes
 
 
 def here() -> Path:
@@ -143,6 +144,22 @@ def _spheres(simple, view, folder: Path, name: str) -> dict:
     return {f"{name}_reader": reader, f"{name}_warp": moved, f"{name}_glyph": glyph, f"{name}_display": display}
 
 
+def _axes(simple, view, moved) -> dict:
+    """A body's axes d1, d2, d3 as arrows from its centre (red, green, blue), 2.5 spheres long."""
+    out = {}
+    for axis, colour in AXIS_COLOUR.items():
+        arrows = simple.Glyph(registrationName=f"bodies {axis}", Input=moved, GlyphType="Arrow")
+        arrows.GlyphMode = "All Points"
+        arrows.ScaleArray = ["POINTS", "No scale array"]
+        arrows.OrientationArray = ["POINTS", axis]
+        arrows.ScaleFactor = 2.5 * SPHERE_DIAMETER["bodies"]
+        display = simple.Show(arrows, view)
+        simple.ColorBy(display, None)
+        display.AmbientColor = display.DiffuseColor = list(colour)
+        out[f"bodies_{axis}_glyph"] = arrows
+    return out
+
+
 def _tension_scale(simple, tension: tuple[float, float] | None):
     """The colour scale of the tension, fixed over the run (ParaView would rescale it to
     each frame's data, and a colour would then mean another force in every frame). Set after
@@ -182,8 +199,9 @@ def build(folder: str | Path | None = None, view=None) -> dict:
     """Set up the pipeline, the displays and the camera at the last record, without rendering
     (go_to() then sets the animation's time): the readers, the filters (``beams_reader``,
     ``beams_warp``, ``beams_surface``, ``beams_lines``, ``tube``; per series of points ``<name>_reader``,
-    ``_warp``, ``_glyph``), the displays, ``lut`` (the tension's colour scale), ``view``,
-    ``times`` and ``tension_range`` (None if h5py is missing).
+    ``_warp``, ``_glyph``; the bodies' axes ``bodies_d1_glyph``, ``_d2_``, ``_d3_``), the displays,
+    ``lut`` (the tension's colour scale), ``view``, ``times`` and ``tension_range`` (None if h5py is
+    missing).
     ``folder``: the run's folder (default: this script's); ``view``: a render view (default: the
     active one, made if there is none)."""
     from paraview import simple
@@ -210,6 +228,8 @@ def build(folder: str | Path | None = None, view=None) -> dict:
     for name in SERIES:
         if name != "beams":
             p.update(_spheres(simple, view, folder, name))
+    if "bodies" in SERIES:
+        p.update(_axes(simple, view, p["bodies_warp"]))
     clock = simple.AnnotateTime(registrationName="time", Format="t = {time:.4g} s")
     p["clock_display"] = simple.Show(clock, view)
     p["times"] = _values(beams.TimestepValues)

@@ -39,7 +39,7 @@ def free_body(t_end: float = 8.0, dt: float = 0.01, integrator: str = "energy-mo
 
 def test_a_free_body_flips_about_its_intermediate_axis_keeping_energy_and_momentum():
     """The tennis-racket flip: the axis of the middle moment turns over while energy and angular
-    momentum stay constant to the Newton tolerance (1e-10 of the kinetic energy, 1e-12)."""
+    momentum stay constant to the Newton tolerance (1e-12 of each; 1.2e-13 and 9e-14 measured)."""
     sim = slidebeam.Simulation(free_body())
     body = sim.scene.bodies[0]
     axis0 = np.array(body.frame[1])  # d2 in the drawing: the intermediate axis
@@ -48,7 +48,7 @@ def test_a_free_body_flips_about_its_intermediate_axis_keeping_energy_and_moment
     assert run.complete, run.message
     H = np.array([r.total_energy for r in run.records])
     J = np.array([r.angular_momentum for r in run.records])
-    assert np.abs(H - H[0]).max() <= 1e-10 * H[0]
+    assert np.abs(H - H[0]).max() <= 1e-12 * H[0]
     assert np.abs(J - J[0]).max() <= 1e-12 * np.linalg.norm(J[0])
     assert min(turns) < -0.9  # it flipped
     centre = np.array([r.tracked[-1] for r in run.records])  # the body is tracked at its centre of mass

@@ -502,3 +502,35 @@ def test_the_paraview_script_builds_the_view_of_a_moved_run(run_cli, root, tmp_p
     assert (got["tube_type"], got["sliders_glyph_type"], got["masses_glyph_type"]) == ("TubeFilter", "Glyph", "Glyph")
     assert got["tube_points"] > 17 and got["sliders_glyph_points"] > 1 and got["masses_glyph_points"] > 1
     assert got["radius"] == pytest.approx(load_view_script(moved / "view.py").TUBE_RADIUS)
+
+
+_BODY_AXES_SCRIPT = """
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import view
+p = view.build()
+out = {}
+for axis in ("d1", "d2", "d3"):
+    glyph = p["bodies_" + axis + "_glyph"]
+    glyph.UpdatePipeline(p["times"][0])
+    out[axis] = list(glyph.GetDataInformation().GetBounds())
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(not _paraview_available(), reason="python3-paraview is not installed")
+def test_the_paraview_script_draws_a_body_s_axes(run_cli, root, tmp_path):
+    """A body's axes are arrows from its centre along d1, d2, d3 (the cable robot's platform,
+    drawn along x, y, z): each reaches 2.5 sphere diameters along its own axis only."""
+    out = run_cli("run", str(root / "runs" / "multibody" / "cable_robot.toml"), "--out", "res", "-q",
+                  "--set", "analysis.t_end=0.02")
+    assert out.returncode == 0, out.stderr
+    res = subprocess.run(["/usr/bin/python3", "-c", _BODY_AXES_SCRIPT, str(tmp_path / "res")], capture_output=True,
+                         text=True, timeout=300, cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    bounds = json.loads(res.stdout.strip().splitlines()[-1])
+    length = 2.5 * load_view_script(tmp_path / "res" / "view.py").SPHERE_DIAMETER["bodies"]
+    centre = (0.0, 0.0, 1.5)
+    for k, axis in enumerate(("d1", "d2", "d3")):
+        lo, hi = bounds[axis][2 * k], bounds[axis][2 * k + 1]
+        assert hi - centre[k] == pytest.approx(length, rel=1e-3) and lo == pytest.approx(centre[k], abs=1e-3 * length)
