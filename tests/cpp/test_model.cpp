@@ -120,7 +120,7 @@ TEST(Model, UnknownEffectAndBadParametersAreClearErrors) {
     EXPECT_NE(std::string(e.what()).find("warp_drive"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("beam_elastic"), std::string::npos);
   }
-  EXPECT_THROW(m.add_effect("clamp", EffectParams{{{"beam", 0}, {"s", 0.5}}, {}, {}}), std::invalid_argument);
+  EXPECT_THROW(m.add_effect("clamp", EffectParams{{{"beam", 0}, {"s", 1.5}}, {}, {}}), std::invalid_argument);
   EXPECT_THROW(m.add_effect("beam_elastic", EffectParams{{{"beam", 3}}, {}, {}}), std::invalid_argument);
 }
 
