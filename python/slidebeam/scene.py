@@ -1706,8 +1706,9 @@ _BODY_TABLES = ("support", "load")  # registry tables whose `beam` may name a [[
 
 
 def _named_body(t: _Table, p: ParamSpec, spec: EffectSpec, bodies: tuple[Body, ...]) -> Body | None:
-    """The body a `beam` parameter names, in the tables that take bodies."""
-    if p.kind != "beam" or spec.table not in _BODY_TABLES or not t.has(p.key):
+    """The body a `beam` parameter names in the tables that take bodies, or a `body` parameter
+    (a [[contact]] sphere's)."""
+    if p.kind != "beam" or (spec.table not in _BODY_TABLES and p.key != "body") or not t.has(p.key):
         return None
     return _body_named(bodies, t.raw(p.key))
 

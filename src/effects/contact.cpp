@@ -16,7 +16,11 @@
 /// Energy: V is part of H (potential). Under energy-momentum each point's force is the discrete
 /// gradient of V along its gap (gap_potential.hpp), so the contact's work over a step is exactly
 /// V(g1) - V(g0): energy is conserved through touch-down and lift-off without locating them.
-/// The shapes are fixed: the contact takes momentum from the beam, as a support does.
+/// A fixed shape takes momentum from the beam, as a support does. A sphere may instead be carried
+/// by a rigid body (a boulder, a ball: centred on the body's centre of mass): the gap is then that
+/// of x - phi, the force on the beam's point goes back onto the body, and since its discrete
+/// gradient is parallel to the mid-step x - phi, energy-momentum keeps the linear and angular
+/// momentum of beam and body exactly too.
 
 #include "effects/gap_potential.hpp"
 
@@ -90,6 +94,181 @@ std::unique_ptr<Effect> make_contact(const Model& m, const EffectParams& p, cons
   return std::make_unique<Contact<3, Shape>>(beam, m, p, type, shape(p));
 }
 
+/// Contact of one beam with a sphere of radius R centred on a body's centre of mass phi: the
+/// penalty of the gap |x - phi| - R at the beam's mass quadrature points, each element coupled
+/// with the body's phi.
+template <int W>
+class BodySphereContact final : public Effect {
+  static constexpr int kDofs = 3 * W + 3;  // the element's position blocks, then the body's phi
+  using Point = CentreLinePoint<W>;
+  using VecY = Eigen::Matrix<double, kDofs, 1>;
+  using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+
+ public:
+  BodySphereContact(int beam, int body, const Model& m, const EffectParams& p)
+      : beam_(beam), body_(body), law_(bed(p)), sphere_{Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), radius(p)} {
+    if (!m.beam(body_).is_rigid())
+      throw ParamError("body", "'" + m.beam(body_).name() + "' is a beam: a sphere is carried by a [[body]]");
+    label_ = "sphere_contact[" + m.beam(beam_).name() + "-" + m.beam(body_).name() + "]";
+  }
+  std::string type() const override { return "sphere_contact"; }
+  std::string label() const override { return label_; }
+
+  void distribute(const Model& m) override {
+    const Beam& b = m.beam(beam_);
+    elements_.clear();
+    for (int e = 0; e < b.n_spans(); ++e)
+      if (owns_span(m, b, e)) elements_.push_back(e);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    if (elements_.empty()) return;
+    const Beam& b = m.beam(beam_);
+    for (int e : elements_) add_cp_blocks(m.dof_map(), b.first_cp() + e, W == 3 ? 3 : 2, dofs);
+    add_cp_blocks(m.dof_map(), m.beam(body_).first_cp(), 1, dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    const std::vector<double> zero(static_cast<size_t>(kDofs * kDofs), 0.0);
+    for (int e : elements_) {
+      const auto d = dofs(m.dof_map(), m, e);
+      PetscCall(sink.add(kDofs, d.data(), kDofs, d.data(), zero.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    for (int e : elements_) {
+      VecY re = VecY::Zero();
+      element(ctx, e, re, nullptr);
+      const auto d = dofs(ctx.map, ctx.model, e);
+      for (int k = 0; k < kDofs; ++k) r.at(d[static_cast<size_t>(k)]) += re(k);
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    for (int e : elements_) {
+      VecY re = VecY::Zero();
+      MatY K = MatY::Zero();
+      element(ctx, e, re, &K);
+      const auto d = dofs(ctx.map, ctx.model, e);
+      PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+  double energy(const EvalContext& ctx) const override {
+    const Beam& b = ctx.model.beam(beam_);
+    double U = 0.0;
+    for (int e : elements_) {
+      const VecY y = gather(ctx, ctx.x, e);
+      for (int g = 0; g < n_points(b); ++g) {
+        const Point q = point(b, e, g);
+        U += q.w * law_.V(sphere_.gap(relative(q, y)));
+      }
+    }
+    return U;
+  }
+
+ private:
+  /// re += the element's generalised force (residual sign) on its blocks and on phi, K += its
+  /// derivative with respect to the step's end state: each point's force f on x is -f on phi.
+  void element(const EvalContext& ctx, int e, VecY& re, MatY* K) const {
+    const Beam& b = ctx.model.beam(beam_);
+    const bool em = ctx.rule == StepRule::EnergyMomentum;
+    const VecY y1 = gather(ctx, ctx.x, e), yf = gather(ctx, em ? ctx.x_old : ctx.xf, e);
+    for (int g = 0; g < n_points(b); ++g) {
+      const Point q = point(b, e, g);
+      const Eigen::Vector3d zf = relative(q, yf), z1 = relative(q, y1);
+      Eigen::Vector3d force;
+      Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
+      if (em) {
+        const GapStep st = sphere_.step(zf, z1);
+        const auto [dg, ddg] = gap_discrete_gradient(law_, st.g0, st.g1);
+        if (dg == 0.0 && ddg == 0.0) continue;
+        force = dg * st.w;
+        if (K) stiffness = ddg * st.w * st.n1.transpose() + dg * st.dw;
+      } else {
+        const double gf = sphere_.gap(zf), dv = law_.dV(gf), ddv = law_.ddV(gf);
+        if (dv == 0.0 && ddv == 0.0) continue;
+        const Eigen::Vector3d n = sphere_.gradient(zf);
+        force = dv * n;
+        if (K) stiffness = ctx.theta * (ddv * n * n.transpose() + dv * sphere_.hessian(zf));
+      }
+      // z = sum_i N_i x_i - phi: the weights of the blocks, the body's last
+      std::array<double, W + 1> c{};
+      for (int i = 0; i < W; ++i) c[static_cast<size_t>(i)] = q.N[static_cast<size_t>(i)];
+      c[W] = -1.0;
+      for (int i = 0; i <= W; ++i) re.template segment<3>(3 * i) += q.w * c[static_cast<size_t>(i)] * force;
+      if (!K) continue;
+      for (int i = 0; i <= W; ++i)
+        for (int j = 0; j <= W; ++j)
+          K->template block<3, 3>(3 * i, 3 * j) += q.w * c[static_cast<size_t>(i)] * c[static_cast<size_t>(j)] * stiffness;
+    }
+  }
+  static int n_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
+  static Point point(const Beam& b, int e, int g) {
+    Point p;
+    if constexpr (W == 3) {
+      const kernels::GaussPoint& gp = b.gp_full(e, g);
+      p.w = gp.w;
+      p.N = gp.N;
+      p.dN = gp.dN;
+    } else {
+      const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
+      p.w = ap.w;
+      p.N = ap.S;
+      p.dN = ap.dS;
+    }
+    return p;
+  }
+  // block i < W of the element: director, the phi of control point i; ANCF, r (even i) or r'
+  // (odd i) of node i / 2; block W: the body's phi
+  static int node(int i) { return W == 3 ? i : i / 2; }
+  static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
+  std::array<PetscInt, kDofs> dofs(const DofMap& map, const Model& m, int e) const {
+    std::array<PetscInt, kDofs> d{};
+    const PetscInt first = m.beam(beam_).first_cp(), body = m.beam(body_).first_cp();
+    for (int i = 0; i < W; ++i)
+      for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(first + e + node(i), offset(i) + k);
+    for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * W + k)] = map.q(body, k);
+    return d;
+  }
+  VecY gather(const EvalContext& ctx, const LocalValues& x, int e) const {
+    VecY y;
+    const PetscInt first = ctx.model.beam(beam_).first_cp();
+    for (int i = 0; i < W; ++i)
+      y.template segment<3>(3 * i) = Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, first + e + node(i)) + offset(i));
+    y.template segment<3>(3 * W) = Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, ctx.model.beam(body_).first_cp()));
+    return y;
+  }
+  /// The point's position relative to the sphere's centre.
+  static Eigen::Vector3d relative(const Point& q, const VecY& y) {
+    Eigen::Vector3d z = -y.template segment<3>(3 * W);
+    for (int i = 0; i < W; ++i) z += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    return z;
+  }
+
+  int beam_, body_;
+  Penalty law_;
+  RoundGap sphere_;  ///< centred at 0: its gap is taken of x - phi
+  std::string label_;
+  std::vector<int> elements_;
+};
+
+std::unique_ptr<Effect> make_sphere_contact(const Model& m, const EffectParams& p) {
+  const bool on_body = p.num.count("body") > 0, fixed = p.vec.count("center") > 0;
+  if (on_body == fixed)
+    throw ParamError(on_body ? "center" : "body",
+                     "a sphere has either a fixed `center` or a `body` that carries it (centred on its centre of "
+                     "mass), not both");
+  if (!on_body) return make_contact(m, p, "sphere_contact", &sphere);
+  const int beam = beam_param(m, p), body = static_cast<int>(p.number("body"));
+  if (body < 0 || body >= static_cast<int>(m.beams().size()))
+    throw std::invalid_argument("sphere_contact: no body with index " + std::to_string(body));
+  if (m.beam(beam).is_ancf()) return std::make_unique<BodySphereContact<4>>(beam, body, m, p);
+  return std::make_unique<BodySphereContact<3>>(beam, body, m, p);
+}
+
 }  // namespace
 
 void register_contact_effects(EffectRegistry& r) {
@@ -125,11 +304,17 @@ void register_contact_effects(EffectRegistry& r) {
                       radius, stiffness}),
         [](const Model& m, const EffectParams& p) { return make_contact(m, p, "cylinder_contact", &cylinder); });
   r.add(spec("sphere_contact", "sphere",
-                     "contact of a beam with a fixed rigid sphere from outside (frictionless): a penalty as for the "
-                     "plane",
-                     {beam, {"center", K::Vector, "m", "the sphere's centre", "", -inf, inf, false, 3}, radius,
-                      stiffness}),
-        [](const Model& m, const EffectParams& p) { return make_contact(m, p, "sphere_contact", &sphere); });
+                     "contact of a beam with a rigid sphere from outside (frictionless), fixed or carried by a body: "
+                     "a penalty as for the plane",
+                     {beam,
+                      optional_param({"center", K::Vector, "m", "the sphere's centre, fixed (or give `body`)", "",
+                                      -inf, inf, false, 3}),
+                      optional_param({"body", K::Beam, "",
+                                      "the [[body]] that carries the sphere, centred on its centre of mass (or give "
+                                      "`center`)",
+                                      ""}),
+                      radius, stiffness}),
+        [](const Model& m, const EffectParams& p) { return make_sphere_contact(m, p); });
 }
 
 }  // namespace slidebeam::effects
