@@ -298,6 +298,28 @@ struct CentreLinePoint {
   std::array<double, W> N{}, dN{};
 };
 
+/// The mass quadrature points of a beam's span (3) or ANCF element (5) ...
+inline int centre_line_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
+
+/// ... and point g of span or element e: its weight and the W shape functions of its position
+/// blocks (W = 3 a director span's phi, W = 4 an ANCF element's r and r').
+template <int W>
+CentreLinePoint<W> centre_line_point(const Beam& b, int e, int g) {
+  CentreLinePoint<W> p;
+  if constexpr (W == 3) {
+    const kernels::GaussPoint& gp = b.gp_full(e, g);
+    p.w = gp.w;
+    p.N = gp.N;
+    p.dN = gp.dN;
+  } else {
+    const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
+    p.w = ap.w;
+    p.N = ap.S;
+    p.dN = ap.dS;
+  }
+  return p;
+}
+
 /// An effect on the centre line of one beam, element by element, at the mass quadrature points
 /// (3 per span, 5 per ANCF element): drag, contact. W = 3: a director beam's quadratic span (the
 /// phi blocks of its 3 control points); W = 4: an ANCF element (r and r' of its 2 nodes, cubic
@@ -361,22 +383,8 @@ class CentreLineEffect : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
     for (int i = 0; i < W; ++i)
       Eigen::Map<Eigen::Vector3d>(r.cp(ctx.map, b.first_cp() + e + node(i)) + offset(i)) += v.template segment<3>(3 * i);
   }
-  static int n_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
-  static CentreLinePoint<W> point(const Beam& b, int e, int g) {
-    CentreLinePoint<W> p;
-    if constexpr (W == 3) {
-      const kernels::GaussPoint& gp = b.gp_full(e, g);
-      p.w = gp.w;
-      p.N = gp.N;
-      p.dN = gp.dN;
-    } else {
-      const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
-      p.w = ap.w;
-      p.N = ap.S;
-      p.dN = ap.dS;
-    }
-    return p;
-  }
+  static int n_points(const Beam& b) { return centre_line_points(b); }
+  static CentreLinePoint<W> point(const Beam& b, int e, int g) { return centre_line_point<W>(b, e, g); }
 
  private:
   // block i of the element: director, the phi of control point i; ANCF, r (even i) or r' (odd i)

@@ -178,22 +178,9 @@ class BodySphereContact final : public Effect {
     const VecY y1 = gather(ctx, ctx.x, e), yf = gather(ctx, em ? ctx.x_old : ctx.xf, e);
     for (int g = 0; g < n_points(b); ++g) {
       const Point q = point(b, e, g);
-      const Eigen::Vector3d zf = relative(q, yf), z1 = relative(q, y1);
       Eigen::Vector3d force;
-      Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();
-      if (em) {
-        const GapStep st = sphere_.step(zf, z1);
-        const auto [dg, ddg] = gap_discrete_gradient(law_, st.g0, st.g1);
-        if (dg == 0.0 && ddg == 0.0) continue;
-        force = dg * st.w;
-        if (K) stiffness = ddg * st.w * st.n1.transpose() + dg * st.dw;
-      } else {
-        const double gf = sphere_.gap(zf), dv = law_.dV(gf), ddv = law_.ddV(gf);
-        if (dv == 0.0 && ddv == 0.0) continue;
-        const Eigen::Vector3d n = sphere_.gradient(zf);
-        force = dv * n;
-        if (K) stiffness = ctx.theta * (ddv * n * n.transpose() + dv * sphere_.hessian(zf));
-      }
+      Eigen::Matrix3d stiffness;
+      if (!gap_force(law_, sphere_, ctx, relative(q, yf), relative(q, y1), K != nullptr, force, stiffness)) continue;
       // z = sum_i N_i x_i - phi: the weights of the blocks, the body's last
       std::array<double, W + 1> c{};
       for (int i = 0; i < W; ++i) c[static_cast<size_t>(i)] = q.N[static_cast<size_t>(i)];
@@ -205,22 +192,8 @@ class BodySphereContact final : public Effect {
           K->template block<3, 3>(3 * i, 3 * j) += q.w * c[static_cast<size_t>(i)] * c[static_cast<size_t>(j)] * stiffness;
     }
   }
-  static int n_points(const Beam& b) { return b.is_ancf() ? kernels::ancf::kAxialPoints : 3; }
-  static Point point(const Beam& b, int e, int g) {
-    Point p;
-    if constexpr (W == 3) {
-      const kernels::GaussPoint& gp = b.gp_full(e, g);
-      p.w = gp.w;
-      p.N = gp.N;
-      p.dN = gp.dN;
-    } else {
-      const kernels::ancf::AxialPoint& ap = b.ancf_element(e).axial[static_cast<size_t>(g)];
-      p.w = ap.w;
-      p.N = ap.S;
-      p.dN = ap.dS;
-    }
-    return p;
-  }
+  static int n_points(const Beam& b) { return centre_line_points(b); }
+  static Point point(const Beam& b, int e, int g) { return centre_line_point<W>(b, e, g); }
   // block i < W of the element: director, the phi of control point i; ANCF, r (even i) or r'
   // (odd i) of node i / 2; block W: the body's phi
   static int node(int i) { return W == 3 ? i : i / 2; }

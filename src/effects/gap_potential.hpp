@@ -107,6 +107,29 @@ struct RoundGap {
   }
 };
 
+/// A point's force d(energy)/dx of V(g(x)) within a step, from the force state xf (the step's start
+/// under energy-momentum) and the end state x1, and (with K) its derivative with respect to x1:
+/// the discrete gradient under energy-momentum, V'(g) grad g at xf otherwise. false: no force.
+template <class Law, class Shape>
+bool gap_force(const Law& law, const Shape& shape, const EvalContext& ctx, const Eigen::Vector3d& xf,
+               const Eigen::Vector3d& x1, bool with_K, Eigen::Vector3d& force, Eigen::Matrix3d& stiffness) {
+  stiffness.setZero();
+  if (ctx.rule == StepRule::EnergyMomentum) {
+    const GapStep s = shape.step(xf, x1);
+    const auto [dg, ddg] = gap_discrete_gradient(law, s.g0, s.g1);
+    if (dg == 0.0 && ddg == 0.0) return false;
+    force = dg * s.w;
+    if (with_K) stiffness = ddg * s.w * s.n1.transpose() + dg * s.dw;
+    return true;
+  }
+  const double gf = shape.gap(xf), dv = law.dV(gf), ddv = law.ddV(gf);
+  if (dv == 0.0 && ddv == 0.0) return false;
+  const Eigen::Vector3d n = shape.gradient(xf);
+  force = dv * n;
+  if (with_K) stiffness = ctx.theta * (ddv * n * n.transpose() + dv * shape.hessian(xf));
+  return true;
+}
+
 /// The potential of Law on one beam against Shape: W = 3 a director beam, W = 4 an ANCF cable.
 template <int W, class Law, class Shape = PlaneGap>
 class GapPotential : public CentreLineEffect<W> {
@@ -136,22 +159,9 @@ class GapPotential : public CentreLineEffect<W> {
     const typename Base::VecY yf = this->gather(ctx, em ? ctx.x_old : ctx.xf, b, e);  // em: the step's start
     for (int g = 0; g < Base::n_points(b); ++g) {
       const CentreLinePoint<W> q = Base::point(b, e, g);
-      const Eigen::Vector3d xf = position(q, yf), x1 = position(q, y1);
       Eigen::Vector3d force;       // d(energy)/dx at the point
-      Eigen::Matrix3d stiffness = Eigen::Matrix3d::Zero();  // its derivative with respect to the step's end
-      if (em) {
-        const GapStep s = shape_.step(xf, x1);
-        const auto [dg, ddg] = gap_discrete_gradient(law_, s.g0, s.g1);
-        if (dg == 0.0 && ddg == 0.0) continue;
-        force = dg * s.w;
-        if (K) stiffness = ddg * s.w * s.n1.transpose() + dg * s.dw;
-      } else {
-        const double gf = shape_.gap(xf), dv = law_.dV(gf), ddv = law_.ddV(gf);
-        if (dv == 0.0 && ddv == 0.0) continue;
-        const Eigen::Vector3d n = shape_.gradient(xf);
-        force = dv * n;
-        if (K) stiffness = ctx.theta * (ddv * n * n.transpose() + dv * shape_.hessian(xf));
-      }
+      Eigen::Matrix3d stiffness;   // its derivative with respect to the step's end
+      if (!gap_force(law_, shape_, ctx, position(q, yf), position(q, y1), K != nullptr, force, stiffness)) continue;
       for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * force;
       if (!K) continue;
       for (int i = 0; i < W; ++i)

@@ -156,3 +156,12 @@ def static_scene_text(path: Path, steps: int) -> str:
     dynamic_only = ("integrator =", 'start = "', "t_end =", "dt =")
     text = "\n".join(line for line in path.read_text().splitlines() if not line.startswith(dynamic_only))
     return text.replace('type = "dynamic"', f'type = "static"\nsteps = {steps}') + "\n"
+
+
+def upward_crossings(records, coordinate: int = 0, tracked: int = -1) -> np.ndarray:
+    """The times at which a tracked point's coordinate crosses 0 upwards (linear interpolation
+    between records): one per period of a swing about 0."""
+    t = np.array([r.t for r in records])
+    x = np.array([r.tracked[tracked][coordinate] for r in records])
+    return np.array([t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
+                     for i in range(len(x) - 1) if x[i] < 0 <= x[i + 1]])

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: MIT
 """Rigid bodies ([[body]], issue 37 item 1): a free body flipping about its intermediate axis
 keeps energy and angular momentum under energy-momentum; a body hung from a point by a joint
-swings at the compound pendulum's frequency, and hung from a rope on the double pendulum's modes; a heavy top precesses at the closed-form rate; the
-step Jacobian against finite differences under every integrator; one rank = two; the scene's
-errors; and the bodies' XDMF series."""
+swings at the compound pendulum's frequency, and hung from a rope on the double pendulum's
+modes; a heavy top precesses at the closed-form rate; moments on a body; the step Jacobian
+against finite differences under every integrator; one rank = two; the scene's errors; the
+bodies' XDMF series; and the multibody scenes (cable robot, ropeway)."""
 from __future__ import annotations
 
 import dataclasses
@@ -13,7 +14,8 @@ import numpy as np
 import pytest
 
 import slidebeam
-from checks import check_step_jacobian_and_rows, distributed_and_serial_records, joint_multipliers
+from checks import (check_step_jacobian_and_rows, distributed_and_serial_records, joint_multipliers,
+                    upward_crossings)
 
 # the pendulums' spins are projected onto the joint on purpose (a velocity the joint takes away)
 pytestmark = pytest.mark.filterwarnings("ignore::slidebeam.ConstraintWarning")
@@ -77,9 +79,7 @@ def test_a_hanging_body_swings_at_the_compound_pendulum_frequency():
     rad: theta^2 / 16 = 4e-5)."""
     run = slidebeam.Simulation(pendulum("revolute", t_end=3.0)).run_dynamic()
     assert run.complete, run.message
-    t = np.array([r.t for r in run.records])
-    x = np.array([r.tracked[-1][0] for r in run.records])
-    up = [t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i]) for i in range(len(x) - 1) if x[i] < 0 <= x[i + 1]]
+    up = upward_crossings(run.records)
     period = float(np.mean(np.diff(up)))
     exact = 2 * math.pi * math.sqrt((INERTIA[1] + MASS * ARM ** 2) / (MASS * 9.81 * ARM))
     assert len(up) >= 2 and abs(period / exact - 1) < 2e-4, (period, exact)
@@ -121,9 +121,7 @@ def test_a_body_hung_from_a_rope_swings_on_the_double_pendulum_s_modes(mode, tol
     scene, period = hung_from_a_rope(mode)
     run = slidebeam.Simulation(scene).run_dynamic()
     assert run.complete, run.message
-    t = np.array([r.t for r in run.records])
-    x = np.array([r.tracked[-1][0] for r in run.records])
-    up = [t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i]) for i in range(len(x) - 1) if x[i] < 0 <= x[i + 1]]
+    up = upward_crossings(run.records)
     assert len(up) >= 3 and np.abs(np.diff(up) / period - 1).max() < tolerance, (np.diff(up), period)
 
 

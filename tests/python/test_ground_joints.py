@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import slidebeam
-from checks import check_step_jacobian_and_rows, distributed_and_serial_records, drifts
+from checks import check_step_jacobian_and_rows, distributed_and_serial_records, drifts, upward_crossings
 
 # the spin about a point the support does not let it turn about: projected onto the support
 pytestmark = pytest.mark.filterwarnings("ignore::slidebeam.ConstraintWarning")
@@ -96,10 +96,8 @@ def test_a_rod_pinned_inside_its_length_swings_as_the_compound_pendulum_in_the_p
     support lets it swing out."""
     run = slidebeam.Simulation(pinned_rod()).run_dynamic()
     assert run.complete, run.message
-    t = np.array([r.t for r in run.records])
     tip = np.array([r.tracked[0] for r in run.records])
-    x = tip[:, 0]
-    up = [t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i]) for i in range(len(x) - 1) if x[i] < 0 <= x[i + 1]]
+    up = upward_crossings(run.records, tracked=0)
     period = float(np.mean(np.diff(up)))
     L, d = 1.25, 0.375
     exact = 2 * math.pi * math.sqrt((L * L / 12 + d * d) / (9.81 * d))

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import slidebeam
-from checks import check_step_jacobian_and_rows, distributed_and_serial_records, drifts, joint_multipliers
+from checks import (check_step_jacobian_and_rows, distributed_and_serial_records, drifts, joint_multipliers,
+                    upward_crossings)
 
 # b's velocity differs from a's on purpose: projected onto the joint, it sets the cross vibrating
 pytestmark = pytest.mark.filterwarnings("ignore::slidebeam.ConstraintWarning")
@@ -83,10 +84,8 @@ def test_a_revolute_hinge_swings_as_a_compound_pendulum_in_its_plane():
     rod's sideways pull by about 2e-6), where a spherical joint lets it swing 0.05 out."""
     run = slidebeam.Simulation(hinged_pendulum(g_side=2.0)).run_dynamic()
     assert run.complete, run.message
-    t = np.array([r.t for r in run.records])
     tip = np.array([r.tracked[0] for r in run.records])
-    x = tip[:, 0]
-    up = [t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i]) for i in range(len(x) - 1) if x[i] < 0 <= x[i + 1]]
+    up = upward_crossings(run.records, tracked=0)
     period = float(np.mean(np.diff(up)))
     exact = 2 * math.pi * math.sqrt(2.0 / (3 * 9.81))
     assert len(up) >= 2 and abs(period / exact - 1) < 2e-4, (period, exact)
