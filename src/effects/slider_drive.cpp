@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @file A driven slider (scene table [[slider_drive]]): a haul rope pulling a carriage along its
 /// track rope, or a winch. The sliding joint's coordinate s (the slider point's arc length along
-/// its carrier) follows a prescribed travel, s(t) = s_0 + the integral of a speed profile that
+/// its carrier) follows a prescribed travel: s(t) = s_0 + the integral of a speed profile that
 /// rises linearly from 0 at `start` to `speed` within `ramp` seconds, holds, and falls back to 0
-/// within `ramp` seconds so that it is 0 again at `stop`. One multiplier enforces s = s(t) at the
+/// within `ramp` seconds so that it is 0 again at `stop`; or s(t) = s_0 + `distance` f(t) with any
+/// time function f that starts at 0 (a smooth ramp, a table of a recorded travel, a sine). One multiplier enforces s = s(t) at the
 /// end of each step: it is the drive force along the carrier, and its work over the step, -lambda
 /// ds, is counted as driving work (W; `<label>.work`).
 ///
@@ -12,6 +13,7 @@
 /// would be the way to it.)
 
 #include "effects/common.hpp"
+#include "model/time_function.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -37,10 +39,27 @@ class SliderDrive final : public Effect {
  public:
   SliderDrive(const Model& m, const EffectParams& p)
       : slider_(beam_param(m, p)),
-        speed_(p.number("speed")),
         start_(p.number("start", 0.0)),
         stop_(p.number("stop", std::numeric_limits<double>::infinity())),
-        ramp_(p.number("ramp", 0.0)) {
+        ramp_(p.number("ramp", 0.0)),
+        by_distance_(p.num.count("distance") > 0) {
+    const bool by_speed = p.num.count("speed") > 0;
+    if (by_speed == by_distance_)
+      throw ParamError(by_speed ? "distance" : "speed",
+                       "give either a `speed` (with start, stop, ramp) or a `distance` with a `time_function`");
+    if (by_distance_) {
+      distance_ = p.number("distance");
+      if (p.string("tf_type", "").empty())
+        throw ParamError("time_function", "a `distance` travels by a time function: s = s0 + distance f(t)");
+      f_ = TimeFunction::from(p);
+      if (f_(0.0) != 0.0)
+        throw ParamError("time_function", "the travel must start where the slider is drawn: f(0) = " +
+                                              format_number(f_(0.0)) + ", not 0");
+      return;
+    }
+    if (!p.string("tf_type", "").empty())
+      throw ParamError("time_function", "a time function goes with a `distance` (a `speed` has start, stop and ramp)");
+    speed_ = p.number("speed");
     if (!(stop_ > start_)) throw std::invalid_argument("slider_drive: stop must come after start");
     if (ramp_ > 0.5 * (stop_ - start_)) throw std::invalid_argument("slider_drive: the ramps are longer than the travel");
   }
@@ -90,7 +109,7 @@ class SliderDrive final : public Effect {
     const double t = ctx.h > 0.0 ? ctx.t_end : ctx.t;
     const PetscInt lam = extra_offset();
     r.at(s) += ctx.x.at(lam);
-    r.at(lam) += ctx.x.at(s) - (s0_ + trapezoid_travel(t, speed_, start_, stop_, ramp_));
+    r.at(lam) += ctx.x.at(s) - (s0_ + travel(t));
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
@@ -105,8 +124,14 @@ class SliderDrive final : public Effect {
 
  private:
   PetscInt s_index() const { return joint_->extra_offset() + 3; }
+  double travel(double t) const {
+    return by_distance_ ? distance_ * f_(t) : trapezoid_travel(t, speed_, start_, stop_, ramp_);
+  }
   int slider_;
-  double speed_, start_, stop_, ramp_;
+  double speed_ = 0.0, start_, stop_, ramp_;
+  bool by_distance_;
+  double distance_ = 0.0;
+  TimeFunction f_;
   const Effect* joint_ = nullptr;
   std::string label_ = "slider_drive";
   double s0_ = 0.0;
@@ -118,11 +143,20 @@ void register_slider_drive_effects(EffectRegistry& r) {
   EffectSpec s;
   s.type = "slider_drive";
   s.table = "slider_drive";
-  s.meaning = "a driven slider: its sliding coordinate follows a speed profile with start and stop ramps";
+  s.meaning =
+      "a driven slider: its sliding coordinate follows a speed profile with start and stop ramps, or a distance "
+      "times a time function";
   s.role = EnergyRole::Driving;
   s.params = {
       {"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""},
-      {"speed", K::Number, "m/s", "travel speed along the carrier (negative: toward its start)", ""},
+      optional_param({"speed", K::Number, "m/s", "travel speed along the carrier (negative: toward its start)", ""}),
+      optional_param({"distance", K::Number, "m",
+                      "or: the travel along the carrier at f = 1 (negative: toward its start), s = s0 + distance "
+                      "f(t)",
+                      ""}),
+      optional_param({"time_function", K::TimeFunction, "",
+                      "with `distance`: f(t), starting at 0 (e.g. { type = \"smooth_ramp\", t0 = 0.5, t1 = 5.5 })",
+                      ""}),
       {"start", K::Number, "s", "when the travel starts", "0.0", 0.0},
       {"stop", K::Number, "s", "when it has stopped (the ramp down ends here)", "inf"},
       {"ramp", K::Number, "s", "duration of the speed's rise and fall (0: a jump)", "0.0", 0.0},
