@@ -74,6 +74,15 @@ Eigen::Vector3d stencil_point(const LocalValues& x, const DofMap& map, const Bea
 void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, const PositionStencil& st,
                      const Eigen::Vector3d& f);
 
+/// The nonzero pattern of a dense block on the unknowns d (a std::vector or std::array of
+/// global indices): d x d zeros.
+template <class Dofs>
+PetscErrorCode add_block_pattern(const MatSink& sink, const Dofs& d) {
+  const auto n = static_cast<PetscInt>(d.size());
+  const std::vector<double> zero(d.size() * d.size(), 0.0);
+  return sink.add(n, d.data(), n, d.data(), zero.data());
+}
+
 /// Index (within the beam) of the end control point at arc length s (0 or L), or -1 if s is
 /// inside the beam. Open knot vectors make end control points interpolate; ANCF end nodes are
 /// the end points.
@@ -244,11 +253,7 @@ class ElementEffect : public Effect {
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
     const Beam& b = m.beam(beam_);
-    const std::vector<double> zero(static_cast<size_t>(kElDofs * kElDofs), 0.0);
-    for (int e : elements_) {
-      const Dofs d = element_dofs(m.dof_map(), b, e);
-      PetscCall(sink.add(kElDofs, d.data(), kElDofs, d.data(), zero.data()));
-    }
+    for (int e : elements_) PetscCall(add_block_pattern(sink, element_dofs(m.dof_map(), b, e)));
     PetscFunctionReturn(0);
   }
 

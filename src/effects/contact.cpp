@@ -128,11 +128,7 @@ class BodySphereContact final : public Effect {
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
-    const std::vector<double> zero(static_cast<size_t>(kDofs * kDofs), 0.0);
-    for (int e : elements_) {
-      const auto d = dofs(m.dof_map(), m, e);
-      PetscCall(sink.add(kDofs, d.data(), kDofs, d.data(), zero.data()));
-    }
+    for (int e : elements_) PetscCall(add_block_pattern(sink, dofs(m.dof_map(), m, e)));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {

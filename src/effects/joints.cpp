@@ -274,11 +274,7 @@ class Joint final : public Effect, public ReactionSource {
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
-    if (!owned_) PetscFunctionReturn(0);
-    const auto d = local_dofs(m);
-    const auto n = static_cast<PetscInt>(d.size());
-    const std::vector<double> zero(d.size() * d.size(), 0.0);
-    PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
+    if (owned_) PetscCall(add_block_pattern(sink, local_dofs(m)));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {

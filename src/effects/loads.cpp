@@ -87,11 +87,7 @@ class PointMass final : public Effect {
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
-    if (!owned_) PetscFunctionReturn(0);
-    const auto d = stencil_dofs(m.dof_map(), m.beam(point.beam), point.stencil);
-    const std::vector<double> zero(d.size() * d.size(), 0.0);
-    const auto n = static_cast<PetscInt>(d.size());
-    PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
+    if (owned_) PetscCall(add_block_pattern(sink, stencil_dofs(m.dof_map(), m.beam(point.beam), point.stencil)));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
@@ -224,11 +220,7 @@ class PointLoad final : public Effect {
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
-    if (!owned_ || !moment_) PetscFunctionReturn(0);
-    const auto d = director_dofs(m.dof_map(), m);
-    const auto n = static_cast<PetscInt>(d.size());
-    const std::vector<double> zero(d.size() * d.size(), 0.0);
-    PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
+    if (owned_ && moment_) PetscCall(add_block_pattern(sink, director_dofs(m.dof_map(), m)));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {

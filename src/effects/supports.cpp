@@ -249,12 +249,7 @@ class Spherical final : public Effect, public ReactionSource {
   }
   PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
     PetscFunctionBeginUser;
-    if (owned_) {
-      const auto d = dofs(m.dof_map(), m);
-      const std::vector<double> zero(d.size() * d.size(), 0.0);
-      const auto n = static_cast<PetscInt>(d.size());
-      PetscCall(sink.add(n, d.data(), n, d.data(), zero.data()));
-    }
+    if (owned_) PetscCall(add_block_pattern(sink, dofs(m.dof_map(), m)));
     PetscFunctionReturn(0);
   }
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
