@@ -105,14 +105,13 @@ def net_scene(k: int, spans: int, length: float, t_end: float, dt: float, start:
                 out += ["[[rigid_joint]]", f'beams = ["{west}", "{other}"]', f'at = ["end", "{end}"]', ""]
     middle = stretch("x", k // 2, k // 2)
     track = f'{{ beam = "{middle}", at = "end" }}'
+    ropes = [stretch(d, i, j) for d in ("x", "y") for i in range(k) for j in range(k + 1)]
     if boulder is not None:
-        ropes = [stretch(d, i, j) for d in ("x", "y") for i in range(k) for j in range(k + 1)]
         out += boulder_tables(boulder[0], length / 2.0, boulder[1], boulder[2], ropes)
+        track += ', { body = "boulder" }'
     if damping:
-        ropes = [stretch(d, i, j) for d in ("x", "y") for i in range(k) for j in range(k + 1)]
         for name in ropes:
             out += ["[[damping]]", f'beam = "{name}"', f"retardation_time = {damping!r}", ""]
-        track += ', { body = "boulder" }'
     out += ["[gravity]", "g = [0.0, 0.0, -9.81]", "", "[output]", "every = 10", "samples_per_span = 4",
             f"track = [{track}]", ""]
     return "\n".join(out)

@@ -26,6 +26,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <memory>
@@ -141,9 +142,15 @@ class BodySphereContact final : public Effect {
     }
     PetscFunctionReturn(0);
   }
+  /// Only the spans near the sphere: the others' blocks are zero, and adding them would couple
+  /// the body's centre with every span of the beam, a dense row in every factorisation (on
+  /// runs/multibody/rockfall_net.toml's first 0.3 s the linear solves took 3.9 s with it, 2.9 s
+  /// without). The assembled pattern then follows the contact (the solvers set their
+  /// factorisation up anew when it changes); the preallocated one (pattern()) holds them all.
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     for (int e : elements_) {
+      if (!near(ctx, e)) continue;
       VecY re = VecY::Zero();
       MatY K = MatY::Zero();
       element(ctx, e, re, &K);
@@ -187,6 +194,17 @@ class BodySphereContact final : public Effect {
         for (int j = 0; j <= W; ++j)
           K->template block<3, 3>(3 * i, 3 * j) += q.w * c[static_cast<size_t>(i)] * c[static_cast<size_t>(j)] * stiffness;
     }
+  }
+  /// Whether a point of span e is within half the radius of the sphere's surface at the step's
+  /// end or force state (a margin, so that the pattern changes less often than the contact).
+  bool near(const EvalContext& ctx, int e) const {
+    const Beam& b = ctx.model.beam(beam_);
+    const VecY y1 = gather(ctx, ctx.x, e), yf = gather(ctx, ctx.rule == StepRule::EnergyMomentum ? ctx.x_old : ctx.xf, e);
+    for (int g = 0; g < n_points(b); ++g) {
+      const Point q = point(b, e, g);
+      if (std::min(sphere_.gap(relative(q, y1)), sphere_.gap(relative(q, yf))) < 0.5 * sphere_.R) return true;
+    }
+    return false;
   }
   static int n_points(const Beam& b) { return centre_line_points(b); }
   static Point point(const Beam& b, int e, int g) { return centre_line_point<W>(b, e, g); }
