@@ -90,7 +90,7 @@ def _allowed(p: ParamSpec) -> str:
         return ("integer" + (f" {b}" if b else "")) if k == "integer" else b
     if k == "vector":
         b = _bounds(p)
-        return f"{p.size} numbers" + (f", each {b}" if b else "")
+        return f"{p.size or '2 or more'} numbers" + (f", each {b}" if b else "")
     if k == "choice":
         return ", ".join(f'"{c}"' for c in p.choices)
     if k == "beam":

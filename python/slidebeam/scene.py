@@ -1638,8 +1638,10 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
         elif p.kind in ("number", "integer"):
             num[p.key] = _bounded_number(t, p, value)
         elif p.kind == "vector":
-            if not isinstance(value, list) or (len(value) != p.size and not (value == [] and p.default == "[]")):
-                raise t.error(p.key, f"must be an array of {p.size} numbers"
+            any_length = p.size == 0  # a list of 2 or more (a profile's heights)
+            if not isinstance(value, list) or (
+                    (len(value) < 2 if any_length else len(value) != p.size) and not (value == [] and p.default == "[]")):
+                raise t.error(p.key, f"must be an array of {'2 or more' if any_length else p.size} numbers"
                                      f"{f' ({p.unit})' if p.unit else ''}, got {_show(value)}")
             xs = [t._to_float(p.key, v) for v in value]
             if any(not (x > p.min if p.min_open else x >= p.min) or x > p.max for x in xs):
