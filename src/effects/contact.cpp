@@ -25,6 +25,7 @@
 #include "effects/gap_potential.hpp"
 
 #include <Eigen/Dense>
+#include <unsupported/Eigen/AutoDiff>
 
 #include <algorithm>
 #include <array>
@@ -95,24 +96,146 @@ std::unique_ptr<Effect> make_contact(const Model& m, const EffectParams& p, cons
   return std::make_unique<Contact<3, Shape>>(beam, m, p, type, shape(p));
 }
 
-/// Contact of one beam with a sphere of radius R centred on a body's centre of mass phi: the
-/// penalty of the gap |x - phi| - R at the beam's mass quadrature points, each element coupled
-/// with the body's phi.
-template <int W>
-class BodySphereContact final : public Effect {
-  static constexpr int kDofs = 3 * W + 3;  // the element's position blocks, then the body's phi
+/// A sphere of radius R centred on the body's centre of mass phi: the gap of z = x - phi. The
+/// body coordinates it reads: phi.
+struct SphereOnBody {
+  static constexpr int kBody = 3;
+  static constexpr const char* kType = "sphere_contact";
+  using Body = Eigen::Matrix<double, kBody, 1>;
+  using Force = Eigen::Matrix<double, 3 + kBody, 1>;
+  using Stiffness = Eigen::Matrix<double, 3 + kBody, 3 + kBody>;
+  RoundGap sphere;  ///< centred at 0
+
+  double radius() const { return sphere.R; }
+  double gap(const Eigen::Vector3d& x, const Body& b) const { return sphere.gap(x - b); }
+  /// The point's force (d energy / d (x, phi)) and its derivative with respect to the step's end,
+  /// from the force state (xf, bf) and the end (x1, b1), as gap_force.
+  bool force(const Penalty& law, const EvalContext& ctx, const Eigen::Vector3d& xf, const Body& bf,
+             const Eigen::Vector3d& x1, const Body& b1, bool with_K, Force& f, Stiffness& K) const {
+    Eigen::Vector3d F;
+    Eigen::Matrix3d S;
+    if (!gap_force(law, sphere, ctx, xf - bf, x1 - b1, with_K, F, S)) return false;
+    f << F, -F;
+    if (with_K) K << S, -S, -S, S;
+    return true;
+  }
+};
+
+/// A cylinder of radius R about an axis through the body's centre of mass, fixed in the body (a
+/// drum, a sheave: it turns with the body). With D = (d1, d2, d3) the body's axes and u_1, u_2 the
+/// body components of two directions perpendicular to the axis, the point's coordinates across
+/// the axis are xi_k = (D u_k) . (x - phi), bilinear in the unknowns, and the gap is |xi| - R.
+/// Under energy-momentum the force is the discrete gradient of V(|xi| - R): DG_V times
+/// c . (Delta xi), c = (xi0 + xi1) / (|xi0| + |xi1|) (the norm's), and the bilinear xi's exact
+/// increments (the product rule at the step's middle). The point's force and its moment on the
+/// body cancel: energy and both momenta of rope and drum are exact. The body coordinates it reads:
+/// phi, d1, d2, d3. Its derivatives come by forward-mode automatic differentiation.
+struct CylinderOnBody {
+  static constexpr int kBody = 12;
+  static constexpr int kVars = 3 + kBody;  // x, phi, d1, d2, d3
+  static constexpr const char* kType = "cylinder_contact";
+  using Body = Eigen::Matrix<double, kBody, 1>;
+  using Force = Eigen::Matrix<double, kVars, 1>;
+  using Stiffness = Eigen::Matrix<double, kVars, kVars>;
+  using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, kVars, 1>>;
+  std::array<Eigen::Vector3d, 2> u;  ///< body components of two directions across the axis
+  double R = 0.0;
+
+  double radius() const { return R; }
+  template <class T>
+  std::array<T, 2> xi(const Eigen::Matrix<T, kVars, 1>& s) const {
+    const Eigen::Matrix<T, 3, 1> z = s.template segment<3>(0) - s.template segment<3>(3);
+    std::array<T, 2> out;
+    for (size_t k = 0; k < 2; ++k) {
+      const Eigen::Matrix<T, 3, 1> a = T(u[k](0)) * s.template segment<3>(6) + T(u[k](1)) * s.template segment<3>(9) +
+                                       T(u[k](2)) * s.template segment<3>(12);
+      out[k] = a.dot(z);
+    }
+    return out;
+  }
+  static Eigen::Matrix<double, kVars, 1> stack(const Eigen::Vector3d& x, const Body& b) {
+    Eigen::Matrix<double, kVars, 1> s;
+    s << x, b;
+    return s;
+  }
+  static Eigen::Matrix<AD, kVars, 1> active(const Eigen::Matrix<double, kVars, 1>& s) {
+    Eigen::Matrix<AD, kVars, 1> a;
+    for (int i = 0; i < kVars; ++i) a(i) = AD(s(i), kVars, i);
+    return a;
+  }
+  double gap(const Eigen::Vector3d& x, const Body& b) const {
+    const auto e = xi(stack(x, b));
+    return std::hypot(e[0], e[1]) - R;
+  }
+  /// d g / d s at a state (AD): the gradient of |xi| - R.
+  Eigen::Matrix<AD, kVars, 1> gradient(const Eigen::Matrix<AD, kVars, 1>& s, const std::array<AD, 2>& c) const {
+    // d xi_k / d x = D u_k = -d xi_k / d phi; d xi_k / d d_i = u_k(i) z
+    Eigen::Matrix<AD, kVars, 1> w;
+    const Eigen::Matrix<AD, 3, 1> z = s.template segment<3>(0) - s.template segment<3>(3);
+    Eigen::Matrix<AD, 3, 1> wz = Eigen::Matrix<AD, 3, 1>::Zero();
+    for (size_t k = 0; k < 2; ++k)
+      wz += c[k] * (AD(u[k](0)) * s.template segment<3>(6) + AD(u[k](1)) * s.template segment<3>(9) +
+                    AD(u[k](2)) * s.template segment<3>(12));
+    w.template segment<3>(0) = wz;
+    w.template segment<3>(3) = -wz;
+    for (int i = 0; i < 3; ++i)
+      w.template segment<3>(6 + 3 * i) = (c[0] * AD(u[0](i)) + c[1] * AD(u[1](i))) * z;
+    return w;
+  }
+  bool force(const Penalty& law, const EvalContext& ctx, const Eigen::Vector3d& xf, const Body& bf,
+             const Eigen::Vector3d& x1, const Body& b1, bool with_K, Force& f, Stiffness& K) const {
+    Eigen::Matrix<AD, kVars, 1> w;
+    AD scale;
+    if (ctx.rule == StepRule::EnergyMomentum) {  // xf: the step's start; active: the end
+      const auto s0 = stack(xf, bf);
+      const Eigen::Matrix<AD, kVars, 1> s1 = active(stack(x1, b1));
+      const auto xi0 = xi(s0);
+      const auto xi1 = xi(s1);
+      const double r0 = std::hypot(xi0[0], xi0[1]);
+      const AD r1 = sqrt(xi1[0] * xi1[0] + xi1[1] * xi1[1]);
+      const auto [dg, ddg] = gap_discrete_gradient(law, r0 - R, r1.value() - R);
+      if (dg == 0.0 && ddg == 0.0) return false;
+      scale = AD(dg, ddg * r1.derivatives());
+      const std::array<AD, 2> c = {(AD(xi0[0]) + xi1[0]) / (AD(r0) + r1), (AD(xi0[1]) + xi1[1]) / (AD(r0) + r1)};
+      Eigen::Matrix<AD, kVars, 1> mid;
+      for (int i = 0; i < kVars; ++i) mid(i) = 0.5 * (AD(s0(i)) + s1(i));
+      w = gradient(mid, c);  // the bilinear xi's exact increment: its gradient at the middle
+    } else {  // the force state is active; d/d(end) = theta d/d(force state)
+      const Eigen::Matrix<AD, kVars, 1> s = active(stack(xf, bf));
+      const auto e = xi(s);
+      const AD r = sqrt(e[0] * e[0] + e[1] * e[1]);
+      const double g = r.value() - R, dv = law.dV(g), ddv = law.ddV(g);
+      if (dv == 0.0 && ddv == 0.0) return false;
+      scale = AD(dv, ddv * r.derivatives());
+      w = gradient(s, {e[0] / r, e[1] / r});
+    }
+    for (int i = 0; i < kVars; ++i) {
+      const AD fi = scale * w(i);
+      f(i) = fi.value();
+      if (with_K) K.row(i) = (ctx.rule == StepRule::EnergyMomentum ? 1.0 : ctx.theta) * fi.derivatives().transpose();
+    }
+    return true;
+  }
+};
+
+/// Contact of one beam with a shape carried by a rigid body (Kernel: SphereOnBody,
+/// CylinderOnBody): a penalty of the point's gap at the beam's mass quadrature points, each
+/// element coupled with the body coordinates the shape reads.
+template <int W, class Kernel>
+class BodyContact final : public Effect {
+  static constexpr int kBody = Kernel::kBody;
+  static constexpr int kDofs = 3 * W + kBody;  // the element's position blocks, then the body's
   using Point = CentreLinePoint<W>;
   using VecY = Eigen::Matrix<double, kDofs, 1>;
   using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+  using Body = typename Kernel::Body;
 
  public:
-  BodySphereContact(int beam, int body, const Model& m, const EffectParams& p)
-      : beam_(beam), body_(body), law_(bed(p)), sphere_{Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), radius(p)} {
-    if (!m.beam(body_).is_rigid())
-      throw ParamError("body", "'" + m.beam(body_).name() + "' is a beam: a sphere is carried by a [[body]]");
-    label_ = "sphere_contact[" + m.beam(beam_).name() + "-" + m.beam(body_).name() + "]";
+  BodyContact(int beam, int body, const Model& m, const EffectParams& p, const Kernel& kernel)
+      : beam_(beam), body_(body), law_(bed(p)), kernel_(kernel) {
+    label_ = std::string(Kernel::kType) + "[" + m.beam(beam_).name() + "-" + m.beam(body_).name() + "]";
   }
-  std::string type() const override { return "sphere_contact"; }
+  std::string type() const override { return Kernel::kType; }
   std::string label() const override { return label_; }
 
   void distribute(const Model& m) override {
@@ -142,8 +265,8 @@ class BodySphereContact final : public Effect {
     }
     PetscFunctionReturn(0);
   }
-  /// Only the spans near the sphere: the others' blocks are zero, and adding them would couple
-  /// the body's centre with every span of the beam, a dense row in every factorisation (on
+  /// Only the spans near the shape: the others' blocks are zero, and adding them would couple
+  /// the body with every span of the beam, a dense row in every factorisation (on
   /// runs/multibody/rockfall_net.toml's first 0.3 s the linear solves took 3.9 s with it, 2.9 s
   /// without). The assembled pattern then follows the contact (the solvers set their
   /// factorisation up anew when it changes); the preallocated one (pattern()) holds them all.
@@ -166,50 +289,61 @@ class BodySphereContact final : public Effect {
       const VecY y = gather(ctx, ctx.x, e);
       for (int g = 0; g < n_points(b); ++g) {
         const Point q = point(b, e, g);
-        U += q.w * law_.V(sphere_.gap(relative(q, y)));
+        U += q.w * law_.V(kernel_.gap(position(q, y), y.template tail<kBody>()));
       }
     }
     return U;
   }
 
  private:
-  /// re += the element's generalised force (residual sign) on its blocks and on phi, K += its
-  /// derivative with respect to the step's end state: each point's force f on x is -f on phi.
+  /// re += the element's generalised force (residual sign) on its blocks and on the body's
+  /// coordinates, K += its derivative with respect to the step's end state.
   void element(const EvalContext& ctx, int e, VecY& re, MatY* K) const {
     const Beam& b = ctx.model.beam(beam_);
     const bool em = ctx.rule == StepRule::EnergyMomentum;
     const VecY y1 = gather(ctx, ctx.x, e), yf = gather(ctx, em ? ctx.x_old : ctx.xf, e);
+    const Body b1 = y1.template tail<kBody>(), bf = yf.template tail<kBody>();
     for (int g = 0; g < n_points(b); ++g) {
       const Point q = point(b, e, g);
-      Eigen::Vector3d force;
-      Eigen::Matrix3d stiffness;
-      if (!gap_force(law_, sphere_, ctx, relative(q, yf), relative(q, y1), K != nullptr, force, stiffness)) continue;
-      // z = sum_i N_i x_i - phi: the weights of the blocks, the body's last
-      std::array<double, W + 1> c{};
-      for (int i = 0; i < W; ++i) c[static_cast<size_t>(i)] = q.N[static_cast<size_t>(i)];
-      c[W] = -1.0;
-      for (int i = 0; i <= W; ++i) re.template segment<3>(3 * i) += q.w * c[static_cast<size_t>(i)] * force;
+      typename Kernel::Force f;
+      typename Kernel::Stiffness S;
+      if (!kernel_.force(law_, ctx, position(q, yf), bf, position(q, y1), b1, K != nullptr, f, S)) continue;
+      // the point's x = sum_i N_i y_i: its force spread by N_i; the body's part as it is
+      for (int i = 0; i < W; ++i) re.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.template head<3>();
+      re.template tail<kBody>() += q.w * f.template tail<kBody>();
       if (!K) continue;
-      for (int i = 0; i <= W; ++i)
-        for (int j = 0; j <= W; ++j)
-          K->template block<3, 3>(3 * i, 3 * j) += q.w * c[static_cast<size_t>(i)] * c[static_cast<size_t>(j)] * stiffness;
+      for (int i = 0; i < W; ++i) {
+        const double Ni = q.w * q.N[static_cast<size_t>(i)];
+        for (int j = 0; j < W; ++j)
+          K->template block<3, 3>(3 * i, 3 * j) += Ni * q.N[static_cast<size_t>(j)] * S.template topLeftCorner<3, 3>();
+        K->template block<3, kBody>(3 * i, 3 * W) += Ni * S.template topRightCorner<3, kBody>();
+        K->template block<kBody, 3>(3 * W, 3 * i) += Ni * S.template bottomLeftCorner<kBody, 3>();
+      }
+      K->template block<kBody, kBody>(3 * W, 3 * W) += q.w * S.template bottomRightCorner<kBody, kBody>();
     }
   }
-  /// Whether a point of span e is within half the radius of the sphere's surface at the step's
+  /// Whether a point of span e is within half the shape's radius of its surface at the step's
   /// end or force state (a margin, so that the pattern changes less often than the contact).
   bool near(const EvalContext& ctx, int e) const {
     const Beam& b = ctx.model.beam(beam_);
     const VecY y1 = gather(ctx, ctx.x, e), yf = gather(ctx, ctx.rule == StepRule::EnergyMomentum ? ctx.x_old : ctx.xf, e);
     for (int g = 0; g < n_points(b); ++g) {
       const Point q = point(b, e, g);
-      if (std::min(sphere_.gap(relative(q, y1)), sphere_.gap(relative(q, yf))) < 0.5 * sphere_.R) return true;
+      const double gap = std::min(kernel_.gap(position(q, y1), y1.template tail<kBody>()),
+                                  kernel_.gap(position(q, yf), yf.template tail<kBody>()));
+      if (gap < 0.5 * kernel_.radius()) return true;
     }
     return false;
   }
   static int n_points(const Beam& b) { return centre_line_points(b); }
   static Point point(const Beam& b, int e, int g) { return centre_line_point<W>(b, e, g); }
+  static Eigen::Vector3d position(const Point& q, const VecY& y) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    return x;
+  }
   // block i < W of the element: director, the phi of control point i; ANCF, r (even i) or r'
-  // (odd i) of node i / 2; block W: the body's phi
+  // (odd i) of node i / 2; then the body's first kBody coordinates (phi, then d1, d2, d3)
   static int node(int i) { return W == 3 ? i : i / 2; }
   static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
   std::array<PetscInt, kDofs> dofs(const DofMap& map, const Model& m, int e) const {
@@ -217,7 +351,7 @@ class BodySphereContact final : public Effect {
     const PetscInt first = m.beam(beam_).first_cp(), body = m.beam(body_).first_cp();
     for (int i = 0; i < W; ++i)
       for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(first + e + node(i), offset(i) + k);
-    for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * W + k)] = map.q(body, k);
+    for (int k = 0; k < kBody; ++k) d[static_cast<size_t>(3 * W + k)] = map.q(body, k);
     return d;
   }
   VecY gather(const EvalContext& ctx, const LocalValues& x, int e) const {
@@ -225,35 +359,64 @@ class BodySphereContact final : public Effect {
     const PetscInt first = ctx.model.beam(beam_).first_cp();
     for (int i = 0; i < W; ++i)
       y.template segment<3>(3 * i) = Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, first + e + node(i)) + offset(i));
-    y.template segment<3>(3 * W) = Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, ctx.model.beam(body_).first_cp()));
+    y.template tail<kBody>() = Eigen::Map<const Body>(x.cp(ctx.map, ctx.model.beam(body_).first_cp()));
     return y;
-  }
-  /// The point's position relative to the sphere's centre.
-  static Eigen::Vector3d relative(const Point& q, const VecY& y) {
-    Eigen::Vector3d z = -y.template segment<3>(3 * W);
-    for (int i = 0; i < W; ++i) z += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return z;
   }
 
   int beam_, body_;
   Penalty law_;
-  RoundGap sphere_;  ///< centred at 0: its gap is taken of x - phi
+  Kernel kernel_;
   std::string label_;
   std::vector<int> elements_;
 };
 
-std::unique_ptr<Effect> make_sphere_contact(const Model& m, const EffectParams& p) {
-  const bool on_body = p.num.count("body") > 0, fixed = p.vec.count("center") > 0;
-  if (on_body == fixed)
-    throw ParamError(on_body ? "center" : "body",
-                     "a sphere has either a fixed `center` or a `body` that carries it (centred on its centre of "
-                     "mass), not both");
-  if (!on_body) return make_contact(m, p, "sphere_contact", &sphere);
-  const int beam = beam_param(m, p), body = static_cast<int>(p.number("body"));
+/// The body a contact shape is carried by (its "body" parameter), checked to be a [[body]].
+int carrier_body(const Model& m, const EffectParams& p, const char* shape) {
+  const int body = static_cast<int>(p.number("body"));
   if (body < 0 || body >= static_cast<int>(m.beams().size()))
-    throw std::invalid_argument("sphere_contact: no body with index " + std::to_string(body));
-  if (m.beam(beam).is_ancf()) return std::make_unique<BodySphereContact<4>>(beam, body, m, p);
-  return std::make_unique<BodySphereContact<3>>(beam, body, m, p);
+    throw std::invalid_argument(std::string(shape) + "_contact: no body with index " + std::to_string(body));
+  if (!m.beam(body).is_rigid())
+    throw ParamError("body", "'" + m.beam(body).name() + "' is a beam: a " + shape + " is carried by a [[body]]");
+  return body;
+}
+
+template <class Kernel>
+std::unique_ptr<Effect> make_body_contact(const Model& m, const EffectParams& p, int body, const Kernel& kernel) {
+  const int beam = beam_param(m, p);
+  if (m.beam(beam).is_ancf()) return std::make_unique<BodyContact<4, Kernel>>(beam, body, m, p, kernel);
+  return std::make_unique<BodyContact<3, Kernel>>(beam, body, m, p, kernel);
+}
+
+/// Fixed (`center`, `point`) or carried by a body (`body`): which one the entry says.
+bool on_body(const EffectParams& p, const char* fixed_key) {
+  const bool carried = p.num.count("body") > 0, fixed = p.vec.count(fixed_key) > 0;
+  if (carried == fixed)
+    throw ParamError(carried ? fixed_key : "body",
+                     std::string("give either a fixed `") + fixed_key + "` or the `body` that carries the shape "
+                     "(through its centre of mass), not both");
+  return carried;
+}
+
+std::unique_ptr<Effect> make_sphere_contact(const Model& m, const EffectParams& p) {
+  if (!on_body(p, "center")) return make_contact(m, p, "sphere_contact", &sphere);
+  SphereOnBody k{{Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), radius(p)}};
+  return make_body_contact(m, p, carrier_body(m, p, "sphere"), k);
+}
+
+std::unique_ptr<Effect> make_cylinder_contact(const Model& m, const EffectParams& p) {
+  if (!on_body(p, "point")) return make_contact(m, p, "cylinder_contact", &cylinder);
+  const int body = carrier_body(m, p, "cylinder");
+  // the axis drawn in space, in the body's components
+  const Beam& B = m.beam(body);
+  Eigen::Matrix3d D;
+  for (int i = 0; i < 3; ++i) D.col(i) = Eigen::Map<const Eigen::Vector3d>(B.q_ref().data() + 3 + 3 * i);
+  const Eigen::Vector3d a = D.transpose() * unit(p, "axis", "the cylinder's axis");
+  const Eigen::Vector3d helper = std::abs(a.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  CylinderOnBody k;
+  k.u[0] = a.cross(helper).normalized();
+  k.u[1] = a.cross(k.u[0]);
+  k.R = radius(p);
+  return make_body_contact(m, p, body, k);
 }
 
 }  // namespace
@@ -286,10 +449,16 @@ void register_contact_effects(EffectRegistry& r) {
                      "contact of a beam with a fixed rigid cylinder from outside (a drum, a sheave, a pipe, a "
                      "bollard; frictionless): a penalty as for the plane",
                      {beam,
-                      {"point", K::Vector, "m", "a point of the cylinder's axis", "", -inf, inf, false, 3},
-                      {"axis", K::Vector, "", "the axis' direction (the cylinder is endless)", "", -inf, inf, false, 3},
+                      optional_param({"point", K::Vector, "m", "a point of the cylinder's axis, fixed (or give `body`)",
+                                      "", -inf, inf, false, 3}),
+                      optional_param({"body", K::Beam, "",
+                                      "the [[body]] that carries the cylinder, its axis through the body's centre of "
+                                      "mass, turning with it (a drum, a sheave; or give `point`)",
+                                      ""}),
+                      {"axis", K::Vector, "", "the axis' direction as drawn (the cylinder is endless)", "", -inf, inf,
+                       false, 3},
                       radius, stiffness}),
-        [](const Model& m, const EffectParams& p) { return make_contact(m, p, "cylinder_contact", &cylinder); });
+        [](const Model& m, const EffectParams& p) { return make_cylinder_contact(m, p); });
   r.add(spec("sphere_contact", "sphere",
                      "contact of a beam with a rigid sphere from outside (frictionless), fixed or carried by a body: "
                      "a penalty as for the plane",
