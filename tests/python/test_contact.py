@@ -300,3 +300,26 @@ def test_a_body_dropped_on_a_held_rope_bounces_back_keeping_energy(shape):
 def test_carried_shapes_run_alike_on_one_and_two_ranks():
     for shape in CARRIED:
         distributed_and_serial_records(thrown_at_rope(shape, t_end=0.1, dt=0.01))
+
+
+def test_the_winch_reels_its_rope_onto_the_drum(root):
+    """runs/multibody/winch.toml: a drum turned half a turn reels in pi R of rope (the load rises
+    by it, to 2 mm: the rope's stretch under the load's swing), the wound rope lies on the drum
+    (the first pi R of it within 1.5 mm of the drum's radius, sunk by the bed's give T / (R k) =
+    0.66 mm to 10 % between its ends, where the rope bends onto and off the drum), no step is cut,
+    and the energy balance closes with the drive's work (1e-9 of it)."""
+    sim = slidebeam.Simulation(slidebeam.load_scene(root / "runs" / "multibody" / "winch.toml",
+                                                    ["analysis.t_end=4.5"]))
+    run = sim.run_dynamic()
+    assert run.complete and run.records[-1].rejected_steps == 0, run.message
+    R = 0.305
+    rise = run.records[-1].tracked[0][2] - run.records[0].tracked[0][2]
+    assert abs(rise - np.pi * R) < 2e-3, rise
+    wound = sim.evaluate("rope", np.linspace(0.05, np.pi * R - 0.05, 12))[:, :3]
+    centre = sim.control_points(sim.scene.bodies[0].index)[0, :3]
+    radial = np.hypot(wound[:, 0] - centre[0], wound[:, 2] - centre[2])
+    assert np.all((radial < R) & (radial > R - 1.5e-3)), radial
+    T = (20.0 + 0.15 * 3.04) * 9.81  # the load and the hanging rope
+    assert abs(np.mean(R - radial[1:-1]) / (T / (R * 1e6)) - 1) < 0.1, radial
+    work = run.records[-1].work
+    assert work > 150.0 and max(abs(r.energy_balance_error) for r in run.records) <= 1e-9 * work
