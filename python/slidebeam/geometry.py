@@ -113,13 +113,18 @@ def reference_coordinates(beam: Beam) -> np.ndarray:
     frame0 = np.column_stack([t0, d2_0, np.cross(t0, d2_0)])
     q = np.zeros((n + 2, 12))
     h = 1e-7 * L
+    frame, tangent = frame0, t0
     for a, x in enumerate(xi):
         s = float(x) * L
         if beam.geometry.kind == "arc":
             frame = _arc_rotation(beam, s) @ frame0
-        else:
-            # Lines keep the start frame; at polyline corners the tangent is the mean of both sides.
-            frame = frame0 if beam.geometry.kind == "line" else _rotation_between(t0, _tangent(beam, s, h)) @ frame0
+        elif beam.geometry.kind == "polyline":
+            # transported from the previous point by the smallest rotation between the tangents
+            # (parallel transport: a polyline may turn back on itself, a rope around a sheave);
+            # at corners the tangent is the mean of both sides
+            following = _tangent(beam, s, h)
+            frame = _rotation_between(tangent, following) @ frame
+            tangent = following
         q[a, 0:3] = P[a]
         q[a, 3:12] = frame.T.reshape(-1)
     return q

@@ -323,3 +323,19 @@ def test_the_winch_reels_its_rope_onto_the_drum(root):
     assert abs(np.mean(R - radial[1:-1]) / (T / (R * 1e6)) - 1) < 0.1, radial
     work = run.records[-1].work
     assert work > 150.0 and max(abs(r.energy_balance_error) for r in run.records) <= 1e-9 * work
+
+
+def test_the_block_and_tackle_hangs_its_block_on_half_its_weight(root):
+    """runs/multibody/block_and_tackle.toml, the equilibrium start: on frictionless sheaves the
+    rope's tension changes only with height, T(z) = T0 + w z (w its weight per length), and the
+    block hangs on both sides of its pulley, 2 T0 = m g + w pi r. So the free end (z = 0.5) pulls
+    T0 + 0.5 w (to 1e-4; 3.5e-5 measured) and the anchor (z = 2) T0 + 2 w (to 5e-4; 2e-4: the
+    block settles 2.6 mm below its drawing, and the beds give)."""
+    sim = slidebeam.Simulation(slidebeam.load_scene(root / "runs" / "multibody" / "block_and_tackle.toml",
+                                                    ["analysis.t_end=0.005"]))
+    first = sim.run_dynamic().records[0]
+    g, w, r = 9.81, 0.1 * 9.81, 0.205
+    T0 = (40.0 * g + w * np.pi * r) / 2
+    pulls = {f.effect: -f.force[2] for f in first.reactions}
+    assert abs(pulls["spherical[rope@end]"] / (T0 + 0.5 * w) - 1) < 1e-4, pulls
+    assert abs(-pulls["spherical[rope@start]"] / (T0 + 2.0 * w) - 1) < 5e-4, pulls
