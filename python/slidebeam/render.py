@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Pictures and animations of a run's deformed structure without a display (matplotlib's Agg
-canvas): beams as lines coloured by a field, point masses as squares, sliders as circles, from a
+canvas): beams as lines coloured by a field, point masses as squares (rigid bodies too, with their
+axes as red, green and blue segments), sliders as circles, from a
 camera fixed by the structure's extent over the whole run, so frames and pictures at several
 times line up.
 
@@ -34,6 +35,7 @@ MAX_FRAMES = 600  # an animation's frames by default at most (evenly over the ru
 BEAM_COLOUR = "#1f77b4"  # beams without a field
 MASS_COLOUR = "#222222"
 SLIDER_COLOUR = "#d62728"
+AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")  # a body's d1, d2, d3 (red, green, blue)
 
 
 def parse_view(text: str) -> tuple[float, float]:
@@ -67,6 +69,7 @@ class Frame:
     values: np.ndarray | None  # (cells,) or None (one colour)
     masses: np.ndarray  # (n, 3)
     sliders: np.ndarray  # (n, 3)
+    axes: np.ndarray  # (3, bodies, 2, 3): each body's d1, d2, d3 as a segment from its centre
 
 
 class Renderer:
@@ -108,9 +111,23 @@ class Renderer:
         assert b is not None
         x = b.positions(record)
         t = float(b.times[record])
-        # bodies are drawn at their centres of mass, as point masses are
-        masses = np.concatenate([self._at(self.run.masses, t), self._at(self.run.bodies, t)])
-        return Frame(t, x[self.cells], self._values(record), masses, self._at(self.run.sliders, t))
+        # bodies are drawn at their centres of mass, as point masses are, with their axes
+        centres = self._at(self.run.bodies, t)
+        masses = np.concatenate([self._at(self.run.masses, t), centres])
+        return Frame(t, x[self.cells], self._values(record), masses, self._at(self.run.sliders, t),
+                     self._body_axes(t, centres))
+
+    def _body_axes(self, t: float, centres: np.ndarray) -> np.ndarray:
+        axes = np.zeros((3, len(centres), 2, 3))
+        if not len(centres):
+            return axes
+        bodies = self.run.bodies
+        assert bodies is not None
+        record = int(np.argmin(np.abs(bodies.times - t)))
+        for k in range(3):
+            axes[k, :, 0] = centres
+            axes[k, :, 1] = centres + self.axis_length * bodies.field(f"d{k + 1}", record)
+        return axes
 
     @staticmethod
     def _at(series, t: float) -> np.ndarray:
@@ -158,6 +175,7 @@ class Renderer:
         side = max(float(span.max()), 1e-9)
         span = np.maximum(span, 0.15 * side)  # a flat structure keeps a visible depth
         half = 0.5 * span * 1.04
+        self.axis_length = 0.06 * side  # a body's axes as drawn
         ax.set_xlim(centre[0] - half[0], centre[0] + half[0])
         ax.set_ylim(centre[1] - half[1], centre[1] + half[1])
         ax.set_zlim(centre[2] - half[2], centre[2] + half[2])
@@ -192,7 +210,11 @@ class Renderer:
         self.masses = ax.scatter(*first.masses.T, marker="s", s=40, color=MASS_COLOUR, depthshade=False, zorder=3)
         self.sliders = ax.scatter(*first.sliders.T, marker="o", s=30, color=SLIDER_COLOUR, depthshade=False,
                                   zorder=4)
-        for artist in (self.lines, self.masses, self.sliders):
+        self.axes = [Line3DCollection(first.axes[k], colors=colour, linewidths=2.0, zorder=4)
+                     for k, colour in enumerate(AXIS_COLOURS)]
+        for collection in self.axes:
+            ax.add_collection3d(collection)
+        for artist in (self.lines, self.masses, self.sliders, *self.axes):
             # the axes clip to their 2-D box, which the zoomed 3-D box overhangs in the axis-aligned
             # views; the limits hold every record, so nothing would be drawn outside the 3-D box
             artist.set_clip_on(False)
@@ -206,6 +228,8 @@ class Renderer:
             self.lines.set_array(f.values)
         self.masses._offsets3d = tuple(f.masses.T)
         self.sliders._offsets3d = tuple(f.sliders.T)
+        for collection, segments in zip(self.axes, f.axes):
+            collection.set_segments(segments)
         self.title.set_text(f"{self.run.label}   t = {f.t:.4g} s")
 
     def projected_box(self) -> tuple[float, float, float, float]:

@@ -285,7 +285,8 @@ g = [0.0, 0.0, -9.81]
 @pytest.mark.skip_in_parallel
 def test_bodies_are_written_for_paraview_and_read_back(run_cli, tmp_path):
     """bodies.xdmf: one vertex per body with displacement, velocity and its axes, read back by
-    slidebeam.rundata as the history has it; view.py shows the series."""
+    slidebeam.rundata as the history has it; view.py shows the series; slidebeam render draws
+    the body's axes from its centre."""
     from slidebeam import rundata
 
     (tmp_path / "bob.toml").write_text(BOB_TOML)
@@ -300,6 +301,16 @@ def test_bodies_are_written_for_paraview_and_read_back(run_cli, tmp_path):
     assert abs(np.linalg.norm(d3) - 1.0) < 1e-9 and abs(centre[0]) > 0.01  # it swung
     assert "'bodies'" in (tmp_path / "res" / "view.py").read_text()
     assert np.allclose(run.summary["final_bodies"]["bob"]["position"], centre, atol=1e-12)
+    # slidebeam render draws the body at its centre with its axes d1, d2, d3
+    from slidebeam.render import Renderer
+
+    frame = Renderer(run, size=(320, 200)).frame(last)
+    assert np.allclose(frame.masses[-1], centre)
+    for k in range(3):
+        start, end = frame.axes[k, 0]
+        assert np.allclose(start, centre)
+        direction = run.bodies.field(f"d{k + 1}", last)[0]
+        assert np.allclose(np.cross(end - start, direction), 0.0, atol=1e-12) and (end - start) @ direction > 0
 
 
 def hung_by_support(force: float, **analysis: object) -> slidebeam.Scene:
