@@ -108,6 +108,21 @@ inline Eigen::Vector3d vector3_param(const EffectParams& p, const char* key) {
   return {v[0], v[1], v[2]};
 }
 
+/// A direction parameter (an axis, a normal), normalised; `what` names it in the error.
+inline Eigen::Vector3d unit_vector_param(const EffectParams& p, const char* key, const std::string& what) {
+  const Eigen::Vector3d n = vector3_param(p, key);
+  if (!(n.norm() > 0.0) || !n.allFinite())
+    throw ParamError(key, what + " must be a nonzero vector, got " + format_point(n));
+  return n.normalized();
+}
+
+/// An orthonormal pair perpendicular to the unit vector a (a, p, q right-handed).
+inline std::pair<Eigen::Vector3d, Eigen::Vector3d> perpendicular_pair(const Eigen::Vector3d& a) {
+  const Eigen::Vector3d helper = std::abs(a.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d p = a.cross(helper).normalized();
+  return {p, a.cross(p)};
+}
+
 /// The first control point (beam-local) of knot i's patch.
 inline int knot_first_cp(const Beam& b, int i) {
   int l, r;

@@ -16,11 +16,10 @@
 /// Energy: V is part of H (potential). Under energy-momentum each point's force is the discrete
 /// gradient of V along its gap (gap_potential.hpp), so the contact's work over a step is exactly
 /// V(g1) - V(g0): energy is conserved through touch-down and lift-off without locating them.
-/// A fixed shape takes momentum from the beam, as a support does. A sphere may instead be carried
-/// by a rigid body (a boulder, a ball: centred on the body's centre of mass): the gap is then that
-/// of x - phi, the force on the beam's point goes back onto the body, and since its discrete
-/// gradient is parallel to the mid-step x - phi, energy-momentum keeps the linear and angular
-/// momentum of beam and body exactly too.
+/// A fixed shape takes momentum from the beam, as a support does. A sphere or a cylinder may
+/// instead be carried by a rigid body (a boulder; a drum, a sheave: SphereOnBody, CylinderOnBody):
+/// the force on the beam's point then goes back onto the body, and energy-momentum keeps the
+/// linear and angular momentum of beam and body exactly too.
 
 #include "effects/gap_potential.hpp"
 
@@ -55,22 +54,16 @@ Penalty bed(const EffectParams& p) {
   return law;
 }
 
-Eigen::Vector3d unit(const EffectParams& p, const char* key, const std::string& what) {
-  const Eigen::Vector3d n = vector3_param(p, key);
-  if (!(n.norm() > 0.0) || !n.allFinite()) throw ParamError(key, what + " must be a nonzero vector");
-  return n.normalized();
-}
-
 double radius(const EffectParams& p) {
   const double R = p.number("radius");
   if (!(R > 0.0)) throw ParamError("radius", "the radius must be > 0");
   return R;
 }
 
-PlaneGap plane(const EffectParams& p) { return {unit(p, "normal", "the plane's normal"), vector3_param(p, "point")}; }
+PlaneGap plane(const EffectParams& p) { return {unit_vector_param(p, "normal", "the plane's normal"), vector3_param(p, "point")}; }
 
 RoundGap cylinder(const EffectParams& p) {
-  const Eigen::Vector3d a = unit(p, "axis", "the cylinder's axis");
+  const Eigen::Vector3d a = unit_vector_param(p, "axis", "the cylinder's axis");
   return {vector3_param(p, "point"), Eigen::Matrix3d::Identity() - a * a.transpose(), radius(p)};
 }
 
@@ -410,11 +403,10 @@ std::unique_ptr<Effect> make_cylinder_contact(const Model& m, const EffectParams
   const Beam& B = m.beam(body);
   Eigen::Matrix3d D;
   for (int i = 0; i < 3; ++i) D.col(i) = Eigen::Map<const Eigen::Vector3d>(B.q_ref().data() + 3 + 3 * i);
-  const Eigen::Vector3d a = D.transpose() * unit(p, "axis", "the cylinder's axis");
-  const Eigen::Vector3d helper = std::abs(a.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d axis = D.transpose() * unit_vector_param(p, "axis", "the cylinder's axis");
+  const auto [across, across_too] = perpendicular_pair(axis);
   CylinderOnBody k;
-  k.u[0] = a.cross(helper).normalized();
-  k.u[1] = a.cross(k.u[0]);
+  k.u = {across, across_too};
   k.R = radius(p);
   return make_body_contact(m, p, body, k);
 }

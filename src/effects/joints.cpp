@@ -51,7 +51,8 @@ const char* kind_type(JointKind k) {
   return "joint";
 }
 
-/// One side of a joint: the control points its beam point interpolates from.
+/// One side of a joint: the control points its beam point interpolates from; default-constructed
+/// (beam -1), the ground.
 struct JointSide {
   int beam = -1;
   double s = 0.0;
@@ -98,26 +99,6 @@ struct JointSide {
   bool ground() const { return beam < 0; }
 };
 
-/// The ground: a side with no unknowns, at the fixed point X.
-JointSide ground_side(const Eigen::Vector3d& X) {
-  JointSide g;
-  g.coords = 0;
-  g.X = X;
-  return g;
-}
-
-/// An orthonormal pair perpendicular to the unit vector a.
-std::pair<Eigen::Vector3d, Eigen::Vector3d> perpendicular_pair(const Eigen::Vector3d& a) {
-  const Eigen::Vector3d helper = std::abs(a.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d p = a.cross(helper).normalized();
-  return {p, a.cross(p)};
-}
-
-Eigen::Vector3d unit_axis(const EffectParams& p, const char* key) {
-  const Eigen::Vector3d a = vector3_param(p, key);
-  if (!(a.norm() > 0.0)) throw ParamError(key, "must be a nonzero vector, got " + format_point(a));
-  return a.normalized();
-}
 
 }  // namespace
 
@@ -129,8 +110,9 @@ class Joint final : public Effect, public ReactionSource {
       : kind_(kind), type_(std::move(type)), n_orient_(orientation_constraints(kind)) {
     const int a = static_cast<int>(p.number(to_ground ? "beam" : "beam_a"));
     const int b = to_ground ? -1 : static_cast<int>(p.number("beam_b"));
+    const auto valid = [&](int beam) { return beam >= 0 && beam < static_cast<int>(m.beams().size()); };
     for (int beam : {a, b})
-      if ((beam < 0 && (beam != b || !to_ground)) || beam >= static_cast<int>(m.beams().size()))
+      if (!valid(beam) && !(to_ground && beam == b))
         throw std::invalid_argument(type_ + ": no beam with index " + std::to_string(beam));
     if (a == b) throw std::invalid_argument(type_ + ": a beam cannot be joined to itself");
     for (int beam : {a, b})
@@ -140,9 +122,9 @@ class Joint final : public Effect, public ReactionSource {
                              " (a spherical or rigid " + (to_ground ? "support holds" : "joint joins") +
                              " ANCF cables)");
     side_[0] = side_at(m, p, a, to_ground ? "s" : "s_a", to_ground ? "point" : "point_a");
-    if (to_ground) {
-      side_[1] = ground_side(Eigen::Vector3d::Zero());
-      side_[1].X = position(0, reference(m));  // where the point is drawn (the discretised centre line's)
+    if (to_ground) {  // a default side is the ground: no unknowns, at A's point as drawn
+      side_[1] = JointSide();
+      side_[1].X = position(0, reference(m));
     } else {
       side_[1] = side_at(m, p, b, "s_b", "point_b");
     }
@@ -187,7 +169,7 @@ class Joint final : public Effect, public ReactionSource {
         break;
       }
       case JointKind::Revolute: {
-        const Eigen::Vector3d axis = unit_axis(p, "axis");
+        const Eigen::Vector3d axis = unit_vector_param(p, "axis", "the axis");
         const auto [e1, e2] = perpendicular_pair(axis);
         u_[0] = u_[1] = DA.transpose() * axis;
         v_[0] = DB.transpose() * e1;
@@ -195,7 +177,7 @@ class Joint final : public Effect, public ReactionSource {
         break;
       }
       case JointKind::Universal: {
-        const Eigen::Vector3d na = unit_axis(p, "axis"), nb = unit_axis(p, "axis_b");
+        const Eigen::Vector3d na = unit_vector_param(p, "axis", "the axis"), nb = unit_vector_param(p, "axis_b", "the second arm");
         if (std::abs(na.dot(nb)) > 1e-6)
           throw ParamError("axis_b", "must be perpendicular to axis (the cross's two arms), but axis . axis_b = " +
                                          format_number(na.dot(nb)) + " for unit vectors");

@@ -4,9 +4,9 @@
 /// its carrier) follows a prescribed travel: s(t) = s_0 + the integral of a speed profile that
 /// rises linearly from 0 at `start` to `speed` within `ramp` seconds, holds, and falls back to 0
 /// within `ramp` seconds so that it is 0 again at `stop`; or s(t) = s_0 + `distance` f(t) with any
-/// time function f that starts at 0 (a smooth ramp, a table of a recorded travel, a sine). One multiplier enforces s = s(t) at the
-/// end of each step: it is the drive force along the carrier, and its work over the step, -lambda
-/// ds, is counted as driving work (W; `<label>.work`).
+/// time function f that starts at 0 (a smooth ramp, a table of a recorded travel, a sine). One
+/// multiplier enforces s = s(t) at the end of each step: it is the drive force along the carrier,
+/// and its work over the step, -lambda ds, is counted as driving work (W; `<label>.work`).
 ///
 /// (A prescribed force on s instead of a travel was tried: s has no mass of its own, and Newton
 /// needed 5-15 iterations per step and failed on 2 ranks; a force on the slider's mass points
