@@ -252,7 +252,8 @@ class BodyContact final : public Effect {
     PetscFunctionBeginUser;
     for (int e : elements_) {
       VecY re = VecY::Zero();
-      element(ctx, e, re, nullptr);
+      const auto [y1, yf] = states(ctx, e);
+      element(ctx, e, y1, yf, re, nullptr);
       const auto d = dofs(ctx.map, ctx.model, e);
       for (int k = 0; k < kDofs; ++k) r.at(d[static_cast<size_t>(k)]) += re(k);
     }
@@ -266,10 +267,11 @@ class BodyContact final : public Effect {
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     for (int e : elements_) {
-      if (!near(ctx, e)) continue;
+      const auto [y1, yf] = states(ctx, e);
+      if (!near(ctx, e, y1, yf)) continue;
       VecY re = VecY::Zero();
       MatY K = MatY::Zero();
-      element(ctx, e, re, &K);
+      element(ctx, e, y1, yf, re, &K);
       const auto d = dofs(ctx.map, ctx.model, e);
       PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
     }
@@ -289,12 +291,15 @@ class BodyContact final : public Effect {
   }
 
  private:
-  /// re += the element's generalised force (residual sign) on its blocks and on the body's
+  /// Span e's unknowns (its blocks, then the body's) at the step's end and at its force state
+  /// (the step's start under energy-momentum).
+  std::pair<VecY, VecY> states(const EvalContext& ctx, int e) const {
+    return {gather(ctx, ctx.x, e), gather(ctx, ctx.rule == StepRule::EnergyMomentum ? ctx.x_old : ctx.xf, e)};
+  }
+  /// re += span e's generalised force (residual sign) on its blocks and on the body's
   /// coordinates, K += its derivative with respect to the step's end state.
-  void element(const EvalContext& ctx, int e, VecY& re, MatY* K) const {
+  void element(const EvalContext& ctx, int e, const VecY& y1, const VecY& yf, VecY& re, MatY* K) const {
     const Beam& b = ctx.model.beam(beam_);
-    const bool em = ctx.rule == StepRule::EnergyMomentum;
-    const VecY y1 = gather(ctx, ctx.x, e), yf = gather(ctx, em ? ctx.x_old : ctx.xf, e);
     const Body b1 = y1.template tail<kBody>(), bf = yf.template tail<kBody>();
     for (int g = 0; g < n_points(b); ++g) {
       const Point q = point(b, e, g);
@@ -317,9 +322,8 @@ class BodyContact final : public Effect {
   }
   /// Whether a point of span e is within half the shape's radius of its surface at the step's
   /// end or force state (a margin, so that the pattern changes less often than the contact).
-  bool near(const EvalContext& ctx, int e) const {
+  bool near(const EvalContext& ctx, int e, const VecY& y1, const VecY& yf) const {
     const Beam& b = ctx.model.beam(beam_);
-    const VecY y1 = gather(ctx, ctx.x, e), yf = gather(ctx, ctx.rule == StepRule::EnergyMomentum ? ctx.x_old : ctx.xf, e);
     for (int g = 0; g < n_points(b); ++g) {
       const Point q = point(b, e, g);
       const double gap = std::min(kernel_.gap(position(q, y1), y1.template tail<kBody>()),
