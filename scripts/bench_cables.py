@@ -4,29 +4,32 @@
 by cost (the default) against full Newton (-sb_jacobian_reuse false) and modified Newton
 (-sb_jacobian_reuse). Per scene and variant: ms per step (summary.json stepping_time_s / steps,
 median of --repeat runs), Newton iterations, Jacobians and rejected steps per step, and the share
-of the Jacobian assembly in the run. For the swing (runs/cables/cable_swing.toml) also its
-accuracy: the first sideways frequency from the tracked midpoint's zero crossings against the
-exact linear value 1.579505 rad/s, and the support tension of the static start against the elastic
-catenary (Irvine) of the same cable. Time it only on an otherwise idle machine.
+of the Jacobian assembly in the run. For the swings (runs/cables/cable_swing.toml, the rope as a
+director beam of 40 spans; runs/cables/cable_swing_ancf.toml, as an ANCF cable of 16 elements,
+and of 40) also their accuracy: the first sideways frequency fitted to the tracked midpoint's
+motion against the exact linear value 1.579505 rad/s, and the support tension of the static start
+against the elastic catenary (Irvine) of the same cable. Time it only on an otherwise idle machine.
 
     scripts/bench_cables.py                      # every scene, 3 runs each
-    scripts/bench_cables.py --repeat 1 --quick   # the swing shortened to 10.5 s
+    scripts/bench_cables.py --repeat 1 --quick   # the swings shortened to 10.5 s
 
 Side by side with MoorDyn (optional; the project does not depend on it): where the Python running
 this script imports `moordyn`, the swing is also run by MoorDyn on the same cable (40 lumped-mass
 segments, RK4 at dtM = 8e-4 s, its largest stable step there; bending stiffness, no water, no
-damping), and a second table gives both codes' time for the swing and their errors against the
-exact frequency and the catenary tension. MoorDyn comes from PyPI into a throwaway venv on
-Debian's Python (which keeps petsc4py visible):
+damping), and a second table gives both codes' time for the swing, their errors against the
+exact frequency and the catenary tension, and slidebeam's time over MoorDyn's. MoorDyn comes from
+PyPI into a throwaway venv on Debian's Python (which keeps petsc4py visible):
 
     /usr/bin/python3 -m venv --system-site-packages /tmp/moordyn-venv
     /tmp/moordyn-venv/bin/pip install moordyn==2.7.2
-    /tmp/moordyn-venv/bin/python scripts/bench_cables.py --repeat 3 runs/cables/cable_swing.toml
+    /tmp/moordyn-venv/bin/python scripts/bench_cables.py --repeat 3 runs/cables/cable_swing.toml \\
+        runs/cables/cable_swing_ancf.toml
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import json
 import math
 import statistics
@@ -37,7 +40,12 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 SWING = "runs/cables/cable_swing.toml"
-SCENES = [(SWING, []), ("runs/cables/zip_line.toml", []), ("runs/cables/hanging_rope.toml", ["analysis.t_end=0.2"]),
+SWING_ANCF = "runs/cables/cable_swing_ancf.toml"
+# the swings' models, for the side-by-side
+SWINGS = {SWING: "director beam, 40 spans, energy-momentum", SWING_ANCF: "ANCF cable, {spans} elements, energy-momentum"}
+# the Newton variant each swing scene sets (its row in the side-by-side)
+OWN_VARIANT = {SWING: "chosen by cost", SWING_ANCF: "modified Newton"}
+SCENES = [(SWING, []), (SWING_ANCF, []), (SWING_ANCF, ["beam.0.spans=40"]), ("runs/cables/zip_line.toml", []), ("runs/cables/hanging_rope.toml", ["analysis.t_end=0.2"]),
           ("runs/effects/ropeway.toml", ["analysis.t_end=0.4"]), ("runs/effects/moving_anchor.toml", []),
           ("runs/cables/ropeway.toml", ["analysis.t_end=0.2"])]
 VARIANTS = [("chosen by cost", ["-sb_newton_by_cost"]), ("full Newton", ["-sb_jacobian_reuse", "false"]),
@@ -200,20 +208,22 @@ def start_tension(history: Path) -> float:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--repeat", type=int, default=3, help="runs per scene and variant (the median is shown)")
-    p.add_argument("--quick", action="store_true", help="the swing over 10.5 s instead of 60.5 s")
+    p.add_argument("--quick", action="store_true", help="the swings over 10.5 s instead of 60.5 s")
     p.add_argument("scenes", nargs="*", help="scene files (default: the cable scenes)")
     args = p.parse_args()
     scenes = [(s, []) for s in args.scenes] if args.scenes else SCENES
     print("| scene | unknowns | Newton | ms / step | iterations / step | Jacobians / step | rejected / step "
           "| assembly share | vs full Newton |")
     print("|---|---|---|---|---|---|---|---|---|")
-    swing_checked = False
-    swing_time = None  # slidebeam's swing, chosen by cost: median stepping time and wall time, s
+    t_end = 10.5 if args.quick else 60.5
+    swings: dict[str, Swing] = {}  # per swing scene and spans: its accuracy and the times of its own Newton variant
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         for scene, sets in scenes:
-            if scene == SWING and args.quick:
+            if scene in SWINGS and args.quick:
                 sets = [*sets, "analysis.t_end=10.5"]
+            spans = [x.split("=")[1] for x in sets if x.startswith("beam.0.spans=")]
+            label = Path(scene).stem + (f" ({spans[0]} spans)" if spans else "")
             full_ms = None
             rows = []
             for name, petsc in VARIANTS:
@@ -229,17 +239,13 @@ def main() -> None:
                     share.append(assembly_share(s))
                     stepping.append(s["stepping_time_s"])
                     wall.append(s["wall_time_s"])
-                    if scene == SWING and not swing_checked:
-                        omega = swing_frequency(out / "history.csv")
-                        T, T_exact = start_tension(out / "history.csv"), catenary_tension()
-                        swing_checked = True
-                        accuracy = (f"swing: omega = {omega:.7f} rad/s (exact linear {EXACT_OMEGA}: relative error "
-                                    f"{abs(omega / EXACT_OMEGA - 1):.1e}); support tension {T:.4f} N (elastic "
-                                    f"catenary {T_exact:.4f} N: relative error {abs(T / T_exact - 1):.1e})")
-                        t_end = 10.5 if args.quick else 60.5
+                    if scene in SWINGS and label not in swings:
+                        swings[label] = Swing(label, SWINGS[scene].format(spans=spans[0] if spans else 16), swing_frequency(out / "history.csv"),
+                                              start_tension(out / "history.csv"))
                 med = statistics.median(ms)
-                if scene == SWING and swing_time is None:
-                    swing_time = (statistics.median(stepping), statistics.median(wall))
+                if scene in SWINGS and name == OWN_VARIANT[scene]:
+                    swings[label].times = (statistics.median(stepping), statistics.median(wall))
+                    swings[label].variant = name
                 if name == "full Newton":
                     full_ms = med
                 rows.append((name, med, statistics.median(its), statistics.median(jac), statistics.median(rej),
@@ -247,18 +253,31 @@ def main() -> None:
                 unknowns = s["unknowns"]
             for name, med, it, jc, rj, sh in rows:
                 ratio = f"{full_ms / med:.2f}x faster" if full_ms else "–"
-                label = Path(scene).stem + (f" ({', '.join(sets)})" if sets else "")
-                print(f"| {label} | {unknowns} | {name} | {med:.3f} | {it:.2f} | {jc:.3f} | {rj:.3f} | {sh:.0%} "
+                label_sets = Path(scene).stem + (f" ({', '.join(sets)})" if sets else "")
+                print(f"| {label_sets} | {unknowns} | {name} | {med:.3f} | {it:.2f} | {jc:.3f} | {rj:.3f} | {sh:.0%} "
                       f"| {ratio} |", flush=True)
-        if swing_checked:
+        if swings:
             print()
-            print(accuracy)
-            side_by_side(swing_time, omega, T, t_end, args.repeat, work)
+            T_exact = catenary_tension()
+            for sw in swings.values():
+                print(f"{sw.label}: omega = {sw.omega:.7f} rad/s (exact linear {EXACT_OMEGA}: relative error "
+                      f"{abs(sw.omega / EXACT_OMEGA - 1):.1e}); support tension {sw.tension:.4f} N (elastic "
+                      f"catenary {T_exact:.4f} N: relative error {abs(sw.tension / T_exact - 1):.1e})")
+            side_by_side(list(swings.values()), t_end, args.repeat, work)
 
 
-def side_by_side(slidebeam_time: tuple[float, float], omega: float, tension: float, t_end: float, repeat: int,
-                 work: Path) -> None:
-    """The swing by slidebeam and by MoorDyn in one table, where MoorDyn imports."""
+@dataclasses.dataclass
+class Swing:
+    label: str
+    model: str
+    omega: float
+    tension: float
+    times: tuple[float, float] = (math.nan, math.nan)  # median stepping and wall time, s
+    variant: str = ""
+
+
+def side_by_side(swings: list[Swing], t_end: float, repeat: int, work: Path) -> None:
+    """The swings by slidebeam and by MoorDyn in one table, where MoorDyn imports."""
     try:
         import moordyn  # noqa: F401
     except ImportError:
@@ -269,15 +288,17 @@ def side_by_side(slidebeam_time: tuple[float, float], omega: float, tension: flo
     md_cpu = statistics.median(r["cpu"] for r in runs)
     md = runs[0]
     T_exact = catenary_tension()
-    stepping, wall = slidebeam_time
     print(f"\nThe swing ({t_end - 0.5:g} s after the 0.5 s ramp), side by side (medians of {repeat}):\n")
-    print("| code | model | time step | time stepping, s | whole run, s | omega error | support tension error |")
-    print("|---|---|---|---|---|---|---|")
-    print(f"| slidebeam (by cost) | 40 spans, energy-momentum | 0.01 s | {stepping:.2f} | {wall:.2f} "
-          f"| {abs(omega / EXACT_OMEGA - 1):.1e} | {abs(tension / T_exact - 1):.1e} |")
+    print("| code | model | time step | time stepping, s | whole run, s | omega error | support tension error "
+          "| time stepping / MoorDyn's |")
+    print("|---|---|---|---|---|---|---|---|")
+    for sw in swings:
+        stepping, wall = sw.times
+        print(f"| slidebeam ({sw.variant}) | {sw.model} | 0.01 s | {stepping:.2f} | {wall:.2f} "
+              f"| {abs(sw.omega / EXACT_OMEGA - 1):.1e} | {abs(sw.tension / T_exact - 1):.1e} "
+              f"| {stepping / md_wall:.2f} |")
     print(f"| MoorDyn 2.7.2 | 40 lumped-mass segments, RK4 | 8e-4 s | {md_wall:.2f} (CPU {md_cpu:.2f}) | – "
-          f"| {abs(md['omega'] / EXACT_OMEGA - 1):.1e} | {abs(md['tension'] / T_exact - 1):.1e} |")
-    print(f"\nslidebeam's time stepping / MoorDyn's: {stepping / md_wall:.2f}")
+          f"| {abs(md['omega'] / EXACT_OMEGA - 1):.1e} | {abs(md['tension'] / T_exact - 1):.1e} | 1 |")
 
 
 if __name__ == "__main__":

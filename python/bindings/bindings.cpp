@@ -11,6 +11,7 @@
 #include "solvers/static_solver.hpp"
 #include "solvers/time_integrator.hpp"
 #include "time/stepper.hpp"
+#include "util/cost_log.hpp"
 #include "util/petsc_check.hpp"
 #include "util/stop_signal.hpp"
 #include "io/beam_series.hpp"
@@ -286,6 +287,11 @@ PYBIND11_MODULE(_core, m) {
   m.def("install_stop_handlers", &install_stop_handlers,
         "SIGINT/SIGTERM: the first is recorded (see stop_signal), the second ends the process at once");
   m.def("stop_signal", py::overload_cast<>(&stop_signal), "the signal received since install_stop_handlers, or 0");
+  m.def("start_cost_log", [] { SB_CHECK(start_cost_log()); },
+        "the event log of the cost table on: its events only, by a light handler (PETSc's whole log when a "
+        "-log_* option asks for it)");
+  m.def("event_stats", &event_stats, py::arg("name"),
+        "(wall time in s, calls) of a logged event on this rank so far; (0, 0) if it was never registered");
   m.def(
       "options_left",
       [] {

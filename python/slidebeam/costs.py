@@ -17,10 +17,10 @@ OUTPUT_EVENT = "SBOutput"
 
 
 def start_logging() -> None:
-    """Turn on PETSc's event log (cheap; -log_view does the same) before the run."""
-    from petsc4py import PETSc
+    """Turn on the event log of the cost table before the run (PETSc's whole log with -log_view)."""
+    from . import _core
 
-    PETSc.Log.begin()
+    _core.start_cost_log()
 
 
 class output_phase:  # noqa: N801 - used as `with output_phase():`, like a function
@@ -42,12 +42,13 @@ class output_phase:  # noqa: N801 - used as `with output_phase():`, like a funct
 
 def _perf(name: str) -> tuple[float, int]:
     from mpi4py import MPI
-    from petsc4py import PETSc
 
-    info = PETSc.Log.Event(name).getPerfInfo()
+    from . import _core
+
+    time, count = _core.event_stats(name)
     comm = run_comm()
-    t = comm.allreduce(float(info["time"]), op=MPI.MAX)
-    n = comm.allreduce(int(info["count"]), op=MPI.MAX)
+    t = comm.allreduce(float(time), op=MPI.MAX)
+    n = comm.allreduce(int(count), op=MPI.MAX)
     return t, n
 
 

@@ -190,29 +190,41 @@ void TimeIntegrator::account_energy_flows() {
   SB_CHECK(VecPointwiseMult(flow_dq_, flow_dq_, state_mask_));
   const StepEval ev = step_eval();
   // A driven support that prescribes unknowns: its force there is the step's residual before the
-  // rows are replaced (inertia included), which does the work R . dq on them.
-  const bool driving = std::any_of(flows_.begin(), flows_.end(),
-                                   [](const EnergyFlow& f) { return f.role == EnergyRole::Driving; });
-  if (driving) SB_CHECK(step_forces(x1_, flow_r0_));  // collective: on every rank
-  for (EnergyFlow& f : flows_) {
-    if (f.role != EnergyRole::Driving) continue;
-    std::vector<PetscInt> rows;
-    std::vector<PetscScalar> vals;
-    model_.effects()[f.effect]->prescribed_at(model_, next_time(h_), rows, vals);
-    double w = 0.0;
-    {
-      const PetscScalar *raw = nullptr, *dq = nullptr;
-      SB_CHECK(VecGetArrayRead(flow_r0_, &raw));
-      SB_CHECK(VecGetArrayRead(flow_dq_, &dq));
-      PetscInt lo = 0, hi = 0;
-      SB_CHECK(VecGetOwnershipRange(flow_r0_, &lo, &hi));
-      for (PetscInt r : rows)
-        if (r >= lo && r < hi) w += raw[r - lo] * dq[r - lo];
-      SB_CHECK(VecRestoreArrayRead(flow_dq_, &dq));
-      SB_CHECK(VecRestoreArrayRead(flow_r0_, &raw));
+  // rows are replaced (inertia included), which does the work R . dq on them. A support that
+  // held its unknowns over the step did no work: no residual is needed then (a drive that
+  // has stopped, the common case after a ramp).
+  std::vector<std::vector<PetscInt>> driven(flows_.size());
+  bool moved = false;
+  {
+    const PetscScalar* dq = nullptr;
+    PetscInt lo = 0, hi = 0;
+    SB_CHECK(VecGetOwnershipRange(flow_dq_, &lo, &hi));
+    SB_CHECK(VecGetArrayRead(flow_dq_, &dq));
+    for (size_t i = 0; i < flows_.size(); ++i) {
+      if (flows_[i].role != EnergyRole::Driving) continue;
+      std::vector<PetscScalar> vals;
+      model_.effects()[flows_[i].effect]->prescribed_at(model_, next_time(h_), driven[i], vals);
+      for (PetscInt r : driven[i])
+        if (r >= lo && r < hi && dq[r - lo] != 0.0) moved = true;
     }
-    MPI_Allreduce(MPI_IN_PLACE, &w, 1, MPI_DOUBLE, MPI_SUM, model_.comm());
-    f.work += w;
+    SB_CHECK(VecRestoreArrayRead(flow_dq_, &dq));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &moved, 1, MPI_CXX_BOOL, MPI_LOR, model_.comm());
+  if (moved) {
+    SB_CHECK(step_forces(x1_, flow_r0_));  // collective: on every rank
+    const PetscScalar *raw = nullptr, *dq = nullptr;
+    PetscInt lo = 0, hi = 0;
+    SB_CHECK(VecGetOwnershipRange(flow_r0_, &lo, &hi));
+    SB_CHECK(VecGetArrayRead(flow_r0_, &raw));
+    SB_CHECK(VecGetArrayRead(flow_dq_, &dq));
+    std::vector<double> w(flows_.size(), 0.0);
+    for (size_t i = 0; i < flows_.size(); ++i)
+      for (PetscInt r : driven[i])
+        if (r >= lo && r < hi) w[i] += raw[r - lo] * dq[r - lo];
+    SB_CHECK(VecRestoreArrayRead(flow_dq_, &dq));
+    SB_CHECK(VecRestoreArrayRead(flow_r0_, &raw));
+    MPI_Allreduce(MPI_IN_PLACE, w.data(), static_cast<int>(w.size()), MPI_DOUBLE, MPI_SUM, model_.comm());
+    for (size_t i = 0; i < flows_.size(); ++i) flows_[i].work += w[i];
   }
   for (EnergyFlow& f : flows_) {
     SB_CHECK(model_.effect_residual(f.effect, ev, x1_, flow_r_));

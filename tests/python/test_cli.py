@@ -331,6 +331,22 @@ def test_cost_breakdown_names_only_the_scene_effects(run_cli, root, tmp_path):
     assert "assembly: clamp" not in phases and "assembly: rigid_joint" not in phases
 
 
+@pytest.mark.skip_in_parallel
+def test_cost_table_counts_the_same_with_petsc_whole_log(run_cli, root, tmp_path):
+    """The cost table's light event log and PETSc's whole log (-log_view) see the same calls of
+    every phase (the run is the same), and -log_view still prints PETSc's vector events, which
+    the light log leaves out."""
+    scene = str(root / "runs" / "effects" / "moving_anchor.toml")
+    light = run_cli("run", scene, "--out", "light", "-q", "--set", "analysis.t_end=0.05")
+    whole = run_cli("run", scene, "--out", "whole", "-q", "--set", "analysis.t_end=0.05", "--", "-log_view")
+    assert light.returncode == 0 and whole.returncode == 0, light.stderr + whole.stderr
+    rows = [{r["phase"]: r["calls"] for r in json.loads((tmp_path / d / "summary.json").read_text())["cost"]}
+            for d in ("light", "whole")]
+    assert rows[0] == rows[1]
+    assert rows[0]["linear solve (incl. factorisation)"] > 0 and rows[0]["ghost exchange"] > 0
+    assert "VecNorm" in whole.stdout and "VecNorm" not in light.stdout
+
+
 @pytest.mark.parametrize("scene, sets", [
     # S2-incl on a 16-span carrier: C slides from s = 0.4 to 1.9 across the control points of
     # every rank (the joint lives with the slider, its carrier points are ghosts)
