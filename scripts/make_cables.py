@@ -5,7 +5,8 @@ both ends) with beams hanging from sliders along them, each carrying a mass (a r
 suspension-cable system), or a square cable net (--net K). The size scales from a few hundred to
 10^5 unknowns and more.
 
-    scripts/make_cables.py --carriers 2 --spans 32 --hangers 4 --out runs/cables/ropeway.toml
+    scripts/make_cables.py --carriers 2 --spans 32 --hangers 4 --t-end 0.5 --jacobian-reuse \
+        --out runs/cables/ropeway.toml
     scripts/make_cables.py --carriers 10 --spans 400 --hangers 40 --out /tmp/big.toml   # ~1e5 unknowns
     scripts/make_cables.py --net 20 --spans 4 --out /tmp/net.toml                        # ~9e4 unknowns
     scripts/make_cables.py ... --print-unknowns
@@ -177,6 +178,9 @@ def main() -> int:
                    help="--net: the ropes' Young's modulus [Pa] (lower: a ring net's or its brakes' compliance)")
     p.add_argument("--damping", type=float, default=0.0,
                    help="--net: the ropes' Kelvin-Voigt retardation time [s] (0: none)")
+    p.add_argument("--jacobian-reuse", action="store_true",
+                   help="time steps by modified Newton (the Jacobian and its LU kept across steps): several times "
+                        "faster on ropes and ropeways (docs/performance.md, \"Cables\")")
     p.add_argument("--out", type=Path, help="scene file to write (default: standard output)")
     p.add_argument("--print-unknowns", action="store_true", help="print the number of unknowns and exit")
     a = p.parse_args()
@@ -189,16 +193,26 @@ def main() -> int:
             p.error("--boulder must be > 0 and --drop >= 0")
         boulder = None if a.boulder is None else (a.boulder, a.drop, a.speed)
         text = net_scene(a.net, a.spans, a.length, a.t_end, a.dt, start, boulder, a.rope_modulus, a.damping)
-        return write(text, count, a.out, a.print_unknowns)
+        return write(text, count, a.out, a.print_unknowns, a.jacobian_reuse)
     for name in ("carriers", "spans", "hangers", "hanger_spans"):
         if getattr(a, name) < 1:
             p.error(f"--{name.replace('_', '-')} must be >= 1")
     text = scene(a.carriers, a.spans, a.hangers, a.length, a.spacing, a.hanger_length, a.hanger_spans, a.mass,
                  a.t_end, a.dt, a.start, a.static)
-    return write(text, unknowns(a.carriers, a.spans, a.hangers, a.hanger_spans), a.out, a.print_unknowns)
+    return write(text, unknowns(a.carriers, a.spans, a.hangers, a.hanger_spans), a.out, a.print_unknowns,
+                 a.jacobian_reuse)
 
 
-def write(text: str, count: int, out: Path | None, print_unknowns: bool) -> int:
+MODIFIED_NEWTON = """
+[petsc]
+# modified Newton: the step Jacobian and its LU kept across iterations and steps (docs/performance.md, "Cables")
+sb_jacobian_reuse = true
+"""
+
+
+def write(text: str, count: int, out: Path | None, print_unknowns: bool, jacobian_reuse: bool = False) -> int:
+    if jacobian_reuse:
+        text += MODIFIED_NEWTON
     if print_unknowns:
         print(count)
     elif out:

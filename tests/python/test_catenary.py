@@ -127,10 +127,11 @@ def test_taut_assumed_strain_rope_under_a_running_trolley_stays_stable():
     (the knots' means do not see it) and lengthened without strain: within 0.2 s the trolley sank
     8 cm, the rope went into compression and Newton took 10-14 iterations a step. With the centre
     line's axial strain the trolley follows the ANCF cable's path (measured 2.2e-3 m over 0.2 s;
-    test 3e-3 m) with at most 6 iterations a step."""
+    test 3e-3 m) with at most 6 iterations a step of full Newton (the scene's modified Newton takes
+    more by design)."""
     paths = {}
     for formulation in ("director", "ancf"):
-        sim = _zip_line(formulation, 40, ["analysis.t_end=0.2"])
+        sim = _zip_line(formulation, 40, ["analysis.t_end=0.2", "petsc.sb_jacobian_reuse=false"])
         outcome = sim.run_dynamic()
         assert outcome.complete
         paths[formulation] = np.array([r.tracked[0] for r in outcome.records])
