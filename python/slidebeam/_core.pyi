@@ -339,6 +339,12 @@ def effect_specs_json() -> str:
     """
     ...
 
+def event_stats(name: str) -> tuple[float, int]:
+    """(wall time in s, calls) of a logged event on this rank so far; (0, 0) if it was never
+    registered
+    """
+    ...
+
 def greville(n_spans: int, a: int) -> float: ...
 
 def hermite_basis(x: float, Le: float) -> tuple:
@@ -363,6 +369,12 @@ def plain_option_copies() -> list[tuple[str, str]]:
 
 def python_repr(x: float) -> str:
     """repr(x) of a float, written by the core (tests)"""
+    ...
+
+def start_cost_log() -> None:
+    """the event log of the cost table on: its events only, by a light handler (PETSc's whole log
+    when a -log_* option asks for it)
+    """
     ...
 
 def stop_signal() -> int:
