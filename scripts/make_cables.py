@@ -30,7 +30,7 @@ point --drop metres above the net's middle, falling at --speed m/s: a rockfall b
 (--damping gives the ropes a Kelvin-Voigt retardation time, --rope-modulus a softer net).
 
     scripts/make_cables.py --net 5 --spans 4 --length 3 --boulder 200 --rope-modulus 2e9 --damping 0.05 \
-        --t-end 2 --dt 0.001 --out runs/multibody/rockfall_net.toml
+        --t-end 2 --dt 0.001 --jacobian-reuse --out runs/multibody/rockfall_net.toml
 """
 from __future__ import annotations
 
