@@ -8,6 +8,9 @@
 namespace slidebeam {
 
 namespace {
+/// A span's Barlow points: the two-point Gauss points, in the span's parameter t in [0, 1].
+constexpr double kBarlow[2] = {0.5 - 0.28867513459481287, 0.5 + 0.28867513459481287};
+
 /// Basis of span e at parameter xi as a quadrature point of weight w. corrected: with the data of
 /// the director-interpolation correction (kernels::point_table).
 kernels::GaussPoint basis_point(int n_spans, double L, int e, double xi, double w, bool corrected) {
@@ -173,6 +176,8 @@ void Beam::sample_into(const std::vector<double>& q, const std::vector<double>& 
   out.strain.assign(static_cast<size_t>(6 * n), 0.0);
   out.tension.assign(static_cast<size_t>(n), 0.0);
   const std::vector<Eigen::Vector3d> knots = gamma_at_knots() ? knot_gamma(q) : std::vector<Eigen::Vector3d>{};
+  const std::vector<std::array<Eigen::Vector3d, 2>> barlow =
+      gamma_at_knots() ? std::vector<std::array<Eigen::Vector3d, 2>>{} : barlow_gamma(q);
   for (int i = 0; i < n; ++i) {
     const SamplePoint& p = points[static_cast<size_t>(i)];
     const PointBasis& b = p.basis;
@@ -183,6 +188,14 @@ void Beam::sample_into(const std::vector<double>& q, const std::vector<double>& 
     if (gamma_at_knots()) {  // the element's own membrane and shear strains: the knots' values interpolated
       const double t = p.gp.t;
       eps.head<3>() = (1.0 - t) * knots[static_cast<size_t>(b.span)] + t * knots[static_cast<size_t>(b.span + 1)];
+    } else {
+      // The membrane and shear strains of a displacement-based span are right to second order only
+      // at its Barlow points (the two-point Gauss points); in between, the shear strain, the small
+      // difference of phi' and the directors, swings parabolically (a stocky boom's shear force
+      // 6x too large at the knots). So they are taken as the line through the Barlow points' values.
+      const auto& g = barlow[static_cast<size_t>(b.span)];
+      const double u = (p.gp.t - kBarlow[0]) / (kBarlow[1] - kBarlow[0]);
+      eps.head<3>() = (1.0 - u) * g[0] + u * g[1];
     }
     const kernels::Vec6 sigma = stiffness_.cwiseProduct(eps);
     out.s[static_cast<size_t>(i)] = p.s;
@@ -240,6 +253,30 @@ const std::vector<Beam::SamplePoint>& Beam::sample_points(int samples_per_span) 
   sample_points_ = std::move(points);
   sampled_per_span_ = samples_per_span;
   return sample_points_;
+}
+
+std::vector<std::array<Eigen::Vector3d, 2>> Beam::barlow_gamma(const std::vector<double>& q) const {
+  if (barlow_points_.empty()) {
+    barlow_points_.resize(static_cast<size_t>(2 * n_spans()));
+    for (int e = 0; e < n_spans(); ++e)
+      for (int g = 0; g < 2; ++g) {
+        SamplePoint& p = barlow_points_[static_cast<size_t>(2 * e + g)];
+        p.s = length() * (e + kBarlow[g]) / n_spans();
+        p.gp = basis_point(n_spans(), length(), e, (e + kBarlow[g]) / n_spans(), 0.0, corrected());
+        const kernels::VecEl q0 = Eigen::Map<const kernels::VecEl>(spec_.q_ref.data() + 12 * e);
+        p.eps_ref = stress_free(kernels::point_strains(strain_table(), p.gp, kernels::field_map(p.gp) * q0));
+      }
+  }
+  std::vector<std::array<Eigen::Vector3d, 2>> out(static_cast<size_t>(n_spans()));
+  for (int e = 0; e < n_spans(); ++e) {
+    const kernels::VecEl qe = Eigen::Map<const kernels::VecEl>(q.data() + 12 * e);
+    for (int g = 0; g < 2; ++g) {
+      const SamplePoint& p = barlow_points_[static_cast<size_t>(2 * e + g)];
+      const kernels::Vec6 eps = kernels::point_strains(strain_table(), p.gp, kernels::field_values(p.gp, qe)) - p.eps_ref;
+      out[static_cast<size_t>(e)][static_cast<size_t>(g)] = eps.head<3>();
+    }
+  }
+  return out;
 }
 
 std::vector<Eigen::Vector3d> Beam::knot_gamma(const std::vector<double>& q) const {

@@ -213,6 +213,10 @@ class Beam {
   const std::vector<SamplePoint>& sample_points(int samples_per_span) const;
   mutable int sampled_per_span_ = 0;
   mutable std::vector<SamplePoint> sample_points_;
+  /// Membrane and shear strains of each span recovered from its two Barlow points (full or
+  /// reduced quadrature; see sample_into): the span's values at t = 1/2 -+ 1/(2 sqrt 3).
+  std::vector<std::array<Eigen::Vector3d, 2>> barlow_gamma(const std::vector<double>& q) const;
+  mutable std::vector<SamplePoint> barlow_points_;
 };
 
 }  // namespace slidebeam

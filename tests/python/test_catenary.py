@@ -60,16 +60,17 @@ def test_hanging_rope_matches_the_elastic_catenary():
 
 
 def test_full_quadrature_tension_is_off_on_the_same_rope():
-    """What the assumed strains fix: the locked element's tension is 16 % off."""
+    """What the assumed strains fix: the locked element's tension is 1.5 % off, even recovered at
+    the Barlow points (16 % taken pointwise); the assumed strains' 1.1e-4."""
     c = catenary()
     f = hanging_rope("full")
-    assert np.abs(f["tension"] - c.tension(f["s"])).max() > 0.1 * c.tension(0.0)
+    assert np.abs(f["tension"] - c.tension(f["s"])).max() > 5e-3 * c.tension(0.0)
 
 
 def test_director_beam_and_ancf_cable_give_the_same_rope_tension(tmp_path):
     """The straight steel rope of runs/cables/slack_rope.toml hung in its sag, as a director beam
     with the default quadrature ("auto": assumed strains on this slender rope) and as an ANCF
-    cable: the tensions along the rope agree to 4e-4 (test: 2e-3), the sags to 2e-4."""
+    cable: the tensions along the rope agree to 2.9e-4 (test: 2e-3), the sags to 2e-4."""
     text = (ROOT / "runs" / "cables" / "slack_rope.toml").read_text()
     cable = tmp_path / "rope_ancf.toml"
     cable.write_text(text.replace("nu = 0.3, ", ""))  # a cable has no shear

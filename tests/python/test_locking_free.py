@@ -150,3 +150,36 @@ def test_free_free_bending_frequencies_match_euler_bernoulli():
     bending = np.sqrt(omega2[omega2 > 0.25 * euler_bernoulli[0] ** 2][:4]).reshape(2, 2)  # two planes, equal stiffness
     rel = bending / euler_bernoulli[:, None] - 1
     assert np.all(np.abs(rel) < 1e-3), rel
+
+
+def stocky_cantilever(spans: int, quadrature: str, P: float = 24.4e3) -> dict[str, np.ndarray]:
+    """A 10 m boom section (EA = 2e9 N, kGA = 8e8 N, EI = 5e6 N m^2) clamped at x = 0, a
+    transverse tip force P: its shear force is P all along (the load stays transverse to z, the
+    boom bends in x-z)."""
+    section = {"EA": 2.0e9, "kGA": 8.0e8, "GJ": 4.0e6, "EI2": 5.0e6, "EI3": 5.0e6}
+    scene = slidebeam.scene_from_dict({
+        "scene": {"name": "boom"}, "analysis": {"type": "static", "steps": 1},
+        "beam": [{"name": "boom", "start": [0, 0, 0], "end": [10.0, 0, 0], "spans": spans,
+                  "quadrature": quadrature, "section": section}],
+        "support": [{"type": "clamp", "beam": "boom", "at": "start"}],
+        "load": [{"type": "force", "beam": "boom", "at": "end", "value": [0, 0, -P]}]})
+    sim = slidebeam.Simulation(scene)
+    assert sim.solve_static()[-1].converged
+    return sim.sample_beam("boom", samples_per_span=4)
+
+
+@pytest.mark.skip_in_parallel  # one beam's section forces, no coupling between ranks
+def test_full_quadrature_section_forces_are_recovered_at_the_barlow_points():
+    """Full quadrature on a stocky beam (16 spans: EA h^2 / EI = 156, where `auto` picks it): the
+    shear force taken at the spans' Barlow points and interpolated is the tip force within 4 %
+    three spans or more from the ends (measured 3.1 %; taken pointwise it ranged from 1.4 to
+    160 kN for 24.4 kN); everywhere within 1 % at 64 spans (measured 0.49 %); assumed strains
+    give it everywhere."""
+    P = 24.4e3
+    for spans, ends, bound in ((16, 3, 0.04), (64, 0, 0.01)):
+        f = stocky_cantilever(spans, "full", P)
+        shear = np.abs(f["force"][:, 2])
+        interior = (f["s"] >= ends * 10.0 / spans) & (f["s"] <= 10.0 - ends * 10.0 / spans)
+        assert np.abs(shear[interior] / P - 1).max() < bound
+    f = stocky_cantilever(16, "assumed_strain", P)
+    assert np.abs(np.abs(f["force"][:, 2]) / P - 1).max() < 2e-3
