@@ -423,8 +423,16 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
   MatFactorError err = MAT_FACTOR_NOERROR;
   PetscCall(MatFactorGetError(F_, &err));
   if (err != MAT_FACTOR_NOERROR) {
-    PetscCall(PetscInfo(J, "Condensed LU: zero pivot (error %d)\n", static_cast<int>(err)));
+    PetscReal pivot = 0;
+    PetscInt row = -1;
+    PetscCall(MatFactorGetErrorZeroPivot(F_, &pivot, &row));
+    PetscCall(PetscInfo(J, "Condensed LU: zero pivot %g at reduced row %" PetscInt_FMT " (error %d)\n", (double)pivot,
+                        row, static_cast<int>(err)));
     *ok = false;
+    // A factor keeps its error through the next numeric factorisations (PETSc clears it only in
+    // a symbolic one): every later setup would report this pivot again, the time steps' return to
+    // the fast LU after a fall-back included.
+    symbolic_done_ = false;
   }
   factored_ = *ok;
   PetscFunctionReturn(0);
