@@ -543,7 +543,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
             _say(rank, outcome.message)
         if "parallel" in summary:
             _say(rank, parallel_line(summary))
-        elif summary["pivoting_lu"]:
+        elif summary["pivoting_lu_steps"]:  # (0 where the user chose a pivoting solver)
             # slower, and a sign of a system the condensed LU could not factor: worth knowing
             _say(rank, f"note: {summary['pivoting_lu_steps']} steps ran on the pivoting LU (SuperLU), which is slower, "
                        "after the LU without pivoting failed on them (a zero pivot, or Newton did not converge); the "

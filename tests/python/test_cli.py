@@ -57,6 +57,15 @@ def test_petsc_options_after_double_dash(run_cli, root):
     assert "SBAssembleJac" in out.stdout and "SB:beam_elastic" in out.stdout  # our log events
 
 
+def test_a_chosen_pivoting_solver_is_no_fall_back(run_cli, root):
+    """The console's note on steps solved on the pivoting LU is about fall-backs: a run whose user
+    chose SuperLU has none (it used to say "0 steps ran on the pivoting LU")."""
+    out = run_cli("run", str(root / "runs" / "pendulum16.toml"), "--out", "res", "--set", "analysis.t_end=0.01", "--",
+                  "-sb_ts_pc_type", "lu", "-sb_ts_pc_factor_mat_solver_type", "superlu")
+    assert out.returncode == 0, out.stderr
+    assert "done in" in out.stdout and "pivoting LU" not in out.stdout
+
+
 def test_options_file_beside_scene(run_cli, root, tmp_path):
     scene = tmp_path / "rollup.toml"
     scene.write_text((root / "runs" / "rollup.toml").read_text())
