@@ -95,6 +95,7 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   const CoreOptions options = core_options(model.comm());
   if (BlockSolvePath::requested(model.comm(), kStepPrefix)) {
     blocks_ = std::make_unique<BlockSolvePath>(model, snes_, J_, kStepPrefix);
+    block_path_ = true;
   } else if (size == 1 && !user_solver) {
     if (options.condense_directors) {
       condensation_ = std::make_unique<DirectorCondensation>(model, model.elimination_order());
@@ -578,8 +579,9 @@ SolveResult TimeIntegrator::step(double h) {
   // (doubling while the fast one keeps failing at once: the seed's strains on the full system
   // meet their zero pivot at every step).
   if (fell_back_ && pivoted_since_ >= (1L << std::min(fast_failures_ - 1, 6))) {
-    SB_CHECK(PetscInfo(snes_, "Back to the fast LU after %ld steps on the pivoting one\n", pivoted_since_));
-    attach_fast_lu();
+    SB_CHECK(PetscInfo(snes_, "Back to the fast solve after %ld steps on the pivoting LU\n", pivoted_since_));
+    if (block_path_) attach_block_path();
+    else attach_fast_lu();
     fell_back_ = false;
   }
   if (auto_reuse_) choose_newton();
@@ -611,11 +613,9 @@ SolveResult TimeIntegrator::step(double h) {
         if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, 1));
         tried_full_newton = true;
       } else if (fast_lu_ || blocks_) {
-        if (fast_lu_) {
-          fell_back_ = true;
-          ++fast_failures_;
-          pivoted_since_ = 0;
-        }
+        fell_back_ = true;
+        ++fast_failures_;
+        pivoted_since_ = 0;
         use_pivoting_lu();
       } else if (!tried_full_newton) {
         SB_CHECK(SNESSetLagJacobian(snes_, 1));
@@ -649,7 +649,7 @@ SolveResult TimeIntegrator::step(double h) {
     choice_.cost += r.iterations + kJacobianCost * (jac_evals_ - jac_before);
   }
   if (r.converged() && fell_back_) ++pivoting_steps_, ++pivoted_since_;
-  if (r.converged() && fast_lu_) fast_failures_ = 0;
+  if (r.converged() && (fast_lu_ || blocks_)) fast_failures_ = 0;
   if (r.converged() && floor_sample_ > 0.0) {
     floor_samples_[floor_count_++ % kFloorSamples] = floor_sample_;
     const int n = std::min(floor_count_, kFloorSamples);
@@ -753,12 +753,10 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
   stepped_ = false;
   jac_solve_ = -1;  // build a fresh Jacobian at the next step
   if (auto_reuse_) reset_newton_choice();
-  if (pivoting_lu && (fast_lu_ || blocks_)) {
-    if (fast_lu_) {  // as after a fall-back: the fast LU again after a step
-      fell_back_ = true;
-      fast_failures_ = 1;
-      pivoted_since_ = 0;
-    }
+  if (pivoting_lu && (fast_lu_ || blocks_)) {  // as after a fall-back: the fast solve again after a step
+    fell_back_ = true;
+    fast_failures_ = 1;
+    pivoted_since_ = 0;
     use_pivoting_lu();
   }
 }
@@ -792,6 +790,16 @@ void TimeIntegrator::attach_fast_lu() {
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 
+void TimeIntegrator::attach_block_path() {
+  // as the constructor built it, its options included (the pivoting LU's PC is replaced)
+  blocks_ = std::make_unique<BlockSolvePath>(model_, snes_, J_, kStepPrefix);
+  KSP ksp = nullptr;
+  SB_CHECK(SNESGetKSP(snes_, &ksp));
+  SB_CHECK(KSPSetFromOptions(ksp));
+  if (DirectorCondensation* u = blocks_->update()) u->set_force_state(x_, step_eval().theta, scale_);
+  if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
+}
+
 void TimeIntegrator::use_pivoting_lu() {
   KSP ksp = nullptr;
   PC pc = nullptr;
@@ -803,7 +811,7 @@ void TimeIntegrator::use_pivoting_lu() {
                             "LU (SuperLU, MUMPS in parallel) from now on\n"));
   if (blocks_) {
     SB_CHECK(blocks_->detach());
-    solves_before_ = blocks_->counts();
+    solves_before_ = parallel_solves();
   }
   SB_CHECK(PCReset(pc));
   SB_CHECK(KSPSetType(ksp, KSPPREONLY));

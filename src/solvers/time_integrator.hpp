@@ -25,7 +25,8 @@
 /// steps with large rotations (D3 at dt = 0.25: 4x slower), hence the default.
 ///
 /// Serial steps factor with PETSc's LU in the natural order (no pivoting, multipliers after
-/// their coordinates) and switch to SuperLU for good after a failed step; see the constructor.
+/// their coordinates); a failed step is retried on SuperLU (several ranks: the block path and
+/// MUMPS), and the steps after it return to the fast solve; see the constructor.
 /// With director beams, that LU works on the condensed system of DirectorCondensation (6
 /// unknowns per control point instead of 18; -sb_condense_directors false: the full system).
 
@@ -100,8 +101,8 @@ class TimeIntegrator {
   /// True while time steps use the pivoting LU (after a failed step, until the return to the
   /// fast one; or when the user chose a solver).
   bool pivoting_lu() const { return !fast_lu_ && !blocks_; }
-  /// Converged steps solved on the pivoting LU, serial fall-backs included (the steps of a
-  /// solver the user chose are not counted).
+  /// Converged steps solved on the pivoting LU after a fall-back, serially or on several ranks
+  /// (the steps of a solver the user chose are not counted).
   long pivoting_lu_steps() const { return pivoting_steps_; }
   /// Resume from a checkpoint: x, v, a, v_prev and sliding_rate have been loaded into this
   /// integrator's vectors; set the time, the predictor memory and the linear solver state.
@@ -122,7 +123,16 @@ class TimeIntegrator {
   /// block application (ranks not coupled), one application plus the coupling correction, and
   /// GMRES; and the most rows of a rank coupled to another rank that any of them had.
   using ParallelSolves = BlockSolvePath::Counts;
-  ParallelSolves parallel_solves() const { return blocks_ ? blocks_->counts() : solves_before_; }
+  /// Over the whole run: the block path is built anew after each fall-back.
+  ParallelSolves parallel_solves() const {
+    if (!blocks_) return solves_before_;
+    ParallelSolves c = blocks_->counts();
+    c.blocks += solves_before_.blocks;
+    c.corrected += solves_before_.corrected;
+    c.krylov += solves_before_.krylov;
+    c.coupled_rows = std::max(c.coupled_rows, solves_before_.coupled_rows);
+    return c;
+  }
   const IntegratorParams& params() const { return params_; }
 
   /// Kinetic energy 1/2 v^T M v and momenta of a state, from one product p = M v.
@@ -178,8 +188,12 @@ class TimeIntegrator {
   /// with the history term) and the inertia c0 M (x1 - x~).
   PetscErrorCode step_forces(Vec x1, Vec F);
   PetscErrorCode step_forces(Vec x1, Vec F, const StepEval& eval);
-  /// Leave the non-pivoting LU for SuperLU (after a failure with it).
+  /// Leave the fast solve for a pivoting LU (after a failure with it): SuperLU serially, MUMPS on
+  /// several ranks.
   void use_pivoting_lu();
+  /// Several ranks: the block path again, as the constructor built it (the return after a
+  /// fall-back).
+  void attach_block_path();
   /// Serial steps: PETSc's LU without pivoting in the model's elimination order, on the
   /// condensed system where there are director triads (the constructor, and the return after
   /// a fall-back).
@@ -270,7 +284,8 @@ class TimeIntegrator {
   std::unique_ptr<BlockSolvePath> blocks_;  // -sb_schwarz: the parallel block solve
   bool fast_lu_ = false;  // serial, non-pivoting PETSc LU in the natural order
   bool backtrack_retry_ = false;  // -sb_backtrack: retry a failed step with backtracking first
-  bool fell_back_ = false;   // on the pivoting LU after a failure of the fast one (serial)
+  bool fell_back_ = false;   // on the pivoting LU after a failure of the fast solve
+  bool block_path_ = false;  // the fast solve is the parallel block path (BlockSolvePath)
   int fast_failures_ = 0;    // consecutive fall-backs without a step on the fast LU between them
   long pivoted_since_ = 0;   // converged steps on the pivoting LU since the last fall-back
   long pivoting_steps_ = 0;  // converged steps on the pivoting LU in all

@@ -44,23 +44,28 @@ def test_backtracking_keeps_a_jerked_rope_from_diverging():
     assert not step_across_the_stop("false")
 
 
-@pytest.mark.skip_in_parallel  # the serial fast LU
-def test_a_fall_back_returns_to_the_fast_lu():
-    """After a step solved on the pivoting LU the steps return to the fast one (it used to stay on
-    SuperLU for good), with the options the run started with (backtracking off here). The
-    fall-back is the one a checkpoint restores (that a failing fast LU falls back:
+def test_a_fall_back_returns_to_the_fast_solve():
+    """After a step solved on the pivoting LU the steps return to the fast solve (they used to stay
+    on SuperLU, and on several ranks on MUMPS, for good), with the options the run started with
+    (backtracking off here): serially the condensed LU, distributed the block path. The fall-back
+    is the one a checkpoint restores (that a failing fast LU falls back:
     test_dynamics.py::test_seed_strains_fall_back_to_a_pivoting_lu); whole runs of the jerked rope
     are no test of it, since which of their steps fail on the fast LU depends on roundoff."""
     with petsc_options(sb_backtrack="false"):
         sim = shipped("runs/effects/moving_anchor.toml", 0.1)
     run(sim)
     integ = sim.integrator
+    serial = sim.snes.getComm().getSize() == 1
+    solves = integ.parallel_solves
     integ.restore(integ.time, integ.h_prev, True)
     assert integ.pivoting_lu
     assert integ.step(0.01).converged and integ.pivoting_lu_steps == 1
     assert integ.step(0.01).converged and integ.pivoting_lu_steps == 1
     assert not integ.pivoting_lu
-    assert sim.snes.getKSP().getPC().getType() == "shell"  # the condensed manifold Newton again
+    # the condensed manifold Newton again, or block Jacobi with the coupling correction
+    assert sim.snes.getKSP().getPC().getType() == ("shell" if serial else "bjacobi")
+    if not serial:  # the block path's solves counted on from those before the fall-back
+        assert integ.parallel_solves["corrected"] > solves["corrected"] > 0
 
 
 @pytest.mark.skip_in_parallel  # the serial fast LU
