@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """The cable benchmark: time steps of the cable scenes users run, with the Newton variant chosen
 by cost (the default) against full Newton (-sb_jacobian_reuse false) and modified Newton
-(-sb_jacobian_reuse). Per scene and variant: ms per step (summary.json stepping_time_s / steps,
+(-sb_jacobian_reuse). Per scene (the rope scenes, the multibody crane and the rockfall net) and
+variant: ms per step (summary.json stepping_time_s / steps,
 median of --repeat runs), Newton iterations, Jacobians and rejected steps per step, and the share
 of the Jacobian assembly in the run. For the swings (runs/cables/cable_swing.toml, the rope as a
 director beam of 40 spans; runs/cables/cable_swing_ancf.toml, as an ANCF cable of 16 elements,
@@ -47,7 +48,8 @@ SWINGS = {SWING: "director beam, 40 spans, energy-momentum", SWING_ANCF: "ANCF c
 OWN_VARIANT = {SWING: "chosen by cost", SWING_ANCF: "modified Newton"}
 SCENES = [(SWING, []), (SWING_ANCF, []), (SWING_ANCF, ["beam.0.spans=40"]), ("runs/cables/zip_line.toml", []), ("runs/cables/hanging_rope.toml", ["analysis.t_end=0.2"]),
           ("runs/effects/ropeway.toml", ["analysis.t_end=0.4"]), ("runs/effects/moving_anchor.toml", []),
-          ("runs/cables/ropeway.toml", ["analysis.t_end=0.2"])]
+          ("runs/cables/ropeway.toml", ["analysis.t_end=0.2"]), ("runs/multibody/crane.toml", []),
+          ("runs/multibody/rockfall_net.toml", ["analysis.t_end=0.1"])]
 VARIANTS = [("chosen by cost", ["-sb_newton_by_cost"]), ("full Newton", ["-sb_jacobian_reuse", "false"]),
             ("modified Newton", ["-sb_jacobian_reuse"])]
 EXACT_OMEGA = 1.579505  # rad/s, the swing's first out-of-plane mode (linear theory)

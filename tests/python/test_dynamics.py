@@ -281,7 +281,9 @@ def test_seed_strains_fall_back_to_a_pivoting_lu():
         if condense:
             assert pc.getType() == "shell"  # no fallback needed
         else:
-            assert pc.getFactorSolverType() == ("superlu" if serial else "mumps")
+            assert sim.integrator.pivoting_lu_steps > 0
+            if serial:  # (the fast LU fails at every return: the stretches on SuperLU double)
+                assert pc.getFactorSolverType() == "superlu"
         H = [r.total_energy for r in run.records]
         assert max(abs(h - H[0]) for h in H) < 1e-9 * max(r.kinetic_energy for r in run.records)
         histories.append(np.array([r.tracked for r in run.records]))
