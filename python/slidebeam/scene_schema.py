@@ -79,7 +79,7 @@ BEAM = Table("beam", "[[beam]]", "One beam or cable. Give its reference centre l
                  "(ANCF cable: spans + 1 nodes)", "", REQUIRED, "integer >= 1"),
     Key("quadrature", "stiffness quadrature: full (3 Gauss points per span), reduced (2), assumed_strain "
                       "(membrane and shear strains at the knots: no locking in slender beams and ropes; "
-                      "docs/theory.md); auto: assumed_strain where a span's EA h^2/EI >= 1000, else full",
+                      "docs/theory.md); auto: assumed_strain where a span's EA h^2/EI >= 300, else full",
         "", '"auto"', '"auto", "full", "reduced", "assumed_strain"; director beams'),
     Key("strain", "strain measure: the objective director strains of Betsch & Steinmann, or the seed paper's "
                   "Green-Lagrange-type measure", "", '"simo-reissner"', '"simo-reissner", "seed"; director beams'),

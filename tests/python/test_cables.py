@@ -58,15 +58,16 @@ def lu_nonzeros_per_unknown(scene: Path, ordering: str) -> float:
 def test_factorisation_fill_grows_linearly_with_the_scene(tmp_path):
     """Four times the carrier length and four times the hangers: with the model's order (sliders
     before carriers, multipliers next to their coordinates) the LU's nonzeros per unknown stay
-    the same, and so they do in the numbering's own order (hangers among the carrier points they
-    hang from); in a naive order (beams in scene order, extras last) each joint fills its carrier
-    from the joint to the carrier's end, so the fill per unknown grows with the scene (the test
-    can fail)."""
+    the same, and in the numbering's own order (hangers among the carrier points they hang from)
+    they grow by 8 % (full quadrature and assumed strains alike; with the carrier's quadrature
+    chosen by slenderness, the shorter spans once took full quadrature and hid it); in a naive
+    order (beams in scene order, extras last) each joint fills its carrier from the joint to the
+    carrier's end, so the fill per unknown grows with the scene (the test can fail)."""
     small, big = cable_scene(tmp_path, 1, 32, 4), cable_scene(tmp_path, 1, 128, 16)
     model, natural, naive = ([lu_nonzeros_per_unknown(s, o) for s in (small, big)]
                              for o in ("sb_model", "natural", "naive"))
     assert model[1] / model[0] < 1.05, model
-    assert natural[1] / natural[0] < 1.05, natural
+    assert natural[1] / natural[0] < 1.12, natural
     assert naive[1] / naive[0] > 1.3, naive
     assert model[1] < 0.7 * naive[1]
 

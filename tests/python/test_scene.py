@@ -294,13 +294,14 @@ def test_scene_from_dict_dynamic_default_time_function():
 @pytest.mark.parametrize("spans, quadrature, expected", [
     (4, None, "assumed_strain"),    # 6 mm steel rope, 5 m spans: EA h^2/EI = 4 h^2/r^2 = 2.8e6
     (400, None, "full"),            # 0.05 m spans: 278 (short, stocky spans)
-    (211, None, "full"),            # 0.0948 m: 998
-    (210, None, "assumed_strain"),  # 0.0952 m: 1008
+    (385, None, "full"),            # 0.05195 m: 299.8
+    (384, None, "assumed_strain"),  # 0.05208 m: 301.4
+    (211, None, "assumed_strain"),  # 0.0948 m: 998 (a wire's spans: full quadrature locks by 2 %)
     (4, "full", "full"),            # a stated quadrature wins
     (400, "assumed_strain", "assumed_strain"),
 ])
 def test_auto_quadrature_follows_the_span_slenderness(spans, quadrature, expected):
-    """quadrature = "auto" (the default): assumed strains where max(EA, kGA) h^2 / EI >= 1000."""
+    """quadrature = "auto" (the default): assumed strains where max(EA, kGA) h^2 / EI >= 300."""
     beam = {"name": "rope", "start": [0, 0, 0], "end": [20, 0, 0], "spans": spans,
             "section": {"shape": "circle", "r": 0.006, "E": 1e11, "nu": 0.3, "rho": 7850}}
     if quadrature:
