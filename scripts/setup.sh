@@ -6,7 +6,8 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 packages=(petsc-dev python3-petsc4py python3-mpi4py python3-meshio python3-h5py python3-numpy python3-pytest
           python3-pytest-xdist python3-matplotlib libeigen3-dev libhdf5-openmpi-dev openmpi-bin pybind11-dev python3-pybind11
           libgtest-dev cmake g++ make pkg-config
-          python3-venv python3-setuptools python3-wheel)  # the last three: pip install (docs/install.md)
+          python3-venv python3-setuptools python3-wheel  # these three: pip install (docs/install.md)
+          libopenblas0-serial)  # BLAS and LAPACK for SuperLU and MUMPS (Debian's alternatives; one thread a rank)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
