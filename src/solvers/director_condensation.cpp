@@ -160,11 +160,11 @@ PetscErrorCode DirectorCondensation::pc_setup(PC pc) {
   bool ok = true;
   PetscCall(static_cast<DirectorCondensation*>(ctx)->setup(P, &ok));
   // A zero pivot or a triad whose constraint Jacobian is not of the expected form fails the
-  // linear solve; the time integrator then retries the step with a pivoting LU.
-  if (!ok) {
-    PetscCall(PetscInfo(pc, "Director condensation failed (zero pivot or a triad block of unexpected form)\n"));
-    PetscCall(PCSetFailedReason(pc, PC_FACTOR_NUMERIC_ZEROPIVOT));
-  }
+  // linear solve; the time integrator then retries the step with a pivoting LU. A set-up that
+  // succeeds clears the reason: the PC keeps it otherwise, and the solves of a retried step
+  // failed on it at once.
+  if (!ok) PetscCall(PetscInfo(pc, "Director condensation failed (zero pivot or a triad block of unexpected form)\n"));
+  PetscCall(PCSetFailedReason(pc, ok ? PC_NOERROR : PC_FACTOR_NUMERIC_ZEROPIVOT));
   PetscFunctionReturn(0);
 }
 

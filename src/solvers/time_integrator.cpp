@@ -604,10 +604,11 @@ SolveResult TimeIntegrator::step(double h) {
     // use), then full Newton (if old Jacobians were in use); then give up (the caller cuts dt).
     // Backtracking only on a retry: a converging step's first iterate often grows |F| a
     // hundredfold on stiff terms and then converges quadratically (the rail at dt = 0.1), and a
-    // shortened step there fails. Not after a failed linear solve (a zero pivot): that one is
-    // the pivoting LU's to retry.
+    // shortened step there fails. Not after a linear solve that failed on the predictor's
+    // Jacobian (a zero pivot there is the pivoting LU's to retry); after one that failed on a
+    // later iterate, yes: Newton diverged into a singular matrix (D3 at dt = 0.25).
     if (attempt > 0) {
-      if (!tried_backtracking && r.reason != SNES_DIVERGED_LINEAR_SOLVE) {
+      if (!tried_backtracking && (r.reason != SNES_DIVERGED_LINEAR_SOLVE || r.iterations > 1)) {
         set_backtracking(true);
         tried_backtracking = true;
         if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, 1));
