@@ -38,6 +38,11 @@ PetscErrorCode BlockSolvePath::prepare(Mat J, bool pattern_changed) {
   PetscCall(SNESGetKSP(snes_, &ksp));
   SchwarzSolve solve = SchwarzSolve::Krylov;
   PetscCall(prepare_schwarz(ksp, model_, J, pattern_changed, &solve));
+  // A new Jacobian starts without the failure of a block under the last one: block Jacobi keeps
+  // its sub-solver's failure as its own, and a retried step's first solve failed on it.
+  PC pc = nullptr;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetFailedReason(pc, PC_NOERROR));
   // One application on several ranks reports a block's failure on its rank alone; the
   // post-solves make the step NaN on every rank instead, and Newton fails everywhere
   // (fail_on_every_rank).
