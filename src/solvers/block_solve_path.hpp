@@ -13,6 +13,7 @@
 
 #include <petscsnes.h>
 
+#include <algorithm>
 #include <memory>
 
 namespace slidebeam {
@@ -25,6 +26,12 @@ class BlockSolvePath {
   struct Counts {
     long blocks = 0, corrected = 0, krylov = 0;
     long coupled_rows = 0;
+    /// The counts of two stretches of a run (the block path is built anew after a fall-back).
+    Counts& operator+=(const Counts& o) {
+      blocks += o.blocks, corrected += o.corrected, krylov += o.krylov;
+      coupled_rows = std::max(coupled_rows, o.coupled_rows);
+      return *this;
+    }
   };
   /// Whether the solver of `prefix` takes this path (schwarz_requested: several ranks, unless the
   /// options name a solver).

@@ -429,10 +429,10 @@ PetscErrorCode DirectorCondensation::setup(Mat J, bool* ok) {
     PetscCall(PetscInfo(J, "Condensed LU: zero pivot %g at reduced row %" PetscInt_FMT " (error %d)\n", (double)pivot,
                         row, static_cast<int>(err)));
     *ok = false;
-    // A factor keeps its error through the next numeric factorisations (PETSc clears it only in
-    // a symbolic one): every later setup would report this pivot again, the time steps' return to
-    // the fast LU after a fall-back included.
-    symbolic_done_ = false;
+    // A factor keeps its error through later numeric factorisations: once reported it is
+    // cleared, or every later set-up would report this pivot again (the time steps' return to
+    // the fast LU after a fall-back included).
+    PetscCall(MatFactorClearError(F_));
   }
   factored_ = *ok;
   PetscFunctionReturn(0);

@@ -797,7 +797,6 @@ void TimeIntegrator::attach_block_path() {
   KSP ksp = nullptr;
   SB_CHECK(SNESGetKSP(snes_, &ksp));
   SB_CHECK(KSPSetFromOptions(ksp));
-  if (DirectorCondensation* u = blocks_->update()) u->set_force_state(x_, step_eval().theta, scale_);
   if (reuse_) SB_CHECK(SNESSetLagJacobian(snes_, -2));  // factor the current Jacobian anew
 }
 

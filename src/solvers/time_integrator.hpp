@@ -125,12 +125,8 @@ class TimeIntegrator {
   using ParallelSolves = BlockSolvePath::Counts;
   /// Over the whole run: the block path is built anew after each fall-back.
   ParallelSolves parallel_solves() const {
-    if (!blocks_) return solves_before_;
-    ParallelSolves c = blocks_->counts();
-    c.blocks += solves_before_.blocks;
-    c.corrected += solves_before_.corrected;
-    c.krylov += solves_before_.krylov;
-    c.coupled_rows = std::max(c.coupled_rows, solves_before_.coupled_rows);
+    ParallelSolves c = solves_before_;
+    if (blocks_) c += blocks_->counts();
     return c;
   }
   const IntegratorParams& params() const { return params_; }
