@@ -235,8 +235,12 @@ PYBIND11_MODULE(_core, m) {
                              "how often the ghost set was rebuilt because a sliding joint moved")
       .def("elimination_order", &Model::elimination_order,
            "permutation of the unknowns (new position -> old index) of the serial factorisation")
-      .def("extra_offset", [](const Model& s, int effect) { return s.effects().at(static_cast<size_t>(effect))->extra_offset(); },
-           py::arg("effect"), "global index of an effect's first extra unknown")
+      .def("extra_offset",
+           [](const Model& s, int effect) -> PetscInt {
+             const auto* extras = part_of<ExtraUnknowns>(*s.effects().at(static_cast<size_t>(effect)));
+             return extras ? extras->extra_offset() : -1;
+           },
+           py::arg("effect"), "global index of an effect's first extra unknown (-1: it has none)")
       .def("extra_values", [](const Model& s, int effect, Vec x) { return s.extra_values(effect, x); },
            py::arg("effect"), py::arg("x"), "values of an effect's extra unknowns (s, multipliers) on every rank (collective)")
       .def("beam_coordinates",

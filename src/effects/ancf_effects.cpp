@@ -64,10 +64,9 @@ class AncfElastic final : public AncfElementEffect {
 
 /// Kinetic energy of one cable: the constant consistent mass int rhoA S^T S dx (no rotary
 /// inertia). Assembled once into the mass matrix.
-class AncfInertia final : public AncfElementEffect {
+class AncfInertia final : public AncfElementEffect, public MassSource {
  public:
   AncfInertia(const Model& m, const EffectParams& p) : AncfElementEffect(m, p, "ancf_inertia") {}
-  bool has_mass() const override { return true; }
   std::string type() const override { return "ancf_inertia"; }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }

@@ -202,7 +202,7 @@ class BeamElastic final : public SpanEffect {
 };
 
 /// Six orthonormality constraints per control point with their multipliers (seed eq. 2).
-class DirectorConstraints final : public Effect {
+class DirectorConstraints final : public Effect, public NumberingHints {
   static constexpr int kBlock = kernels::kNq + 6;  ///< a director control point's DofMap block
 
  public:
@@ -271,10 +271,9 @@ class DirectorConstraints final : public Effect {
 /// Kinetic energy of one beam (docs/theory.md, "Inertia, gravity, point masses"): the constant consistent mass
 /// M^AB = int N^A N^B ds (x) diag(rho A, 0, rho I3, rho I2). d1 carries no inertia. Assembled
 /// once into the mass matrix; the time integrator applies it.
-class BeamInertia final : public SpanEffect {
+class BeamInertia final : public SpanEffect, public MassSource {
  public:
   BeamInertia(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_inertia") {}
-  bool has_mass() const override { return true; }
   std::string type() const override { return "beam_inertia"; }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }

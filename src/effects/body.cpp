@@ -13,7 +13,7 @@
 
 namespace slidebeam::effects {
 
-class BodyInertia final : public Effect {
+class BodyInertia final : public Effect, public MassSource {
  public:
   BodyInertia(const Model& m, const EffectParams& p) : body_(beam_param(m, p)) {
     if (!m.beam(body_).is_rigid())
@@ -21,7 +21,6 @@ class BodyInertia final : public Effect {
   }
   std::string type() const override { return "body_inertia"; }
   std::string label() const override { return "body_inertia[" + std::to_string(body_) + "]"; }
-  bool has_mass() const override { return true; }
   void distribute(const Model& m) override { owned_ = m.dof_map().owns_cp(m.beam(body_).first_cp()); }
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
   PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }

@@ -102,15 +102,6 @@ void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, con
   for (int j = 0; j < st.n; ++j) Eigen::Map<Eigen::Vector3d>(r.cp(map, b.first_cp() + st.cp[j]) + st.comp[j]) += st.w[j] * f;
 }
 
-const Effect* sliding_joint_of(const Model& m, int slider, const Effect* self) {
-  const Effect* joint = nullptr;
-  for (const auto& e : m.effects()) {
-    if (e.get() == self) break;
-    if (e->slider_beam() == slider) joint = e.get();
-  }
-  return joint;
-}
-
 int end_cp(const Beam& b, double s) {
   const double tol = 1e-12 * b.length();
   if (std::abs(s) <= tol) return 0;

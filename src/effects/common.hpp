@@ -92,11 +92,6 @@ int end_cp(const Beam& b, double s);
 /// (joints.cpp); a clamp at a beam end prescribes the end control point instead (supports.cpp).
 std::unique_ptr<Effect> make_clamp_inside(const Model& m, const EffectParams& p);
 
-/// The sliding joint an effect on beam `slider`'s slider acts on (friction, a drive): the last
-/// effect before `self` whose slider is that beam (the model creates constraints first:
-/// model.py), or nullptr.
-const Effect* sliding_joint_of(const Model& m, int slider, const Effect* self);
-
 /// The spans on both sides of knot i of a director beam (-1: none).
 inline void knot_spans(const Beam& b, int i, int& left, int& right) {
   left = i >= 1 ? i - 1 : -1;

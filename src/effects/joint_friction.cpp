@@ -7,7 +7,7 @@
 /// joint's tangential force on the slider (per unit of s: s is the carrier's reference arc
 /// length, so on a stretched carrier the force itself is F / |c'|). Its own row is Coulomb's law
 /// over the step, with the mean sliding rate sdot = (s_n+1 - s_n) / h and the normal force
-/// N = |Lambda - (t . Lambda) t| (Effect::normal_force: the joint's force on the slider
+/// N = |Lambda - (t . Lambda) t| (JointTarget::normal_force: the joint's force on the slider
 /// transverse to the carrier's unit tangent t at s, at the joint's force state):
 ///
 ///   |F| <= mu N,   and   sdot = 0 where |F| < mu N,   F = -mu N sdot / |sdot| where sdot != 0,
@@ -44,7 +44,7 @@
 
 namespace slidebeam::effects {
 
-class JointFriction final : public Effect {
+class JointFriction final : public Effect, public ExtraUnknowns, public JointLink {
  public:
   JointFriction(const Model& m, const EffectParams& p) : slider_(beam_param(m, p)), mu_(p.number("mu")) {
     if (!(mu_ >= 0.0)) throw ParamError("mu", "friction: mu must be >= 0");
@@ -54,17 +54,20 @@ class JointFriction final : public Effect {
   /// F, the friction force on s.
   PetscInt n_extra() const override { return 1; }
 
-  void distribute(const Model& m) override {
-    joint_ = sliding_joint_of(m, slider_, this);
-    if (!joint_)
+  int linked_slider() const override { return slider_; }
+  void link(const Model& m, const JointTarget* joint) override {
+    if (!joint)
       throw std::invalid_argument("friction: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
+    joint_ = joint;
+  }
+
+  void distribute(const Model& m) override {
     label_ = "friction[" + m.beam(slider_).name() + "]";
     owned_ = extra_offset() >= m.dof_map().owned_lo() && extra_offset() < m.dof_map().owned_hi();
   }
   /// F sits with the joint's own extras: after s, whose row holds F's pivot in stick.
   PetscInt elimination_anchor(const Model& m) const override {
-    const Effect* joint = sliding_joint_of(m, slider_, this);
-    return joint ? joint->elimination_anchor(m) : -1;
+    return joint_ ? joint_->joint_unknowns().elimination_anchor(m) : -1;
   }
   /// What N reads is the joint's own unknowns, ghosted by the joint on the rank that evaluates it;
   /// s (and its step start) is among them.
@@ -79,7 +82,8 @@ class JointFriction final : public Effect {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
     const PetscInt F = extra_offset(), s = s_index();
-    const PetscInt cols[5] = {F, s, joint_->extra_offset(), joint_->extra_offset() + 1, joint_->extra_offset() + 2};
+    const PetscInt mu = joint_->joint_unknowns().extra_offset();
+    const PetscInt cols[5] = {F, s, mu, mu + 1, mu + 2};
     const double zero[5] = {0, 0, 0, 0, 0};
     PetscCall(sink.add(1, &F, 5, cols, zero));
     PetscCall(sink.add(1, &s, 1, &F, zero));
@@ -167,21 +171,22 @@ class JointFriction final : public Effect {
     law.limit = law.sign * mu_ * N;
     return true;
   }
-  /// True when another effect prescribes s (a slider drive). Looked up at the first evaluation:
-  /// the drive finds its joint in its own distribute(), which may come after this one's.
+  /// True when another effect prescribes s (a slider drive). Looked up at the first evaluation,
+  /// once every effect is distributed.
   bool driven(const Model& m) const {
     if (driven_ < 0) {
       driven_ = 0;
       for (const auto& e : m.effects()) {
         std::vector<PetscInt> rows;
-        if (e.get() != joint_) e->constrained_state(rows);
+        const auto* held = part_of<PrescribedMotion>(*e);
+        if (held && part_of<JointTarget>(*e) != joint_) held->constrained_state(rows);
         if (std::find(rows.begin(), rows.end(), s_index()) != rows.end()) driven_ = 1;
       }
     }
     return driven_ == 1;
   }
   /// The joint's s: its fourth extra (after the three multipliers).
-  PetscInt s_index() const { return joint_->extra_offset() + 3; }
+  PetscInt s_index() const { return joint_->joint_unknowns().extra_offset() + 3; }
 
   /// r = kDelassusShare m / h. m / h is the inverse Delassus scale of the slider beam's whole mass;
   /// what opposes the sliding rate can be much less (the top of a pendulum whose bob swings
@@ -194,7 +199,7 @@ class JointFriction final : public Effect {
   static constexpr double kTie = 1e-6;
   int slider_;
   double mu_;
-  const Effect* joint_ = nullptr;
+  const JointTarget* joint_ = nullptr;
   mutable int driven_ = -1;
   bool owned_ = false;
   std::string label_ = "friction";

@@ -102,7 +102,7 @@ struct JointSide {
 
 }  // namespace
 
-class Joint final : public Effect, public ReactionSource {
+class Joint final : public Effect, public ExtraUnknowns, public NumberingHints, public ReactionSource {
  public:
   /// Two beam (or body) points: beam_a at s_a and beam_b at s_b (on a body: point_a, point_b,
   /// where drawn). to_ground: one point, beam at s (on a body: point), held to the ground.

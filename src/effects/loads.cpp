@@ -75,12 +75,11 @@ struct BeamPoint {
 /// A lumped mass at a beam point: m w_a(s) w_b(s) on the position stencil's blocks of the mass
 /// matrix (director: N^A N^B on the phi blocks; ANCF: the Hermite weights on r and r'). Its
 /// weight comes through the gravity effect.
-class PointMass final : public Effect {
+class PointMass final : public Effect, public MassSource {
  public:
   PointMass(const Model& m, const EffectParams& p) : point(m, p, "point_mass"), kg(p.number("mass")) {
     if (!(kg > 0)) throw std::invalid_argument("point_mass: mass must be > 0");
   }
-  bool has_mass() const override { return true; }
   std::string type() const override { return "point_mass"; }
   std::string label() const override { return "point_mass[" + std::to_string(kg) + " kg]"; }
   void distribute(const Model& m) override { owned_ = point.owned(m); }

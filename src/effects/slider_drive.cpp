@@ -35,7 +35,7 @@ double trapezoid_travel(double t, double v, double start, double stop, double a)
 }
 }  // namespace
 
-class SliderDrive final : public Effect {
+class SliderDrive final : public Effect, public ExtraUnknowns, public PrescribedMotion, public JointLink {
  public:
   SliderDrive(const Model& m, const EffectParams& p)
       : slider_(beam_param(m, p)),
@@ -68,22 +68,25 @@ class SliderDrive final : public Effect {
   PetscInt n_extra() const override { return 1; }
   bool time_dependent() const override { return true; }
 
-  void distribute(const Model& m) override {
-    joint_ = sliding_joint_of(m, slider_, this);
-    if (!joint_)
+  int linked_slider() const override { return slider_; }
+  void link(const Model& m, const JointTarget* joint) override {
+    if (!joint)
       throw std::invalid_argument("slider_drive: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
+    joint_ = joint;
+  }
+
+  void distribute(const Model& m) override {
     label_ = "slider_drive[" + m.beam(slider_).name() + "]";
     std::vector<PetscInt> rows;
     std::vector<PetscScalar> vals;
-    joint_->initial_values(m, rows, vals);  // the slider's s at the start: the travel's origin
+    joint_->joint_unknowns().initial_values(m, rows, vals);  // the slider's s at the start: the travel's origin
     if (!vals.empty()) s0_ = vals[0];
     const PetscInt s = s_index();
     owned_ = s >= m.dof_map().owned_lo() && s < m.dof_map().owned_hi();
   }
   PetscInt elimination_anchor(const Model& m) const override {
     // with the joint's own extras: the multiplier sits next to the s it prescribes
-    const Effect* joint = sliding_joint_of(m, slider_, this);
-    return joint ? joint->elimination_anchor(m) : -1;
+    return joint_ ? joint_->joint_unknowns().elimination_anchor(m) : -1;
   }
   void needed_dofs(const Model&, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
@@ -123,7 +126,7 @@ class SliderDrive final : public Effect {
   }
 
  private:
-  PetscInt s_index() const { return joint_->extra_offset() + 3; }
+  PetscInt s_index() const { return joint_->joint_unknowns().extra_offset() + 3; }
   double travel(double t) const {
     return by_distance_ ? distance_ * f_(t) : trapezoid_travel(t, speed_, start_, stop_, ramp_);
   }
@@ -132,7 +135,7 @@ class SliderDrive final : public Effect {
   bool by_distance_;
   double distance_ = 0.0;
   TimeFunction f_;
-  const Effect* joint_ = nullptr;
+  const JointTarget* joint_ = nullptr;
   std::string label_ = "slider_drive";
   double s0_ = 0.0;
   bool owned_ = false;

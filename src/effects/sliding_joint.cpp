@@ -38,7 +38,7 @@
 
 #include "effects/common.hpp"
 #include "kernels/sliding.hpp"
-#include "model/event_source.hpp"
+#include "model/effect_parts.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -49,7 +49,8 @@
 
 namespace slidebeam::effects {
 
-class SlidingJoint final : public Effect, public EventSource {
+class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoints, public NumberingHints, public JointTarget,
+                           public EventSource {
  public:
   SlidingJoint(const Model& m, const EffectParams& p)
       : slider_(static_cast<int>(p.number("slider"))), carrier_(static_cast<int>(p.number("carrier"))) {
@@ -116,6 +117,7 @@ class SlidingJoint final : public Effect, public EventSource {
   PetscInt n_extra() const override { return 4; }
   bool extra_is_state(PetscInt k) const override { return k == 3; }
   int slider_beam() const override { return slider_; }
+  const ExtraUnknowns& joint_unknowns() const override { return *this; }
   void initial_values(const Model&, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     rows.push_back(s_index());
     vals.push_back(s0_);

@@ -100,7 +100,7 @@ struct SupportMotion {
 };
 
 /// Base of effects with no residual of their own (pure elimination).
-class PrescribingSupport : public Effect {
+class PrescribingSupport : public Effect, public PrescribedMotion {
  public:
   void distribute(const Model&) override {}
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
@@ -193,7 +193,7 @@ class Fixed final : public PrescribingSupport, public ReactionSource {
 };
 
 /// Spherical support: the centre line passes through X at beam point s; directors free.
-class Spherical final : public Effect, public ReactionSource {
+class Spherical final : public Effect, public PrescribedMotion, public ExtraUnknowns, public ReactionSource {
  public:
   Spherical(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), s_(p.number("s")), motion_(p) {
     const Beam& b = m.beam(beam_);

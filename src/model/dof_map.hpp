@@ -4,7 +4,7 @@
 ///
 /// Layout: every control point owns a contiguous slot of unknowns: its coordinates, the
 /// multipliers of its own constraints, then the extra unknowns of the effects anchored at it
-/// (Effect::elimination_anchor: a joint's multipliers and sliding coordinate after its slider's
+/// (ExtraUnknowns::elimination_anchor: a joint's multipliers and sliding coordinate after its slider's
 /// points, a support's multipliers after the supported points). The block size depends on the
 /// beam's formulation: a director control point has 12 coordinates (phi, d1, d2, d3) and 6
 /// orthonormality multipliers (18), an ANCF node 6 coordinates (r, r') and none. Extras without

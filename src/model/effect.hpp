@@ -5,7 +5,7 @@
 /// assembles exactly the effects a scene creates.
 
 #include "model/dof_map.hpp"
-#include "search/closest_point_search.hpp"
+#include "model/effect_parts.hpp"
 
 #include <petscmat.h>
 
@@ -22,32 +22,6 @@
 namespace slidebeam {
 
 class Model;
-
-/// The force and moment a support or joint exerts, on the beam it holds (a joint: on its first
-/// beam); the moment about the held point (a rail: about its start).
-struct Reaction {
-  std::array<double, 3> force{}, moment{};
-  bool has_moment = false;
-};
-
-/// What Effect::reaction reads, at owned rows (0 elsewhere): raw, the residual of all effects
-/// (with the step's inertia) before prescribed rows are replaced; own, this effect's residual;
-/// x, the state.
-struct ReactionInput {
-  std::function<double(PetscInt)> raw, own, x;
-};
-
-/// An effect's opt-in part: a reaction (supports and joints). An effect that also derives from
-/// ReactionSource is listed in Model::reactions; nothing else needs to know it.
-class ReactionSource {
- public:
-  virtual ~ReactionSource() = default;
-  /// The force (and moment) it exerts on the structure, summed over ranks by the model: add the
-  /// terms of owned rows only.
-  virtual void reaction(const Model& model, const ReactionInput& in, Reaction& out) const = 0;
-  /// Whether reaction() reads ReactionInput::own (assembling it costs a pass over the state).
-  virtual bool reaction_reads_own() const { return false; }
-};
 
 /// Parameters of an effect, as given by the scene (numbers, vectors, strings).
 struct EffectParams {
@@ -254,6 +228,8 @@ class MatSink {
   double scale_ = 1.0;
 };
 
+/// The core every effect has: what it is, which unknowns its items read, its residual, tangent
+/// and energy. Anything more is an opt-in part (model/effect_parts.hpp).
 class Effect {
  public:
   virtual ~Effect() = default;
@@ -263,31 +239,10 @@ class Effect {
   /// Human-readable label of this instance ("beam_elastic[strip]").
   virtual std::string label() const = 0;
 
-  /// Number of extra global unknowns (multipliers) this effect introduces.
-  virtual PetscInt n_extra() const { return 0; }
-  /// First global index of this effect's extra unknowns (set by the model).
-  void set_extra_offset(PetscInt first) { extra_offset_ = first; }
-  PetscInt extra_offset() const { return extra_offset_; }
-
-  /// Points this effect wants located on beams' centre lines (reference configuration) before
-  /// distribute(): the model answers all effects' queries in one parallel search.
-  virtual void closest_point_queries(const Model&, std::vector<ClosestPointQuery>&) const {}
-  /// The answers to this effect's queries, in order, on every rank (so an error is the same
-  /// everywhere). Throws std::invalid_argument for a point off its beam.
-  virtual void set_closest_points(const Model&, const ClosestPoint*) {}
-
   /// Choose the items (elements, points) this rank evaluates. Called once after numbering.
   virtual void distribute(const Model& model) = 0;
   /// Global unknowns read by this rank's items (for the ghost scatter).
   virtual void needed_dofs(const Model& model, std::vector<PetscInt>& dofs) const = 0;
-  /// Effects whose unknowns move (a sliding joint reads the carrier points around s): given the
-  /// ghosted unknowns before an evaluation (x and the step start x_old), return true when they
-  /// will read unknowns outside needed_dofs(), after updating what needed_dofs() returns. The
-  /// model then rebuilds its ghost scatter (collective). Unknowns the effect declared always
-  /// stay readable, so an effect may read its own moving coordinate here.
-  virtual bool refresh_needed_dofs(const Model&, const LocalValues& /*x*/, const LocalValues& /*x_old*/) const {
-    return false;
-  }
   /// Record every Jacobian entry the effect may ever touch (values are ignored).
   virtual PetscErrorCode pattern(const Model& model, const MatSink& sink) const = 0;
 
@@ -295,94 +250,18 @@ class Effect {
   virtual PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const = 0;
   /// J += d r / d x.
   virtual PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const = 0;
-  /// True for inertia effects (beam inertia, point masses): those that add to the mass matrix.
-  virtual bool has_mass() const { return false; }
-  /// M += the effect's constant mass matrix (inertia effects only).
-  virtual PetscErrorCode mass(const Model&, const MatSink&) const { return 0; }
   /// This rank's share of the effect's potential energy (0 for non-potential effects).
   virtual double energy(const EvalContext&) const { return 0.0; }
-
-  /// True for extra unknown k that is part of the state (a sliding coordinate: it has no mass
-  /// and no velocity of its own, but it is not a multiplier).
-  virtual bool extra_is_state(PetscInt) const { return false; }
-  /// Values of extra unknowns in the initial state (e.g. a sliding coordinate from a projection).
-  virtual void initial_values(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
-
-  /// The control point whose slot holds this effect's extra unknowns (DofMap), right after its
-  /// block (-1: after all slots, on the last rank): they are then owned with that point and
-  /// eliminated after it. Choose a point the extras couple to, so that the multipliers find their
-  /// pivot in the coordinates before them and their fill stays local.
-  virtual PetscInt elimination_anchor(const Model&) const { return -1; }
-  /// The points that could hold the extras, the preferred first (default: elimination_anchor).
-  /// An effect with a choice (a rigid joint: either end) gets a point no other effect's extras
-  /// use where there is one (Model::finalize): a point's 6 degrees of freedom give pivots to one
-  /// set of 6 constraints, so three joints anchored at one point of a net's crossing would make
-  /// two of them singular.
-  virtual void anchor_choices(const Model& m, std::vector<PetscInt>& cps) const {
-    const PetscInt a = elimination_anchor(m);
-    if (a >= 0) cps.push_back(a);
-  }
-  /// The point chosen to hold the extras (-1: none, or not finalized yet).
-  PetscInt anchor() const { return anchor_; }
-  void set_anchor(PetscInt cp) { anchor_ = cp; }
-  /// The control points whose coordinates give the extras their pivots, the anchor among them
-  /// (a slider point's stencil): the split over ranks keeps them on one rank, since a rank's
-  /// block with the extras but not those points would be singular.
-  virtual void anchor_points(const Model&, std::vector<PetscInt>& cps) const {
-    if (anchor_ >= 0) cps.push_back(anchor_);
-  }
-  /// Pairs of control points this effect couples in the reference configuration (a rigid
-  /// joint's two points; a sliding joint's slider point and the carrier point nearest to it). The
-  /// numbering keeps coupled points close, so that a rank's share of a structure stays connected
-  /// and its interface with other ranks small (Model::numbering_order).
-  virtual void reference_couplings(const Model&, std::vector<std::pair<PetscInt, PetscInt>>&) const {}
-  /// Beams whose control points should be eliminated before another beam's, as (first, then)
-  /// pairs: a slider before its carrier, so that a joint's fill lands in the carrier's band.
-  virtual void elimination_precedence(std::vector<std::pair<int, int>>&) const {}
-
-  /// Owned control points whose block is an orthonormality-constrained director triad: 12
-  /// coordinates (phi, d1, d2, d3), then the 6 multipliers of 1/2(d1.d1-1), 1/2(d2.d2-1),
-  /// 1/2(d3.d3-1), d1.d2, d1.d3, d2.d3, whose forces are G(x_f)^T lambda and nothing else.
-  virtual void director_triads(const Model&, std::vector<PetscInt>& /*cps*/) const {}
-
-  /// Unknowns this effect prescribes (Dirichlet), with their values. Called on every rank;
-  /// return only rows owned by this rank.
-  virtual void prescribed(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
-  /// The same at time t: a support that moves (the rows stay the same, the values follow t).
-  virtual void prescribed_at(const Model& m, double /*t*/, std::vector<PetscInt>& rows,
-                             std::vector<PetscScalar>& vals) const {
-    prescribed(m, rows, vals);
-  }
-  /// State unknowns this effect prescribes through its own constraint (a driven slider's s):
-  /// nothing else may hold them (the equilibrium start's held sliders).
-  virtual void constrained_state(std::vector<PetscInt>& /*rows*/) const {}
-  /// A sliding joint: the beam whose point slides (-1 for every other effect).
-  virtual int slider_beam() const { return -1; }
-  /// A constraint that moves with time (a driven support) does work: the energy balance counts
-  /// it as driving (EnergyRole::Driving) although its type is a constraint.
-  virtual bool drives() const { return false; }
-
   /// True if the effect depends on time explicitly (a load with a time function): its stored
   /// energy then changes with time alone, and the energy balance counts that change as work.
   virtual bool time_dependent() const { return false; }
-
-  /// A sliding joint's force on its slider in the global frame under the evaluation's rule (the
-  /// step's force under the midpoint-type rules), on the rank that evaluates the joint (true);
-  /// false elsewhere and for every other effect.
-  virtual bool joint_force(const EvalContext&, std::array<double, 3>&) const { return false; }
-  /// A sliding joint: the magnitude N of its force on the slider transverse to the carrier's unit
-  /// tangent at s (the normal force of friction), under the evaluation's rule, and dN / d(dofs)
-  /// over the global unknowns it depends on, on the rank that evaluates the joint (true); false
-  /// elsewhere and for every other effect.
-  virtual bool normal_force(const EvalContext&, double& /*N*/, std::vector<PetscInt>& /*dofs*/,
-                            std::vector<double>& /*dN*/) const {
-    return false;
-  }
-
- private:
-  PetscInt extra_offset_ = -1;
-  PetscInt anchor_ = -1;
 };
+
+/// ExtraUnknowns::n_extra of an effect, 0 for one without the part.
+inline PetscInt n_extra(const Effect& e) {
+  const auto* x = part_of<ExtraUnknowns>(e);
+  return x ? x->n_extra() : 0;
+}
 
 using EffectFactory = std::function<std::unique_ptr<Effect>(const Model&, const EffectParams&)>;
 

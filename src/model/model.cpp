@@ -110,11 +110,12 @@ void Model::finalize(const PartitionPolicy& partition) {
   std::vector<int> attached(coordinates.size(), 0);
   std::vector<PetscInt> anchor(effects_.size(), -1), slot_position(effects_.size(), 0);
   PetscInt n_tail = 0;
+  link_effects();
   resolve_anchors();
   for (size_t k = 0; k < effects_.size(); ++k) {
-    const PetscInt n = effects_[k]->n_extra();
+    const PetscInt n = n_extra(*effects_[k]);
     if (n == 0) continue;
-    const PetscInt a = effects_[k]->anchor();
+    const PetscInt a = part_of<ExtraUnknowns>(*effects_[k])->anchor();
     if (a >= 0 && a < n_cp_total_) {
       anchor[k] = a;
       slot_position[k] = attached[static_cast<size_t>(a)];
@@ -139,9 +140,9 @@ void Model::finalize(const PartitionPolicy& partition) {
       map_ = DofMap(coordinates, multipliers, n_tail, rank_, size_, attached, 1, order, joined);
   }
   for (size_t k = 0; k < effects_.size(); ++k)
-    if (effects_[k]->n_extra() > 0)
-      effects_[k]->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]
-                                                   : map_.extra(slot_position[k]));
+    if (n_extra(*effects_[k]) > 0)
+      part_of<ExtraUnknowns>(*effects_[k])->set_extra_offset(anchor[k] >= 0 ? map_.attached(anchor[k]) + slot_position[k]
+                                                                            : map_.extra(slot_position[k]));
   elimination_order_ = compute_elimination_order();
   locate_points();
   for (auto& e : effects_) e->distribute(*this);
@@ -175,7 +176,17 @@ void Model::finalize(const PartitionPolicy& partition) {
   SB_CHECK(MatSetOption(J_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   SB_CHECK(MatSetOption(J_, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
 
-  for (const auto& e : effects_) moving_prescriptions_ |= e->drives();
+  prescribers_.clear();
+  movers_.clear();
+  mass_of_.clear();
+  for (const auto& e : effects_) {
+    mass_of_.push_back(part_of<MassSource>(*e));
+    if (const auto* pm = part_of<PrescribedMotion>(*e)) {
+      prescribers_.push_back(pm);
+      moving_prescriptions_ |= pm->drives();
+    }
+    if (const auto* mp = part_of<MovingPoints>(*e)) movers_.push_back(mp);
+  }
   collect_prescribed(0.0);
   // Coordinates versus multipliers/extras.
   SB_CHECK(VecDuplicate(x_, &q_mask_));
@@ -191,7 +202,9 @@ void Model::finalize(const PartitionPolicy& partition) {
   }
   SB_CHECK(VecDuplicate(x_, &s_mask_));
   SB_CHECK(VecZeroEntries(s_mask_));
-  for (const auto& e : effects_) {
+  for (const auto& effect : effects_) {
+    const auto* e = part_of<ExtraUnknowns>(*effect);
+    if (!e) continue;
     for (PetscInt k = 0; k < e->n_extra(); ++k) {
       if (!e->extra_is_state(k)) continue;
       has_sliding_state_ = true;
@@ -210,7 +223,7 @@ void Model::finalize(const PartitionPolicy& partition) {
   SB_CHECK(VecAssemblyBegin(s_mask_));
   SB_CHECK(VecAssemblyEnd(s_mask_));
   for (const auto& e : effects_)
-    if (e->has_mass()) has_inertia_ = true;
+    if (part_of<MassSource>(*e)) has_inertia_ = true;
   rate_force_.clear();
   for (const auto& e : effects_) {
     rate_force_.push_back(EffectRegistry::instance().spec(e->type()).rate_force ? 1 : 0);
@@ -225,7 +238,7 @@ void Model::locate_points() {
   std::vector<ClosestPointQuery> queries;
   std::vector<size_t> first(effects_.size() + 1, 0);
   for (size_t k = 0; k < effects_.size(); ++k) {
-    effects_[k]->closest_point_queries(*this, queries);
+    if (const auto* mp = part_of<MovingPoints>(*effects_[k])) mp->closest_point_queries(*this, queries);
     first[k + 1] = queries.size();
   }
   if (queries.empty()) return;
@@ -234,11 +247,13 @@ void Model::locate_points() {
   const std::vector<ClosestPoint> answers = closest_points(*this, queries);
   PetscLogEventEnd(event("SBContactSearch"), 0, 0, 0, 0);
   for (size_t k = 0; k < effects_.size(); ++k)
-    if (first[k + 1] > first[k]) effects_[k]->set_closest_points(*this, answers.data() + first[k]);
+    if (first[k + 1] > first[k]) part_of<MovingPoints>(*effects_[k])->set_closest_points(*this, answers.data() + first[k]);
 }
 
 std::vector<double> Model::extra_values(int effect, Vec x) const {
-  const Effect& e = *effects_.at(static_cast<size_t>(effect));
+  const auto* extras = part_of<ExtraUnknowns>(*effects_.at(static_cast<size_t>(effect)));
+  if (!extras) return {};
+  const ExtraUnknowns& e = *extras;
   std::vector<double> v(static_cast<size_t>(e.n_extra()), 0.0);
   const PetscScalar* a = nullptr;
   SB_CHECK(VecGetArrayRead(x, &a));
@@ -270,7 +285,7 @@ void Model::compute_beam_masses() {
   };
   const MatSink sink(&tally);
   for (const auto& e : effects_)
-    if (e->has_mass()) SB_CHECK(e->mass(*this, sink));
+    if (const auto* ms = part_of<MassSource>(*e)) SB_CHECK(ms->mass(*this, sink));
   MPI_Allreduce(MPI_IN_PLACE, beam_mass_.data(), static_cast<int>(beam_mass_.size()), MPI_DOUBLE, MPI_SUM, comm_);
 }
 
@@ -284,7 +299,8 @@ Mat Model::create_mass_matrix() const {
   CooAssembly coo;
   coo.begin();
   MatSink sink(&coo);
-  for (const auto& e : effects_) SB_CHECK(e->mass(*this, sink));
+  for (const auto& e : effects_)
+    if (const auto* ms = part_of<MassSource>(*e)) SB_CHECK(ms->mass(*this, sink));
   SB_CHECK(coo.end(M));
   return M;
 }
@@ -361,7 +377,7 @@ PetscErrorCode Model::prepare_ghosts(const StepEval& ev, Vec x) const {
     PetscCall(VecGetArray(x_local_, &xa));
     if (two_states) PetscCall(VecGetArray(x_old_local_, &oa));
     const LocalValues xv(ghost_dofs_, xa), ov(ghost_dofs_, two_states ? oa : xa);
-    for (const auto& e : effects_) moved |= e->refresh_needed_dofs(*this, xv, ov) ? 1 : 0;
+    for (const MovingPoints* e : movers_) moved |= e->refresh_needed_dofs(*this, xv, ov) ? 1 : 0;
     if (two_states) PetscCall(VecRestoreArray(x_old_local_, &oa));
     PetscCall(VecRestoreArray(x_local_, &xa));
   }
@@ -380,7 +396,7 @@ PetscErrorCode Model::prepare_ghosts(const StepEval& ev, Vec x) const {
 void Model::collect_prescribed(double t) const {
   // Prescribed unknowns (supports): owned rows only, later effects win on duplicates.
   std::map<PetscInt, PetscScalar> bc;
-  for (const auto& e : effects_) {
+  for (const PrescribedMotion* e : prescribers_) {
     std::vector<PetscInt> rows;
     std::vector<PetscScalar> vals;
     e->prescribed_at(*this, t, rows, vals);
@@ -594,7 +610,7 @@ PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J
       PetscCall(effect_term(*effects_[k], [&] {
         PetscFunctionBeginUser;
         PetscCall(effects_[k]->jacobian(ctx, rate_force_[k] ? rate_sink : sink));
-        if (mass_scale != 0.0) PetscCall(effects_[k]->mass(*this, mass_sink));
+        if (mass_scale != 0.0 && mass_of_[k]) PetscCall(mass_of_[k]->mass(*this, mass_sink));
         PetscFunctionReturn(0);
       }));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));
@@ -651,7 +667,8 @@ std::vector<double> Model::effect_energies(double t, Vec x, const std::vector<si
 std::vector<std::array<double, 3>> Model::joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const {
   std::vector<std::array<double, 3>> f(effects.size(), std::array<double, 3>{});
   SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
-    for (size_t k = 0; k < effects.size(); ++k) effects_.at(static_cast<size_t>(effects[k]))->joint_force(ctx, f[k]);
+    for (size_t k = 0; k < effects.size(); ++k)
+      if (const auto* joint = part_of<JointTarget>(*effects_.at(static_cast<size_t>(effects[k])))) joint->joint_force(ctx, f[k]);
     return 0;
   }));
   if (!f.empty()) MPI_Allreduce(MPI_IN_PLACE, f.data()->data(), static_cast<int>(3 * f.size()), MPI_DOUBLE, MPI_SUM, comm_);
@@ -730,10 +747,24 @@ std::vector<double> Model::beam_coordinates(int beam_index, Vec x) const {
 
 std::vector<PetscInt> Model::director_triads() const {
   std::vector<PetscInt> cps;
-  for (const auto& e : effects_) e->director_triads(*this, cps);
+  for (const auto& e : effects_)
+    if (const auto* h = part_of<NumberingHints>(*e)) h->director_triads(*this, cps);
   std::sort(cps.begin(), cps.end());
   cps.erase(std::unique(cps.begin(), cps.end()), cps.end());
   return cps;
+}
+
+void Model::link_effects() {
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    auto* link = part_of<JointLink>(*effects_[k]);
+    if (!link) continue;
+    const JointTarget* joint = nullptr;  // the last one before it (constraints come first: model.py)
+    for (size_t j = 0; j < k; ++j) {
+      const auto* target = part_of<JointTarget>(*effects_[j]);
+      if (target && target->slider_beam() == link->linked_slider()) joint = target;
+    }
+    link->link(*this, joint);
+  }
 }
 
 void Model::resolve_anchors() {
@@ -744,8 +775,8 @@ void Model::resolve_anchors() {
   std::vector<PetscInt> holder(static_cast<size_t>(n_cp_total_), -1);  // point -> matched effect
   std::vector<char> taken(static_cast<size_t>(n_cp_total_), 0);        // ... or a single-choice effect's
   for (size_t k = 0; k < effects_.size(); ++k) {
-    if (effects_[k]->n_extra() == 0) continue;
-    effects_[k]->anchor_choices(*this, choices[k]);
+    if (n_extra(*effects_[k]) == 0) continue;
+    part_of<ExtraUnknowns>(*effects_[k])->anchor_choices(*this, choices[k]);
     auto& c = choices[k];
     c.erase(std::remove_if(c.begin(), c.end(), [&](PetscInt p) { return p < 0 || p >= n_cp_total_; }), c.end());
     if (c.size() == 1) taken[static_cast<size_t>(c[0])] = 1;
@@ -773,12 +804,14 @@ void Model::resolve_anchors() {
   }
   for (PetscInt p = 0; p < n_cp_total_; ++p)
     if (holder[static_cast<size_t>(p)] >= 0) anchor[static_cast<size_t>(holder[static_cast<size_t>(p)])] = p;
-  for (size_t k = 0; k < effects_.size(); ++k) effects_[k]->set_anchor(anchor[k]);
+  for (size_t k = 0; k < effects_.size(); ++k)
+    if (auto* extras = part_of<ExtraUnknowns>(*effects_[k])) extras->set_anchor(anchor[k]);
 }
 
 std::vector<PetscInt> Model::numbering_order() const {
   std::vector<std::pair<PetscInt, PetscInt>> links;
-  for (const auto& e : effects_) e->reference_couplings(*this, links);
+  for (const auto& e : effects_)
+    if (const auto* h = part_of<NumberingHints>(*e)) h->reference_couplings(*this, links);
   links.erase(std::remove_if(links.begin(), links.end(), [](const auto& l) { return l.first == l.second; }),
               links.end());
   if (links.empty()) return {};
@@ -838,7 +871,8 @@ std::vector<PetscInt> Model::numbering_order() const {
 PetscInt Model::largest_cut() const {
   // neighbours: the points a span couples, and the effects' couplings (joints, sliders)
   std::vector<std::pair<PetscInt, PetscInt>> links;
-  for (const auto& e : effects_) e->reference_couplings(*this, links);
+  for (const auto& e : effects_)
+    if (const auto* h = part_of<NumberingHints>(*e)) h->reference_couplings(*this, links);
   std::vector<char> at_cut(static_cast<size_t>(n_cp_total_), 0);
   const auto mark = [&](PetscInt a, PetscInt b) {
     if (map_.cp_owner(a) == map_.cp_owner(b)) return;
@@ -887,9 +921,9 @@ std::vector<char> Model::joined_positions(const std::vector<PetscInt>& order) co
   std::vector<char> joined(static_cast<size_t>(n_cp_total_), 0);
   std::vector<PetscInt> cps;
   for (const auto& e : effects_) {
-    if (e->n_extra() == 0) continue;
+    if (n_extra(*e) == 0) continue;
     cps.clear();
-    e->anchor_points(*this, cps);
+    part_of<ExtraUnknowns>(*e)->anchor_points(*this, cps);
     if (cps.size() < 2) continue;
     PetscInt lo = n_cp_total_, hi = -1;
     for (PetscInt cp : cps) {
@@ -913,11 +947,13 @@ std::vector<int> Model::loop_structures(std::vector<std::pair<PetscInt, PetscInt
   std::vector<std::pair<PetscInt, PetscInt>> links, mine;
   std::vector<std::pair<int, int>> precedence;
   for (const auto& e : effects_) {
+    const auto* h = part_of<NumberingHints>(*e);
+    if (!h) continue;
     precedence.clear();
-    e->elimination_precedence(precedence);
+    h->elimination_precedence(precedence);
     if (!precedence.empty()) continue;
     mine.clear();
-    e->reference_couplings(*this, mine);
+    h->reference_couplings(*this, mine);
     for (const auto& [a, b] : mine)
       if (beam_of_cp(a) != beam_of_cp(b)) links.emplace_back(a, b);
   }
@@ -1041,7 +1077,8 @@ std::vector<PetscInt> Model::compute_elimination_order() const {
   std::vector<int> indegree(static_cast<size_t>(nu), 0);
   {
     std::vector<std::pair<int, int>> pairs;
-    for (const auto& e : effects_) e->elimination_precedence(pairs);
+    for (const auto& e : effects_)
+      if (const auto* h = part_of<NumberingHints>(*e)) h->elimination_precedence(pairs);
     for (auto& [first, then] : pairs) {
       first = unit_of[static_cast<size_t>(first)];
       then = unit_of[static_cast<size_t>(then)];

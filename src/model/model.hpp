@@ -139,7 +139,7 @@ class Model {
   /// Static: reactions(Endpoint at t, x, the effects' residual at x).
   std::vector<std::pair<int, Reaction>> static_reactions(double t, Vec x) const;
 
-  /// Effect::joint_force of each of the given effects in the state x under the rule ev (the step
+  /// JointTarget::joint_force of each of the given effects in the state x under the rule ev (the step
   /// start as set_step_start left it), on every rank (collective).
   std::vector<std::array<double, 3>> joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const;
 
@@ -158,7 +158,7 @@ class Model {
   /// again at every new Jacobian pattern).
   const std::vector<PetscInt>& elimination_order() const { return elimination_order_; }
   /// The control points in the order the DofMap numbers them: each connected structure (beams
-  /// joined through joints, Effect::reference_couplings) in reverse Cuthill-McKee order, which
+  /// joined through joints, NumberingHints::reference_couplings) in reverse Cuthill-McKee order, which
   /// keeps a beam in its own order and slots a beam hanging from another among the points it
   /// hangs from; structures in the order of their first point. Splitting this order into
   /// contiguous parts then cuts each structure across few points. Empty when no effect couples
@@ -177,11 +177,13 @@ class Model {
   /// The structures whose beams are joined into loops (a net), each as its control points in a
   /// fill-reducing (minimum-degree) order of their graph, for elimination_order.
   std::vector<std::vector<PetscInt>> loop_structure_orders() const;
-  /// Choose each effect's anchor among its Effect::anchor_choices (Effect::set_anchor).
+  /// Choose each effect's anchor among its ExtraUnknowns::anchor_choices (ExtraUnknowns::set_anchor).
   void resolve_anchors();
+  /// Link every JointLink effect to its joint (before the anchors: they sit with the joint's).
+  void link_effects();
   /// Per position of a numbering order (empty: index order): 1 where no rank boundary may fall
   /// right before it, between the first and last of an effect's anchor points
-  /// (Effect::anchor_points), so that its extras find their pivots on their own rank.
+  /// (ExtraUnknowns::anchor_points), so that its extras find their pivots on their own rank.
   std::vector<char> joined_positions(const std::vector<PetscInt>& order) const;
   /// Owned control points that are orthonormality-constrained director triads (sorted).
   std::vector<PetscInt> director_triads() const;
@@ -252,6 +254,9 @@ class Model {
   mutable CooAssembly coo_;  // assembly record of J_
   void collect_prescribed(double t) const;
   bool moving_prescriptions_ = false;
+  std::vector<const PrescribedMotion*> prescribers_;  ///< effects with the part, in order
+  std::vector<const MovingPoints*> movers_;
+  std::vector<const MassSource*> mass_of_;  ///< per effect (nullptr: no mass)
   mutable std::vector<PetscInt> bc_rows_;
   mutable std::vector<PetscScalar> bc_values_;
 

@@ -63,7 +63,8 @@ void EquilibriumSolver::set_held(const std::vector<PetscInt>& rows) {
   held_.clear();
   const DofMap& map = model_.dof_map();
   std::vector<PetscInt> taken;  // held by an effect's own constraint already (a driven slider)
-  for (const auto& e : model_.effects()) e->constrained_state(taken);
+  for (const auto& e : model_.effects())
+    if (const auto* held = part_of<PrescribedMotion>(*e)) held->constrained_state(taken);
   for (PetscInt r : rows)
     if (r >= map.owned_lo() && r < map.owned_hi() && std::find(taken.begin(), taken.end(), r) == taken.end())
       held_.push_back(r);

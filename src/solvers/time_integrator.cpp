@@ -45,7 +45,8 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     const Effect& e = *model.effects()[k];
     const EffectSpec& spec = EffectRegistry::instance().spec(e.type());
     EnergyRole role = spec.role;
-    if (role == EnergyRole::Constraint && e.drives()) role = EnergyRole::Driving;
+    const auto* motion = part_of<PrescribedMotion>(e);
+    if (role == EnergyRole::Constraint && motion && motion->drives()) role = EnergyRole::Driving;
     const bool timed = role == EnergyRole::Stored && e.time_dependent();
     const bool decaying_strain = decaying && role == EnergyRole::Stored && spec.stored == "strain";
     if (role == EnergyRole::External || role == EnergyRole::Dissipative || role == EnergyRole::Driving || timed ||
@@ -204,7 +205,8 @@ void TimeIntegrator::account_energy_flows() {
     for (size_t i = 0; i < flows_.size(); ++i) {
       if (flows_[i].role != EnergyRole::Driving) continue;
       std::vector<PetscScalar> vals;
-      model_.effects()[flows_[i].effect]->prescribed_at(model_, next_time(h_), driven[i], vals);
+      const auto* motion = part_of<PrescribedMotion>(*model_.effects()[flows_[i].effect]);
+      if (motion) motion->prescribed_at(model_, next_time(h_), driven[i], vals);
       for (PetscInt r : driven[i])
         if (r >= lo && r < hi && dq[r - lo] != 0.0) moved = true;
     }

@@ -15,7 +15,7 @@
 /// The caller records, checkpoints and answers signals between calls (one call per step: the
 /// record cadence and the run's end are the caller's).
 
-#include "model/event_source.hpp"
+#include "model/effect_parts.hpp"
 #include "model/model.hpp"
 #include "solvers/time_integrator.hpp"
 

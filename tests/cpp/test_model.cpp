@@ -265,7 +265,7 @@ TEST(SlidingJoint, StepForcesJacobianEnergyAndMoment) {
     m.add_beam(turned_beam("slider", 2, 1.0, {1.1, -at, 0}));  // its point at arc length `at` sits on the carrier at s = 1.1
     m.add_effect("sliding_joint", EffectParams{{{"slider", 1.0}, {"slider_s", at}, {"carrier", 0.0}}, {}, {{"form", form}}});
     m.finalize();
-    const PetscInt e0 = m.effects()[0]->extra_offset();
+    const PetscInt e0 = part_of<ExtraUnknowns>(*m.effects()[0])->extra_offset();
     const std::vector<PetscInt> extras = {e0, e0 + 1, e0 + 2, e0 + 3};  // lambda, s
     Vec x0, x1, xm, v, F, F1, F2, Jv, state;
     SB_CHECK(VecDuplicate(m.x(), &x0));
