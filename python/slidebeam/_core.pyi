@@ -125,7 +125,7 @@ class Model:
         """permutation of the unknowns (new position -> old index) of the serial factorisation"""
         ...
     def extra_offset(self, effect: int) -> int:
-        """global index of an effect's first extra unknown"""
+        """global index of an effect's first extra unknown (-1: it has none)"""
         ...
     def extra_values(self, effect: int, x: PETSc.Vec) -> list[float]:
         """values of an effect's extra unknowns (s, multipliers) on every rank (collective)"""

@@ -64,13 +64,10 @@ class AncfElastic final : public AncfElementEffect {
 
 /// Kinetic energy of one cable: the constant consistent mass int rhoA S^T S dx (no rotary
 /// inertia). Assembled once into the mass matrix.
-class AncfInertia final : public AncfElementEffect, public MassSource {
+class AncfInertia final : public MassOnlyEffect<AncfElementEffect> {
  public:
-  AncfInertia(const Model& m, const EffectParams& p) : AncfElementEffect(m, p, "ancf_inertia") {}
+  AncfInertia(const Model& m, const EffectParams& p) : MassOnlyEffect(m, p, "ancf_inertia") {}
   std::string type() const override { return "ancf_inertia"; }
-  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
-  PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
-  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
   PetscErrorCode mass(const Model& m, const MatSink& M) const override {
     PetscFunctionBeginUser;
     const Beam& b = m.beam(beam_);

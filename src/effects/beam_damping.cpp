@@ -51,10 +51,10 @@ std::array<double, 6> retardation_times(const EffectParams& p) {
 }
 }  // namespace
 
-class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
+class BeamDamping final : public KnotBandSpanEffect {
  public:
   BeamDamping(const Model& m, const EffectParams& p)
-      : ElementEffect(director_beam_param(m, p, "damping"), m), alpha_(p.number("mass_proportional", 0.0)) {
+      : KnotBandSpanEffect(m, p, "damping"), alpha_(p.number("mass_proportional", 0.0)) {
     const std::array<double, 6> tau = retardation_times(p);
     for (int i = 0; i < 6; ++i) tau_[i] = tau[static_cast<size_t>(i)];
     if (!(alpha_ >= 0.0) || !(tau_.minCoeff() >= 0.0))
@@ -64,23 +64,6 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
     rho_ = {sec.rhoA, 0.0, sec.rhoI3, sec.rhoI2};  // phi, d1, d2, d3: the inertia's blocks
   }
   std::string type() const override { return "beam_damping"; }
-
-  // With assumed strains the membrane and shear strains are the knots' (as in the strain energy,
-  // so that the damping of small motions is tau K): the same knots and coupled spans as there.
-  void distribute(const Model& m) override {
-    ElementEffect::distribute(m);
-    if (knots_used(m.beam(beam_))) patches_.distribute(m.beam(beam_), elements_);
-    band_.layout(m.beam(beam_), elements_, patches_.knots);
-  }
-  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    ElementEffect::needed_dofs(m, dofs);
-    patches_.needed_dofs(m.dof_map(), m.beam(beam_), dofs);
-  }
-  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    ControlPointBand zero = band_;
-    zero.zero();
-    return zero.flush(m.dof_map(), m.beam(beam_), sink);
-  }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
@@ -112,10 +95,11 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   }
 
  protected:
-  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
 
  private:
-  bool knots_used(const Beam& b) const { return b.gamma_at_knots() && c_.head<3>().maxCoeff() > 0.0; }
+  // With assumed strains the membrane and shear strains are the knots' (as in the strain energy,
+  // so that the damping of small motions is tau K): the same knots and coupled spans as there.
+  bool knots_used(const Beam& b) const override { return b.gamma_at_knots() && c_.head<3>().maxCoeff() > 0.0; }
 
   /// The knots' viscous stresses tau C (b_i(q1) - b_i(q0)) / h.
   void knot_stresses(const EvalContext& ctx, const Beam& b) const {
@@ -180,10 +164,8 @@ class BeamDamping final : public ElementEffect<3, kernels::kNqEl> {
   double alpha_;
   Vec6 tau_, c_;
   std::array<double, 4> rho_{};
-  KnotPatches patches_;
   mutable std::vector<Vec3> knot_sigma_;
   mutable SpanMomentGradients grad_f_, grad_1_;
-  mutable ControlPointBand band_;  // the Jacobian's blocks by control point
 };
 
 /// The same damping of an ANCF cable: Kelvin-Voigt on its two strains, the Green axial strain

@@ -15,41 +15,17 @@ using kernels::VecEl;
 
 /// An effect integrated span by span over one director beam: three control points, the 36 x 36
 /// block of their coordinates.
-class SpanEffect : public ElementEffect<3, kernels::kNqEl> {
- public:
-  SpanEffect(const Model& m, const EffectParams& p, const std::string& who)
-      : ElementEffect(director_beam_param(m, p, who), m) {}
-
- protected:
-  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
-};
-
 /// Strain energy of one beam (docs/theory.md; docs/developer.md, "Design notes"), integrated span by span. With the
 /// assumed-strain quadrature the membrane and shear strains enter through their values at the
 /// knots (kernels::GammaMoments): a knot's value takes the moments of the spans on both sides,
 /// the spans' Gamma stresses are the knots' interpolated, and the material part of the tangent
 /// couples a knot's two spans (four control points).
-class BeamElastic final : public SpanEffect {
+class BeamElastic final : public KnotBandSpanEffect {
   using Vec3 = Eigen::Vector3d;
 
  public:
-  BeamElastic(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_elastic") {}
+  BeamElastic(const Model& m, const EffectParams& p) : KnotBandSpanEffect(m, p, "beam_elastic") {}
   std::string type() const override { return "beam_elastic"; }
-
-  void distribute(const Model& m) override {
-    SpanEffect::distribute(m);
-    if (m.beam(beam_).gamma_at_knots()) patches_.distribute(m.beam(beam_), elements_);
-    band_.layout(m.beam(beam_), elements_, patches_.knots);
-  }
-  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    SpanEffect::needed_dofs(m, dofs);
-    patches_.needed_dofs(m.dof_map(), m.beam(beam_), dofs);
-  }
-  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    ControlPointBand zero = band_;
-    zero.zero();
-    return zero.flush(m.dof_map(), m.beam(beam_), sink);
-  }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
@@ -190,11 +166,8 @@ class BeamElastic final : public SpanEffect {
     }
   }
 
-  // assumed strains: the spans whose moments the owned spans' knots need, and the knots this rank assembles
-  KnotPatches patches_;
   mutable std::vector<Vec3> knot_start_, knot_now_, knot_sigma_;
   mutable SpanMomentGradients grad_a_, grad_b_;
-  mutable ControlPointBand band_;  // the Jacobian's blocks by control point
   // energy-momentum: the state of every owned span at the step start
   mutable std::vector<kernels::SpanEmState> start_;
   mutable unsigned long start_key_ = 0;
@@ -271,13 +244,10 @@ class DirectorConstraints final : public Effect, public NumberingHints {
 /// Kinetic energy of one beam (docs/theory.md, "Inertia, gravity, point masses"): the constant consistent mass
 /// M^AB = int N^A N^B ds (x) diag(rho A, 0, rho I3, rho I2). d1 carries no inertia. Assembled
 /// once into the mass matrix; the time integrator applies it.
-class BeamInertia final : public SpanEffect, public MassSource {
+class BeamInertia final : public MassOnlyEffect<SpanEffect> {
  public:
-  BeamInertia(const Model& m, const EffectParams& p) : SpanEffect(m, p, "beam_inertia") {}
+  BeamInertia(const Model& m, const EffectParams& p) : MassOnlyEffect(m, p, "beam_inertia") {}
   std::string type() const override { return "beam_inertia"; }
-  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}  // reads no state
-  PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
-  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
   PetscErrorCode mass(const Model& m, const MatSink& M) const override {
     PetscFunctionBeginUser;
     const Beam& b = m.beam(beam_);

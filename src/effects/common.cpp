@@ -102,6 +102,17 @@ void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, con
   for (int j = 0; j < st.n; ++j) Eigen::Map<Eigen::Vector3d>(r.cp(map, b.first_cp() + st.cp[j]) + st.comp[j]) += st.w[j] * f;
 }
 
+void SlidingJointLink::link(const Model& m, const JointTarget* joint) {
+  if (!joint)
+    throw std::invalid_argument(std::string(type_) + ": beam '" + m.beam(slider_).name() +
+                                "' is not the slider of a sliding_joint");
+  joint_ = joint;
+}
+
+std::string SlidingJointLink::link_label(const Model& m) const {
+  return std::string(type_) + "[" + m.beam(slider_).name() + "]";
+}
+
 int end_cp(const Beam& b, double s) {
   const double tol = 1e-12 * b.length();
   if (std::abs(s) <= tol) return 0;

@@ -88,6 +88,41 @@ PetscErrorCode add_block_pattern(const MatSink& sink, const Dofs& d) {
 /// the end points.
 int end_cp(const Beam& b, double s);
 
+/// An element effect whose only term is a constant mass matrix (inertia): it reads no state and
+/// has no residual or tangent of its own (the time integrator applies the mass).
+template <class Base>
+class MassOnlyEffect : public Base, public MassSource {
+ public:
+  using Base::Base;
+  void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
+  PetscErrorCode residual(const EvalContext&, const LocalValues&) const override { return 0; }
+  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+};
+
+/// The JointLink of an effect acting on a sliding joint's s (friction, a slider drive): linked
+/// to the joint made before it on the same slider beam.
+class SlidingJointLink : public JointLink {
+ public:
+  /// type: the effect's type, for the error when the beam is no slider.
+  SlidingJointLink(int slider, const char* type) : slider_(slider), type_(type) {}
+  int linked_slider() const override { return slider_; }
+  void link(const Model& m, const JointTarget* joint) override;
+
+ protected:
+  /// The joint's s: its fourth extra (after the three multipliers).
+  PetscInt s_index() const { return joint_->joint_unknowns().extra_offset() + 3; }
+  /// The anchor of the joint's own extras: the linked effect's extras go right after them.
+  PetscInt joint_anchor(const Model& m) const { return joint_ ? joint_->joint_unknowns().elimination_anchor(m) : -1; }
+  /// "<type>[<slider beam>]"
+  std::string link_label(const Model& m) const;
+
+  int slider_;
+  const JointTarget* joint_ = nullptr;
+
+ private:
+  const char* type_;
+};
+
 /// A clamp inside a beam or on a body (params beam, s, point): a rigid joint to the ground
 /// (joints.cpp); a clamp at a beam end prescribes the end control point instead (supports.cpp).
 std::unique_ptr<Effect> make_clamp_inside(const Model& m, const EffectParams& p);
@@ -272,6 +307,43 @@ class ElementEffect : public Effect {
   int beam_;
   std::string name_;
   std::vector<int> elements_;
+};
+
+/// An effect integrated span by span over a director beam (strain energy, damping, inertia).
+class SpanEffect : public ElementEffect<3, kernels::kNqEl> {
+ public:
+  SpanEffect(const Model& m, const EffectParams& p, const std::string& who)
+      : ElementEffect(director_beam_param(m, p, who), m) {}
+
+ protected:
+  Dofs element_dofs(const DofMap& map, const Beam& b, int e) const override { return span_q_dofs(map, b, e); }
+};
+
+/// A span-wise term whose membrane and shear strains may be the knots' (assumed strains): where
+/// knots_used, a rank also reads the spans whose moments its knots take (patches_), and its
+/// Jacobian couples a knot's two spans (band_, by control point).
+class KnotBandSpanEffect : public SpanEffect {
+ public:
+  using SpanEffect::SpanEffect;
+  void distribute(const Model& m) override {
+    SpanEffect::distribute(m);
+    if (knots_used(m.beam(beam_))) patches_.distribute(m.beam(beam_), elements_);
+    band_.layout(m.beam(beam_), elements_, patches_.knots);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    SpanEffect::needed_dofs(m, dofs);
+    patches_.needed_dofs(m.dof_map(), m.beam(beam_), dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    ControlPointBand zero = band_;
+    zero.zero();
+    return zero.flush(m.dof_map(), m.beam(beam_), sink);
+  }
+
+ protected:
+  virtual bool knots_used(const Beam& b) const { return b.gamma_at_knots(); }
+  KnotPatches patches_;
+  mutable ControlPointBand band_;
 };
 
 /// An effect integrated element by element over one ANCF cable: two nodes, the 12 x 12 block

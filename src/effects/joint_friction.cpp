@@ -44,9 +44,10 @@
 
 namespace slidebeam::effects {
 
-class JointFriction final : public Effect, public ExtraUnknowns, public JointLink {
+class JointFriction final : public Effect, public ExtraUnknowns, public SlidingJointLink {
  public:
-  JointFriction(const Model& m, const EffectParams& p) : slider_(beam_param(m, p)), mu_(p.number("mu")) {
+  JointFriction(const Model& m, const EffectParams& p)
+      : SlidingJointLink(beam_param(m, p), "friction"), mu_(p.number("mu")) {
     if (!(mu_ >= 0.0)) throw ParamError("mu", "friction: mu must be >= 0");
   }
   std::string type() const override { return "friction"; }
@@ -54,20 +55,13 @@ class JointFriction final : public Effect, public ExtraUnknowns, public JointLin
   /// F, the friction force on s.
   PetscInt n_extra() const override { return 1; }
 
-  int linked_slider() const override { return slider_; }
-  void link(const Model& m, const JointTarget* joint) override {
-    if (!joint)
-      throw std::invalid_argument("friction: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
-    joint_ = joint;
-  }
-
   void distribute(const Model& m) override {
-    label_ = "friction[" + m.beam(slider_).name() + "]";
+    label_ = link_label(m);
     owned_ = extra_offset() >= m.dof_map().owned_lo() && extra_offset() < m.dof_map().owned_hi();
   }
   /// F sits with the joint's own extras: after s, whose row holds F's pivot in stick.
   PetscInt elimination_anchor(const Model& m) const override {
-    return joint_ ? joint_->joint_unknowns().elimination_anchor(m) : -1;
+    return joint_anchor(m);
   }
   /// What N reads is the joint's own unknowns, ghosted by the joint on the rank that evaluates it;
   /// s (and its step start) is among them.
@@ -185,8 +179,6 @@ class JointFriction final : public Effect, public ExtraUnknowns, public JointLin
     }
     return driven_ == 1;
   }
-  /// The joint's s: its fourth extra (after the three multipliers).
-  PetscInt s_index() const { return joint_->joint_unknowns().extra_offset() + 3; }
 
   /// r = kDelassusShare m / h. m / h is the inverse Delassus scale of the slider beam's whole mass;
   /// what opposes the sliding rate can be much less (the top of a pendulum whose bob swings
@@ -197,9 +189,7 @@ class JointFriction final : public Effect, public ExtraUnknowns, public JointLin
   /// and the oscillation of N at the limit: 1e-8 alternated between the branches on a block at
   /// tan(alpha) = mu, 1e-7 held it).
   static constexpr double kTie = 1e-6;
-  int slider_;
   double mu_;
-  const JointTarget* joint_ = nullptr;
   mutable int driven_ = -1;
   bool owned_ = false;
   std::string label_ = "friction";

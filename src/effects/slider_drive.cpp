@@ -35,10 +35,10 @@ double trapezoid_travel(double t, double v, double start, double stop, double a)
 }
 }  // namespace
 
-class SliderDrive final : public Effect, public ExtraUnknowns, public PrescribedMotion, public JointLink {
+class SliderDrive final : public Effect, public ExtraUnknowns, public PrescribedMotion, public SlidingJointLink {
  public:
   SliderDrive(const Model& m, const EffectParams& p)
-      : slider_(beam_param(m, p)),
+      : SlidingJointLink(beam_param(m, p), "slider_drive"),
         start_(p.number("start", 0.0)),
         stop_(p.number("stop", std::numeric_limits<double>::infinity())),
         ramp_(p.number("ramp", 0.0)),
@@ -68,15 +68,8 @@ class SliderDrive final : public Effect, public ExtraUnknowns, public Prescribed
   PetscInt n_extra() const override { return 1; }
   bool time_dependent() const override { return true; }
 
-  int linked_slider() const override { return slider_; }
-  void link(const Model& m, const JointTarget* joint) override {
-    if (!joint)
-      throw std::invalid_argument("slider_drive: beam '" + m.beam(slider_).name() + "' is not the slider of a sliding_joint");
-    joint_ = joint;
-  }
-
   void distribute(const Model& m) override {
-    label_ = "slider_drive[" + m.beam(slider_).name() + "]";
+    label_ = link_label(m);
     std::vector<PetscInt> rows;
     std::vector<PetscScalar> vals;
     joint_->joint_unknowns().initial_values(m, rows, vals);  // the slider's s at the start: the travel's origin
@@ -86,7 +79,7 @@ class SliderDrive final : public Effect, public ExtraUnknowns, public Prescribed
   }
   PetscInt elimination_anchor(const Model& m) const override {
     // with the joint's own extras: the multiplier sits next to the s it prescribes
-    return joint_ ? joint_->joint_unknowns().elimination_anchor(m) : -1;
+    return joint_anchor(m);
   }
   void needed_dofs(const Model&, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
@@ -126,16 +119,13 @@ class SliderDrive final : public Effect, public ExtraUnknowns, public Prescribed
   }
 
  private:
-  PetscInt s_index() const { return joint_->joint_unknowns().extra_offset() + 3; }
   double travel(double t) const {
     return by_distance_ ? distance_ * f_(t) : trapezoid_travel(t, speed_, start_, stop_, ramp_);
   }
-  int slider_;
   double speed_ = 0.0, start_, stop_, ramp_;
   bool by_distance_;
   double distance_ = 0.0;
   TimeFunction f_;
-  const JointTarget* joint_ = nullptr;
   std::string label_ = "slider_drive";
   double s0_ = 0.0;
   bool owned_ = false;

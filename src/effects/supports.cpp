@@ -99,9 +99,24 @@ struct SupportMotion {
   }
 };
 
-/// Base of effects with no residual of their own (pure elimination).
-class PrescribingSupport : public Effect, public PrescribedMotion {
+/// The prescribed motion of a support, from its `motion` table: at rest, or moved by it (then
+/// it drives: the energy balance counts its work).
+class MovableSupport : public PrescribedMotion {
  public:
+  explicit MovableSupport(const EffectParams& p) : motion_(p) {}
+  bool drives() const override { return motion_.active; }
+  void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
+    prescribed_at(m, 0.0, rows, vals);
+  }
+
+ protected:
+  SupportMotion motion_;
+};
+
+/// Base of effects with no residual of their own (pure elimination).
+class PrescribingSupport : public Effect, public MovableSupport {
+ public:
+  explicit PrescribingSupport(const EffectParams& p) : MovableSupport(p) {}
   void distribute(const Model&) override {}
   void needed_dofs(const Model&, std::vector<PetscInt>&) const override {}
   PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }
@@ -114,17 +129,13 @@ class PrescribingSupport : public Effect, public PrescribedMotion {
 /// multipliers are dropped too (fixed orthonormal directors satisfy the constraints identically).
 class Clamp final : public PrescribingSupport, public ReactionSource {
  public:
-  Clamp(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), motion_(p) {
+  Clamp(const Model& m, const EffectParams& p) : PrescribingSupport(p), beam_(beam_param(m, p)) {
     const Beam& b = m.beam(beam_);
     cp_ = end_cp(b, p.number("s"));
     if (cp_ < 0) throw std::invalid_argument("clamp on beam '" + b.name() + "': only at a beam end (s = 0 or L)");
   }
   std::string type() const override { return "clamp"; }
   std::string label() const override { return "clamp[" + std::to_string(beam_) + (cp_ == 0 ? ":start]" : ":end]"); }
-  bool drives() const override { return motion_.active; }
-  void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
-    prescribed_at(m, 0.0, rows, vals);
-  }
   /// The reference position displaced, the reference directors (ANCF: r') turned.
   void prescribed_at(const Model& m, double t, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     const Beam& b = m.beam(beam_);
@@ -149,7 +160,6 @@ class Clamp final : public PrescribingSupport, public ReactionSource {
  private:
   int beam_;
   int cp_;
-  SupportMotion motion_;
 };
 
 /// Every control point of a beam prescribed: a rigid rail. At its reference state, or moved
@@ -157,13 +167,9 @@ class Clamp final : public PrescribingSupport, public ReactionSource {
 /// start (its points X -> X_0 + f U + R (X - X_0), its directors, ANCF: r', turned by R).
 class Fixed final : public PrescribingSupport, public ReactionSource {
  public:
-  Fixed(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), motion_(p) {}
+  Fixed(const Model& m, const EffectParams& p) : PrescribingSupport(p), beam_(beam_param(m, p)) {}
   std::string type() const override { return "fixed"; }
   std::string label() const override { return "fixed[" + std::to_string(beam_) + "]"; }
-  bool drives() const override { return motion_.active; }
-  void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
-    prescribed_at(m, 0.0, rows, vals);
-  }
   void prescribed_at(const Model& m, double t, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     const Beam& b = m.beam(beam_);
     const int nq = b.coordinates_per_cp();
@@ -189,13 +195,12 @@ class Fixed final : public PrescribingSupport, public ReactionSource {
 
  private:
   int beam_;
-  SupportMotion motion_;
 };
 
 /// Spherical support: the centre line passes through X at beam point s; directors free.
-class Spherical final : public Effect, public PrescribedMotion, public ExtraUnknowns, public ReactionSource {
+class Spherical final : public Effect, public MovableSupport, public ExtraUnknowns, public ReactionSource {
  public:
-  Spherical(const Model& m, const EffectParams& p) : beam_(beam_param(m, p)), s_(p.number("s")), motion_(p) {
+  Spherical(const Model& m, const EffectParams& p) : MovableSupport(p), beam_(beam_param(m, p)), s_(p.number("s")) {
     const Beam& b = m.beam(beam_);
     if (s_ < -1e-12 * b.length() || s_ > b.length() * (1 + 1e-12))
       throw std::invalid_argument("spherical support: s = " + std::to_string(s_) + " outside beam '" + b.name() + "'");
@@ -216,11 +221,6 @@ class Spherical final : public Effect, public PrescribedMotion, public ExtraUnkn
   std::string type() const override { return "spherical"; }
   std::string label() const override { return "spherical[" + std::to_string(beam_) + "@" + std::to_string(s_) + "]"; }
   PetscInt n_extra() const override { return cp_ < 0 ? 3 : 0; }
-  bool drives() const override { return motion_.active; }
-
-  void prescribed(const Model& m, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
-    prescribed_at(m, 0.0, rows, vals);
-  }
   void prescribed_at(const Model& m, double t, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     const Eigen::Vector3d X = held(t);
     if (cp_ >= 0) prescribe_cp(m, m.beam(beam_), cp_, 0, 3, X.data(), false, rows, vals);
@@ -290,7 +290,6 @@ class Spherical final : public Effect, public PrescribedMotion, public ExtraUnkn
   int cp_ = -1;
   PositionStencil stencil_;
   bool owned_ = false;
-  SupportMotion motion_;
 };
 
 void register_support_effects(EffectRegistry& r) {

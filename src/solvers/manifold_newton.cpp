@@ -50,17 +50,19 @@ ManifoldNewton::~ManifoldNewton() { VecDestroy(&x_start_); }
 
 PetscErrorCode ManifoldNewton::reset_pc(KSP* ksp, PC* pc) const {
   PetscFunctionBeginUser;
-  PetscCall(SNESGetKSP(snes_, ksp));
-  PetscCall(KSPGetPC(*ksp, pc));
-  PetscCall(PCReset(*pc));
+  KSP k = nullptr;
+  PC p = nullptr;
+  PetscCall(SNESGetKSP(snes_, &k));
+  PetscCall(KSPGetPC(k, &p));
+  PetscCall(PCReset(p));
+  if (ksp) *ksp = k;
+  if (pc) *pc = p;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ManifoldNewton::use_condensed() {
   PetscFunctionBeginUser;
-  KSP ksp = nullptr;
-  PC pc = nullptr;
-  PetscCall(reset_pc(&ksp, &pc));
+  PetscCall(reset_pc(nullptr, nullptr));
   PetscCall(condensation_->attach(snes_));  // PC shell (condensed LU) and the manifold line search
   condensed_ = true;
   PetscFunctionReturn(0);
