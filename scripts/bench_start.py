@@ -11,6 +11,7 @@ Prints a Markdown table. Time it only on an otherwise idle machine (2 ranks need
 
     scripts/bench_start.py                          # 1, 2, 4 and 10 carriers, 1 and 2 ranks, 3 runs
     scripts/bench_start.py --carriers 1 4 --ranks 1 --repeat 1
+    scripts/bench_start.py --hangers-each 4 --ranks 1      # the same load on every carrier
 """
 from __future__ import annotations
 
@@ -28,10 +29,10 @@ SPANS = 400  # per carrier
 HANGERS = 4  # hangers per carrier, times the number of carriers: the load grows with the bundle
 
 
-def scene(carriers: int, work: Path) -> Path:
-    path = work / f"bundle_{carriers}.toml"
+def scene(carriers: int, hangers: int, work: Path) -> Path:
+    path = work / f"bundle_{carriers}x{hangers}.toml"
     subprocess.run([sys.executable, str(ROOT / "scripts" / "make_cables.py"), "--carriers", str(carriers),
-                    "--spans", str(SPANS), "--hangers", str(HANGERS * carriers), "--start", "equilibrium",
+                    "--spans", str(SPANS), "--hangers", str(hangers), "--start", "equilibrium",
                     "--t-end", "0.001", "--dt", "0.001", "--out", str(path)], check=True, capture_output=True)
     return path
 
@@ -55,6 +56,8 @@ def main() -> int:
     p.add_argument("--carriers", type=int, nargs="+", default=[1, 2, 4, 10])
     p.add_argument("--ranks", type=int, nargs="+", default=[1, 2])
     p.add_argument("--repeat", type=int, default=3)
+    p.add_argument("--hangers-each", type=int, default=0,
+                   help="hangers on every carrier, whatever their number (default: 4 x the number of carriers)")
     a = p.parse_args()
     print(f"| carriers, hangers on each | unknowns | ranks | start, s (median of {a.repeat}) | us per unknown "
           "| continuation steps (cut) | Newton iterations | per step | steps on the full system | 2 ranks / 1 |")
@@ -62,7 +65,8 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         for c in a.carriers:
-            path = scene(c, work)
+            hangers = a.hangers_each or HANGERS * c
+            path = scene(c, hangers, work)
             serial = None
             for n in a.ranks:
                 runs = [start(path, n, work) for _ in range(a.repeat)]
@@ -72,7 +76,7 @@ def main() -> int:
                     serial = t
                 ratio = f"{t / serial:.2f}" if serial and n > 1 else ""
                 steps, its = r["continuation_steps"], r["newton_iterations"]
-                print(f"| {c}, {HANGERS * c} | {r['unknowns']} | {n} | {t:.3g} "
+                print(f"| {c}, {hangers} | {r['unknowns']} | {n} | {t:.3g} "
                       f"| {1e6 * t / r['unknowns']:.0f} | {steps} ({r['cut_steps']}) | {its} | {its / max(steps, 1):.1f} "
                       f"| {r['full_system_steps']} | {ratio} |", flush=True)
     return 0

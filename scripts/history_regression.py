@@ -14,7 +14,8 @@ compare runs them the same way (the same --steps and --ranks) and checks every n
 history.csv, row by row, against the reference: |new - ref| <= rtol max(|ref column|) (rtol
 1e-12 by default; a column that is 0 throughout must stay 0 to the same rtol of the largest
 |value| of the run). Prints a table and exits 1 if any scene differs, if a run ends differently
-(complete, message) or has another number of records.
+(complete, message) or has another number of records. Columns a new run adds (an effect's new
+outputs) are listed, not compared; a column the reference has and the new run lacks differs.
 
 A change that is exact only to roundoff (a sum taken in another order) is compared with a looser
 tolerance and a floor: --rtol 1e-8 --floor 1e-3 judges each column against the larger of its own
@@ -96,8 +97,12 @@ def compare(ref: Path, new: Path, rtol: float, floor: float = 0.0) -> tuple[bool
             return False, f"{key}: {s_ref.get(key)!r} -> {s_new.get(key)!r}"
     h_ref, v_ref = read_history(ref)
     h_new, v_new = read_history(new)
-    if h_ref != h_new:
-        return False, "other columns"
+    missing = [name for name in h_ref if name not in h_new]
+    if missing:
+        return False, f"columns gone: {', '.join(missing[:3])}{' ...' if len(missing) > 3 else ''}"
+    added = len(h_new) - len(h_ref)  # new outputs: the reference's columns are compared, by name
+    at = [h_new.index(name) for name in h_ref]
+    v_new = [[row[i] for i in at] for row in v_new]
     if len(v_ref) != len(v_new):
         return False, f"{len(v_ref)} -> {len(v_new)} records"
     largest = max((abs(v) for row in v_ref for v in row if math.isfinite(v)), default=0.0)
@@ -114,7 +119,8 @@ def compare(ref: Path, new: Path, rtol: float, floor: float = 0.0) -> tuple[bool
             d = abs(a - b) / scale
             if not d <= worst:
                 worst, where = d, f"{name} row {r}"
-    return worst <= rtol, f"largest difference {worst:.1e} ({where})" if where else "identical"
+    what = f"largest difference {worst:.1e} ({where})" if where else "identical"
+    return worst <= rtol, what + (f" (+{added} new columns)" if added else "")
 
 
 def main() -> int:

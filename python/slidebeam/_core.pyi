@@ -115,6 +115,14 @@ class Model:
     def joint_forces(self, t: float, x: PETSc.Vec, effects: list[int]) -> list[list[float]]:
         """force of each given sliding joint on its slider at x, global frame (collective)"""
         ...
+    def effect_outputs(self, t: float, x: PETSc.Vec) -> list[float]:
+        """the values of the effects that have outputs (a contact's force and length in contact) at
+        x, named by output_labels() (collective)
+        """
+        ...
+    def output_labels(self) -> list[str]:
+        """'<effect label>.<name>' of each effect_outputs() value"""
+        ...
     @property
     def ghost_count(self) -> int: ...
     @property

@@ -72,6 +72,7 @@ class DynamicRecord:
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
     joints: list[JointState] = field(default_factory=list)
     reactions: list[Reaction] = field(default_factory=list)
+    outputs: list[float] = field(default_factory=list)  # the effects' named values (Simulation.output_labels)
     # The energy balance since the start: work put in from outside W (loads that vary or do not
     # derive from a potential, drives), energy dissipated D (damping, friction), and
     # |H - H_0 - W + D|: the Newton tolerance under energy-momentum, the numerical dissipation

@@ -5,7 +5,7 @@ checkpoint keeps (as a float64 dataset, exact), built once from the records.
 Columns, one row per record: the :meth:`DynamicRecord.header` columns (``reason`` a placeholder:
 the reasons are a list beside the table), then per tracked point x, y, z; per sliding joint s,
 ds_dt, the reaction's x, y, z and the gap; per reaction its force (and moment where it has one);
-per counted effect its work (dissipated energy as it is kept: negative). The layout (how many of
+the effects' named values (outputs); per counted effect its work (dissipated energy as it is kept: negative). The layout (how many of
 each, the reactions' effects) comes from the first record; every record of a run has it.
 """
 from __future__ import annotations
@@ -28,25 +28,26 @@ class Layout:
     joints: int
     reactions: list[tuple[str, bool]]  # (effect, holds a moment)
     flows: int
+    outputs: int = 0
 
     @staticmethod
     def of(record: DynamicRecord, flows: int) -> "Layout":
         return Layout(len(record.tracked), len(record.joints),
-                      [(r.effect, r.moment is not None) for r in record.reactions], flows)
+                      [(r.effect, r.moment is not None) for r in record.reactions], flows, len(record.outputs))
 
     def as_dict(self) -> dict[str, object]:
         return {"tracked": self.tracked, "joints": self.joints,
-                "reactions": [list(r) for r in self.reactions], "flows": self.flows}
+                "reactions": [list(r) for r in self.reactions], "flows": self.flows, "outputs": self.outputs}
 
     @staticmethod
     def from_dict(d: dict) -> "Layout":
         return Layout(int(d["tracked"]), int(d["joints"]), [(str(e), bool(m)) for e, m in d["reactions"]],
-                      int(d["flows"]))
+                      int(d["flows"]), int(d.get("outputs", 0)))
 
     @property
     def columns(self) -> int:
         return (len(_BASE_KINDS) + 3 * self.tracked + 6 * self.joints
-                + sum(6 if m else 3 for _, m in self.reactions) + self.flows)
+                + sum(6 if m else 3 for _, m in self.reactions) + self.outputs + self.flows)
 
     @property
     def kinds(self) -> str:
@@ -69,6 +70,7 @@ def _row(r: DynamicRecord, flows: int) -> list[float]:
         row += x.force
         if x.moment is not None:
             row += x.moment
+    row += r.outputs
     row += r.flows or [0.0] * flows
     return row
 
@@ -108,11 +110,13 @@ def records(values: np.ndarray, reasons: list[str], layout: Layout) -> list[Dyna
             moment = tuple(row[k + 3:k + 6]) if has_moment else None
             reactions.append(Reaction(effect, tuple(row[k:k + 3]), moment))
             k += 6 if has_moment else 3
+        outputs = row[k:k + layout.outputs]
+        k += layout.outputs
         out.append(DynamicRecord(
             step=int(row[0]), t=row[1], dt=row[2], converged=bool(row[3]), reason=reason,
             newton_iterations=int(row[5]), rejected_steps=int(row[6]), residual_norm=row[7],
             kinetic_energy=row[8], strain_energy=row[9], potential_energy=row[10],
             work=row[12], dissipated=row[13], energy_balance_error=row[14],
             linear_momentum=tuple(row[15:18]), angular_momentum=tuple(row[18:21]), constraint_residual=row[21],
-            tracked=tracked, joints=joints, reactions=reactions, flows=row[k:k + layout.flows]))
+            tracked=tracked, joints=joints, reactions=reactions, outputs=outputs, flows=row[k:k + layout.flows]))
     return out

@@ -42,7 +42,9 @@ def prepare_output_dir(out: Path) -> None:
 def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]) -> str:
     """One row per recorded step; then tracked points as <beam>@<s>.x/.y/.z, sliding joints as
     <slider>_on_<carrier>.s/.ds_dt/.reaction.x/y/z/.gap, and the reactions of supports and rigid
-    joints as <effect>.fx/fy/fz (and .mx/my/mz where they hold a moment)."""
+    joints as <effect>.fx/fy/fz (and .mx/my/mz where they hold a moment), the effects' named values
+    (<effect>.<name>: a contact's force.x/y/z and length), and (dynamic runs) each counted
+    effect's work."""
     buf = io.StringIO()
     w = csv.writer(buf)
     track_cols = []
@@ -56,22 +58,25 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
     reaction_cols = [f"{r.effect}.{c}" for r in first
                      for c in ("fx", "fy", "fz", *(("mx", "my", "mz") if r.moment is not None else ()))]
 
+    output_cols = sim.output_labels()
+
     def tail(r: StepRecord | DynamicRecord) -> list[str]:
         return [*[repr(v) for p in r.tracked for v in p],
                 *[repr(v) for j in r.joints for v in (j.s, j.ds_dt, *j.reaction, j.gap)],
-                *[repr(v) for x in r.reactions for v in (*x.force, *(x.moment or ()))]]
+                *[repr(v) for x in r.reactions for v in (*x.force, *(x.moment or ()))],
+                *[repr(v) for v in r.outputs]]
 
     if sim.integrator is not None:
         from . import _core, history
 
         flow_cols = sim.energy_flow_labels()
-        w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols, *reaction_cols, *flow_cols])
+        w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols, *reaction_cols, *output_cols, *flow_cols])
         values, reasons, layout = history.table(records, len(flow_cols))  # type: ignore[arg-type]
         dissipative = [k for k, (_, role, _) in enumerate(sim.integrator.energy_flows) if role == "dissipative"]
         values[:, layout.flow_columns][:, dissipative] *= -1.0  # the dissipated energy, positive
         return buf.getvalue() + _core.csv_rows(values, layout.kinds, reasons)
     w.writerow(["step", "t", "converged", "reason", "newton_iterations", "residual_norm",
-                "strain_energy", "potential_energy", *track_cols, *joint_cols, *reaction_cols])
+                "strain_energy", "potential_energy", *track_cols, *joint_cols, *reaction_cols, *output_cols])
     for r in records:
         w.writerow([r.step, repr(r.t), int(r.converged), r.reason, r.newton_iterations, repr(r.residual_norm),
                     repr(r.strain_energy), repr(r.potential_energy), *tail(r)])

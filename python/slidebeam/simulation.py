@@ -70,7 +70,7 @@ class StepRecord:
     """One load step (static) as it goes to history.csv: ``Simulation.solve_static`` returns a
     list of them, step 0 being the state before the first step. ``tracked`` holds the
     ``[output] track`` points (x, y, z), ``joints`` every sliding joint, ``reactions`` every
-    support and rigid joint."""
+    support and rigid joint, ``outputs`` the effects' named values (:meth:`Simulation.output_labels`)."""
 
     step: int
     t: float
@@ -83,6 +83,7 @@ class StepRecord:
     tracked: list[tuple[float, float, float]] = field(default_factory=list)
     joints: list[JointState] = field(default_factory=list)
     reactions: list[Reaction] = field(default_factory=list)
+    outputs: list[float] = field(default_factory=list)
 
 
 @contextlib.contextmanager
@@ -154,6 +155,7 @@ class Simulation:
         self._statics_on_rank_0_option = statics_on_rank_0()
         self._equilibrium_on_rank_0_option = equilibrium_on_rank_0()
         self._model, self.effects = build_model(scene, comm)
+        self._output_labels: list[str] | None = None
         self._solver = _core.StaticSolver(self._model)
         self._t = 0.0
         self.use_predictor = True
@@ -613,7 +615,7 @@ class Simulation:
             newton_iterations=0 if result is None else result.iterations,
             residual_norm=0.0 if result is None else result.residual_norm,
             strain_energy=e["strain"], potential_energy=e["potential"], tracked=tracked,
-            joints=self.joint_states(), reactions=self.reactions(),
+            joints=self.joint_states(), reactions=self.reactions(), outputs=self.effect_outputs(),
         )
 
     def solve_static(self, on_step: Callable[[StepRecord], None] | None = None,
@@ -711,6 +713,17 @@ class Simulation:
         """(global index of the first unknown, number of coordinates) of control point cp: its
         coordinates are the unknowns first .. first + count - 1 (multipliers follow)."""
         return tuple(self._model.cp_unknowns(cp))
+
+    def output_labels(self) -> list[str]:
+        """History column names of the effects' named values: <effect label>.<name> (a contact's
+        force.x/y/z and length in contact, buoyancy's force and submerged length)."""
+        if self._output_labels is None:
+            self._output_labels = list(self._model.output_labels())
+        return self._output_labels
+
+    def effect_outputs(self) -> list[float]:
+        """The values named by :meth:`output_labels` in the current state (collective)."""
+        return list(self._model.effect_outputs(self.t, self.x)) if self.output_labels() else []
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
         """Positions (x, y, z) of the scene's ``[output] track`` points in the current state."""
@@ -815,7 +828,7 @@ class Simulation:
             joints=self.joint_states() if joints is None else
             [dataclasses.replace(j, gap=g, reaction=f) for j, g, f in zip(joints, self._joint_gaps(), self._joint_forces())],
             reactions=self.reactions(over_last_step=result is not None and bool(result.converged)),
-            work=work, dissipated=dissipated,
+            outputs=self.effect_outputs(), work=work, dissipated=dissipated,
             energy_balance_error=abs(total - self.initial_energy - work + dissipated),
             flows=[w for _, _, w in flows],
         )

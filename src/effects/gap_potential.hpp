@@ -131,12 +131,31 @@ bool gap_force(const Law& law, const Shape& shape, const EvalContext& ctx, const
 }
 
 /// The potential of Law on one beam against Shape: W = 3 a director beam, W = 4 an ANCF cable.
+/// Its outputs: the force the shape (the water) exerts on the beam and the length of the beam on
+/// which it acts (in contact; submerged), both at the mass quadrature points of the state.
 template <int W, class Law, class Shape = PlaneGap>
-class GapPotential : public CentreLineEffect<W> {
+class GapPotential : public CentreLineEffect<W>, public OutputSource {
   using Base = CentreLineEffect<W>;
 
  public:
   GapPotential(int beam, const Model& m, const Shape& shape, const Law& law) : Base(beam, m), shape_(shape), law_(law) {}
+
+  std::vector<std::string> output_names() const override { return {"force.x", "force.y", "force.z", "length"}; }
+  void outputs(const EvalContext& ctx, double* values) const override {
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      const typename Base::VecY y = this->gather(ctx, ctx.x, b, e);
+      for (int g = 0; g < Base::n_points(b); ++g) {
+        const CentreLinePoint<W> q = Base::point(b, e, g);
+        const Eigen::Vector3d x = position(q, y);
+        const double dv = law_.dV(shape_.gap(x));
+        if (dv == 0.0) continue;
+        const Eigen::Vector3d f = -q.w * dv * shape_.gradient(x);
+        for (int k = 0; k < 3; ++k) values[k] += f(k);
+        values[3] += q.w;
+      }
+    }
+  }
 
   double energy(const EvalContext& ctx) const override {
     const Beam& b = ctx.model.beam(this->beam_);

@@ -15,6 +15,7 @@
 ///   EventSource       indicator functions whose crossing the stepper locates (src/time/stepper.hpp)
 ///   JointTarget       a joint other effects act through (friction, a drive on a sliding joint)
 ///   JointLink         an effect acting through a JointTarget, which the model links it to
+///   OutputSource      named values at a state (history columns <label>.<name>)
 
 #include "model/dof_map.hpp"
 #include "search/closest_point_search.hpp"
@@ -23,6 +24,7 @@
 
 #include <array>
 #include <functional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -226,6 +228,17 @@ class JointLink {
   virtual int linked_slider() const = 0;
   /// The joint found (nullptr: none; the effect throws std::invalid_argument naming its table).
   virtual void link(const Model& m, const JointTarget* joint) = 0;
+};
+
+/// Named values of the effect at a state, e.g. a contact's force and the length in contact:
+/// the history's columns <label>.<name>, one per name.
+class OutputSource {
+ public:
+  virtual ~OutputSource() = default;
+  virtual std::vector<std::string> output_names() const = 0;
+  /// values[i] += this rank's share of value i at the evaluation's state x (the model sums
+  /// the ranks' shares).
+  virtual void outputs(const EvalContext& ctx, double* values) const = 0;
 };
 
 }  // namespace slidebeam

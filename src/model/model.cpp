@@ -664,6 +664,32 @@ std::vector<double> Model::effect_energies(double t, Vec x, const std::vector<si
   return e;
 }
 
+std::vector<std::string> Model::output_labels() const {
+  std::vector<std::string> labels;
+  for (const auto& e : effects_)
+    if (const auto* o = part_of<OutputSource>(*e))
+      for (const std::string& name : o->output_names()) labels.push_back(e->label() + "." + name);
+  return labels;
+}
+
+std::vector<double> Model::effect_outputs(double t, Vec x) const {
+  std::vector<std::pair<const OutputSource*, size_t>> sources;  // and the first value's index
+  size_t n = 0;
+  for (const auto& e : effects_)
+    if (const auto* o = part_of<OutputSource>(*e)) {
+      sources.emplace_back(o, n);
+      n += o->output_names().size();
+    }
+  std::vector<double> v(n, 0.0);
+  if (n == 0) return v;
+  SB_CHECK(with_context(StepEval{StepRule::Endpoint, t, 1.0}, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+    for (const auto& [o, first] : sources) o->outputs(ctx, v.data() + first);
+    return 0;
+  }));
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm_);
+  return v;
+}
+
 std::vector<std::array<double, 3>> Model::joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const {
   std::vector<std::array<double, 3>> f(effects.size(), std::array<double, 3>{});
   SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {

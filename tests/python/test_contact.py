@@ -192,6 +192,14 @@ def test_mooring_line_on_the_seabed_matches_the_closed_form_catenary():
     z = -50.0 + exact.H / 1000.0 * (np.cosh(1000.0 * (hanging[:, 0] - exact.touchdown) / exact.H) - 1.0)
     assert np.abs(hanging[:, 2] - z).max() < 0.05  # 5 cm in a 50 m rise
     assert np.abs(pos[pos[:, 0] < exact.touchdown - 5.0, 2] + 50.0).max() < 1e-3  # on the bed
+    # the contact's outputs (history columns): the length on the bed, counted at the mass
+    # quadrature points (measured 0.17 m short of the exact 130.72 m, spans of 2 m), and the bed's
+    # force: that length's weight but for what the anchor carries (measured 0.23 % less)
+    assert sim.output_labels() == [f"plane_contact[chain].{n}" for n in ("force.x", "force.y", "force.z", "length")]
+    fx, fy, fz, on_bed = outcome.records[-1].outputs
+    on_bed_exact = 220.0 - exact.suspended_length
+    assert abs(on_bed - on_bed_exact) < 0.5 and fx == fy == 0.0
+    assert fz == pytest.approx(1000.0 * on_bed_exact, rel=5e-3) and fz < 1000.0 * on_bed_exact
 
 
 def test_contact_runs_agree_on_one_and_two_ranks():
@@ -343,3 +351,30 @@ def test_the_block_and_tackle_hangs_its_block_on_half_its_weight(root):
     pulls = {f.effect: -f.force[2] for f in first.reactions}
     assert abs(pulls["spherical[rope@end]"] / (T0 + 0.5 * w) - 1) < 1e-4, pulls
     assert abs(-pulls["spherical[rope@start]"] / (T0 + 2.0 * w) - 1) < 5e-4, pulls
+
+
+def test_contact_outputs_are_history_columns(tmp_path):
+    """The contact's force and length in contact go to history.csv as <label>.force.x/y/z and
+    .length, bit for bit the records' values, and come back from the history table a checkpoint
+    keeps. While the rod lands the bed pushes up; before it lands, and high in its bounce, nothing."""
+    import csv
+
+    from slidebeam import history
+
+    data = dict(dropped_rod("director").data)
+    data["analysis"] = {**data["analysis"], "t_end": 0.3}
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(data))
+    outcome = sim.run_dynamic()
+    slidebeam.write_results(sim, outcome, tmp_path)
+    with open(tmp_path / "history.csv") as f:
+        rows = list(csv.DictReader(f))
+    names = [f"plane_contact[rod].{n}" for n in ("force.x", "force.y", "force.z", "length")]
+    assert sim.output_labels() == names
+    table = np.array([[float(row[n]) for n in names] for row in rows])
+    assert np.array_equal(table, np.array([r.outputs for r in outcome.records]))
+    assert table[0].tolist() == [0.0, 0.0, 0.0, 0.0]  # drawn above the ground
+    landed = table[:, 3] > 0.0
+    assert landed.any() and (table[landed, 2] > 0.0).all() and (table[~landed, :3] == 0.0).all()
+    values, reasons, layout = history.table(outcome.records, len(sim.energy_flow_labels()))
+    assert layout.outputs == 4 and history.Layout.from_dict(layout.as_dict()) == layout
+    assert [r.outputs for r in history.records(values, reasons, layout)] == [r.outputs for r in outcome.records]
