@@ -70,11 +70,7 @@ class BeamDamping final : public KnotBandSpanEffect {
     if (ctx.h <= 0.0) PetscFunctionReturn(0);  // no step, no rate
     const Beam& b = ctx.model.beam(beam_);
     knot_stresses(ctx, b);
-    for (int e : elements_) {
-      VecEl re = VecEl::Zero();
-      element(ctx, b, e, re, nullptr);
-      scatter_span(ctx.map, r, b, e, re);
-    }
+    add_span_residuals(ctx, b, r);
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
@@ -82,13 +78,7 @@ class BeamDamping final : public KnotBandSpanEffect {
     if (ctx.h <= 0.0) PetscFunctionReturn(0);
     const Beam& b = ctx.model.beam(beam_);
     knot_stresses(ctx, b);
-    band_.zero();
-    for (int e : elements_) {
-      VecEl re = VecEl::Zero();
-      MatEl K = MatEl::Zero();
-      element(ctx, b, e, re, &K);
-      band_.add(e, 3, K.data());
-    }
+    span_tangents_into_band(ctx, b);
     knot_tangents(ctx, b);
     PetscCall(band_.flush(ctx.map, b, J));
     PetscFunctionReturn(0);
@@ -110,7 +100,7 @@ class BeamDamping final : public KnotBandSpanEffect {
     for (size_t i = 0; i < b1.size(); ++i) knot_sigma_[i] = c_.head<3>().cwiseProduct(b1[i] - b0[i]) / ctx.h;
   }
 
-  void element(const EvalContext& ctx, const Beam& b, int e, VecEl& r, MatEl* K) const {
+  void element(const EvalContext& ctx, const Beam& b, int e, VecEl& r, MatEl* K) const override {
     const VecEl q0 = gather_span(ctx.x_old, ctx.map, b, e), q1 = gather_span(ctx.x, ctx.map, b, e);
     const double h = ctx.h, theta = ctx.theta;
     const bool knots = knots_used(b);

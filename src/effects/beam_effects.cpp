@@ -57,11 +57,7 @@ class BeamElastic final : public KnotBandSpanEffect {
       PetscFunctionReturn(0);
     }
     if (knots) update_knot_sigma(ctx, b);
-    for (int e : elements_) {
-      VecEl re = VecEl::Zero();
-      element(ctx, b, e, re, nullptr);
-      scatter_span(ctx.map, r, b, e, re);
-    }
+    add_span_residuals(ctx, b, r);
     PetscFunctionReturn(0);
   }
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
@@ -73,13 +69,7 @@ class BeamElastic final : public KnotBandSpanEffect {
       if (ctx.rule == StepRule::EnergyMomentum) knot_strains(ctx, ctx.x_old, b, knot_start_);
       update_knot_sigma(ctx, b);
     }
-    band_.zero();
-    for (int e : elements_) {
-      VecEl re = VecEl::Zero();
-      MatEl K = MatEl::Zero();
-      element(ctx, b, e, re, &K);
-      band_.add(e, 3, K.data());
-    }
+    span_tangents_into_band(ctx, b);
     if (knots) knot_tangents(ctx, b);
     PetscCall(band_.flush(ctx.map, b, J));
     PetscFunctionReturn(0);
@@ -103,7 +93,7 @@ class BeamElastic final : public KnotBandSpanEffect {
  private:
   /// Internal force (and tangent d/dx) of span e under the context's step rule; with knots, the
   /// Gamma stresses of knot_sigma_.
-  void element(const EvalContext& ctx, const Beam& b, int e, VecEl& re, MatEl* K) const {
+  void element(const EvalContext& ctx, const Beam& b, int e, VecEl& re, MatEl* K) const override {
     Vec3 gs[kernels::kSpanLanes];
     const bool knots = b.gamma_at_knots();
     if (knots)

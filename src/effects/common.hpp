@@ -342,6 +342,26 @@ class KnotBandSpanEffect : public SpanEffect {
 
  protected:
   virtual bool knots_used(const Beam& b) const { return b.gamma_at_knots(); }
+  /// r += span e's residual (the spans' part: the knots' comes apart), K (if given) += its tangent.
+  virtual void element(const EvalContext& ctx, const Beam& b, int e, kernels::VecEl& r, kernels::MatEl* K) const = 0;
+  /// r += every owned span's residual.
+  void add_span_residuals(const EvalContext& ctx, const Beam& b, const LocalValues& r) const {
+    for (int e : elements_) {
+      kernels::VecEl re = kernels::VecEl::Zero();
+      element(ctx, b, e, re, nullptr);
+      scatter_span(ctx.map, r, b, e, re);
+    }
+  }
+  /// band_ = every owned span's tangent (the knots' tangents are added to it before it is flushed).
+  void span_tangents_into_band(const EvalContext& ctx, const Beam& b) const {
+    band_.zero();
+    for (int e : elements_) {
+      kernels::VecEl re = kernels::VecEl::Zero();
+      kernels::MatEl K = kernels::MatEl::Zero();
+      element(ctx, b, e, re, &K);
+      band_.add(e, 3, K.data());
+    }
+  }
   KnotPatches patches_;
   mutable ControlPointBand band_;
 };

@@ -180,12 +180,11 @@ class FluidDrag final : public CentreLineEffect<W> {
 void register_drag_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
   const double inf = std::numeric_limits<double>::infinity();
-  EffectSpec s;
-  s.type = "fluid_drag";
-  s.table = "drag";
-  s.meaning = "fluid drag on a beam's centre line (wind, current): per length -1/2 rho D (C_n |v_n| v_n + "
-              "C_t |v_t| v_t), v the velocity relative to the flow (uniform, or by a profile over height)";
-  s.role = EnergyRole::External;
+  EffectSpec s = table_effect_spec(
+      "fluid_drag", "drag", "", EnergyRole::External,
+      "fluid drag on a beam's centre line (wind, current): per length -1/2 rho D (C_n |v_n| v_n + C_t |v_t| v_t), v "
+      "the velocity relative to the flow (uniform, or by a profile over height)",
+      {});
   s.rate_force = true;
   s.params = {
       {"beam", K::Beam, "", "the beam in the flow (director beam or ANCF cable)", ""},

@@ -197,16 +197,12 @@ class JointFriction final : public Effect, public ExtraUnknowns, public SlidingJ
 
 void register_friction_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
-  EffectSpec s;
-  s.type = "friction";
-  s.table = "friction";
-  s.meaning = "Coulomb friction on a sliding joint, from its normal force: the slider sticks while the tangential "
-              "load is below mu N";
-  s.role = EnergyRole::Dissipative;
-  s.params = {
-      {"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""},
-      {"mu", K::Number, "", "Coulomb friction coefficient", "", 0.0},
-  };
+  const EffectSpec s = table_effect_spec(
+      "friction", "friction", "", EnergyRole::Dissipative,
+      "Coulomb friction on a sliding joint, from its normal force: the slider sticks while the tangential load is "
+      "below mu N",
+      {{"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""},
+       {"mu", K::Number, "", "Coulomb friction coefficient", "", 0.0}});
   r.add(s, [](const Model& m, const EffectParams& p) { return std::make_unique<JointFriction>(m, p); });
 }
 

@@ -2,6 +2,7 @@
 #include "solvers/block_solve_path.hpp"
 
 #include "solvers/coupling_correction.hpp"
+#include "solvers/newton.hpp"
 #include "solvers/schwarz.hpp"
 #include "solvers/solver_options.hpp"
 #include "util/petsc_check.hpp"
@@ -74,8 +75,7 @@ PetscErrorCode BlockSolvePath::condense_blocks(Mat J) {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
   PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes_, &ksp));
-  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(snes_ksp_pc(snes_, &ksp, &pc));
   PetscBool bjacobi = PETSC_FALSE;
   PetscCall(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCBJACOBI, &bjacobi));
   if (!bjacobi) PetscFunctionReturn(0);
@@ -96,10 +96,7 @@ PetscErrorCode BlockSolvePath::condense_blocks(Mat J) {
 PetscErrorCode BlockSolvePath::detach() {
   PetscFunctionBeginUser;
   KSP ksp = nullptr;
-  PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes_, &ksp));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCReset(pc));
+  PetscCall(reset_snes_pc(snes_, &ksp));
   if (CouplingCorrection* c = coupling_correction(ksp)) PetscCall(c->detach(ksp));
   if (update_) {
     SNESLineSearch ls = nullptr;

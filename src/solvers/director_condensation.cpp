@@ -2,6 +2,7 @@
 #include "solvers/director_condensation.hpp"
 
 #include "kernels/beam_kernels.hpp"
+#include "solvers/newton.hpp"
 #include "util/petsc_check.hpp"
 
 #include <algorithm>
@@ -104,12 +105,8 @@ PetscErrorCode DirectorCondensation::attach(SNES snes) {
 
 PetscErrorCode DirectorCondensation::reattach(SNES snes) {
   PetscFunctionBeginUser;
-  KSP ksp = nullptr;
   PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(set_preonly(snes, PCSHELL, &pc));
   PetscCall(PCShellSetContext(pc, this));
   PetscCall(PCShellSetSetUp(pc, guarded<&DirectorCondensation::pc_setup>));
   PetscCall(PCShellSetApply(pc, guarded<&DirectorCondensation::pc_apply>));

@@ -48,21 +48,9 @@ ManifoldNewton::ManifoldNewton(const Model& model, SNES snes) : snes_(snes) {
 
 ManifoldNewton::~ManifoldNewton() { VecDestroy(&x_start_); }
 
-PetscErrorCode ManifoldNewton::reset_pc(KSP* ksp, PC* pc) const {
-  PetscFunctionBeginUser;
-  KSP k = nullptr;
-  PC p = nullptr;
-  PetscCall(SNESGetKSP(snes_, &k));
-  PetscCall(KSPGetPC(k, &p));
-  PetscCall(PCReset(p));
-  if (ksp) *ksp = k;
-  if (pc) *pc = p;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode ManifoldNewton::use_condensed() {
   PetscFunctionBeginUser;
-  PetscCall(reset_pc(nullptr, nullptr));
+  PetscCall(reset_snes_pc(snes_));
   PetscCall(condensation_->attach(snes_));  // PC shell (condensed LU) and the manifold line search
   condensed_ = true;
   PetscFunctionReturn(0);
@@ -70,11 +58,9 @@ PetscErrorCode ManifoldNewton::use_condensed() {
 
 PetscErrorCode ManifoldNewton::use_full_lu() {
   PetscFunctionBeginUser;
-  KSP ksp = nullptr;
   PC pc = nullptr;
-  PetscCall(reset_pc(&ksp, &pc));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(reset_snes_pc(snes_));
+  PetscCall(set_preonly(snes_, PCLU, &pc));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERSUPERLU));
   // (the line search stays: the serial triads' numbering is the full system's)
   condensed_ = false;

@@ -69,8 +69,6 @@ class ManifoldNewton {
   long full_system_attempts() const { return full_system_attempts_; }
 
  private:
-  /// The SNES's KSP and PC, the PC's set-up dropped (before another solver takes over).
-  PetscErrorCode reset_pc(KSP* ksp, PC* pc) const;
   PetscErrorCode use_condensed();
   PetscErrorCode use_full_lu();
   SolveResult attempt(Vec x, PetscInt max_it);

@@ -8,6 +8,33 @@
 
 namespace slidebeam {
 
+PetscErrorCode snes_ksp_pc(SNES snes, KSP* ksp, PC* pc) {
+  PetscFunctionBeginUser;
+  KSP k = nullptr;
+  PetscCall(SNESGetKSP(snes, &k));
+  if (ksp) *ksp = k;
+  if (pc) PetscCall(KSPGetPC(k, pc));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode reset_snes_pc(SNES snes, KSP* ksp, PC* pc) {
+  PetscFunctionBeginUser;
+  PC p = nullptr;
+  PetscCall(snes_ksp_pc(snes, ksp, &p));
+  PetscCall(PCReset(p));
+  if (pc) *pc = p;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode set_preonly(SNES snes, PCType type, PC* pc) {
+  PetscFunctionBeginUser;
+  KSP ksp = nullptr;
+  PetscCall(snes_ksp_pc(snes, &ksp, pc));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(PCSetType(*pc, type));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
   PetscFunctionBeginUser;
   PetscCall(SNESSetType(snes, SNESNEWTONLS));
@@ -27,12 +54,8 @@ PetscErrorCode configure_newton(SNES snes, RoundoffTest* test) {
   // Sparse direct solve. The saddle-point matrix has zero diagonal entries (multipliers, and d1
   // for the seed's strains), so the factorisation must pivot: PETSc's own LU does not.
   // Serial: SuperLU; parallel: MUMPS. Both can be changed from the options database.
-  KSP ksp = nullptr;
   PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(set_preonly(snes, PCLU, &pc));
   MPI_Comm comm;
   PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(snes), &comm));
   int size = 1;
@@ -202,12 +225,8 @@ PetscErrorCode reset_factorization_on_pattern_change(SNES snes, int generation, 
   PetscFunctionBeginUser;
   if (generation == *seen) PetscFunctionReturn(0);
   *seen = generation;
-  KSP ksp = nullptr;
-  PC pc = nullptr;
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PetscInfo(snes, "Jacobian pattern changed (generation %d): the factorisation is set up anew\n", generation));
-  PetscCall(PCReset(pc));
+  PetscCall(reset_snes_pc(snes));
   PetscFunctionReturn(0);
 }
 

@@ -42,6 +42,13 @@ struct RoundoffTest {
   int generation_ = -1;
 };
 
+/// The SNES's KSP and PC (either pointer may be null).
+PetscErrorCode snes_ksp_pc(SNES snes, KSP* ksp, PC* pc);
+/// The same, the PC's set-up dropped first (before another solver takes over).
+PetscErrorCode reset_snes_pc(SNES snes, KSP* ksp = nullptr, PC* pc = nullptr);
+/// One application of a PC of `type` per linear solve (KSPPREONLY): a direct solve. Its PC.
+PetscErrorCode set_preonly(SNES snes, PCType type, PC* pc);
+
 /// Newton line search off, tolerances, divergence test off, roundoff test, direct LU (SuperLU
 /// serial, MUMPS parallel). Call before SNESSetFromOptions.
 PetscErrorCode configure_newton(SNES snes, RoundoffTest* test);

@@ -765,13 +765,9 @@ void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double s
 }
 
 void TimeIntegrator::attach_fast_lu() {
-  KSP ksp = nullptr;
   PC pc = nullptr;
-  SB_CHECK(SNESGetKSP(snes_, &ksp));
-  SB_CHECK(KSPGetPC(ksp, &pc));
-  SB_CHECK(PCReset(pc));
-  SB_CHECK(KSPSetType(ksp, KSPPREONLY));
-  SB_CHECK(PCSetType(pc, PCLU));
+  SB_CHECK(reset_snes_pc(snes_));
+  SB_CHECK(set_preonly(snes_, PCLU, &pc));
   SB_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
   // The model's elimination order: the natural order with every multiplier next to the
   // coordinates it constrains, sliders before their carriers (Model::elimination_order).

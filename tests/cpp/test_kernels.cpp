@@ -83,14 +83,16 @@ GaussPoint point_on_span(int n, int e, double xi, double L) {
 }
 }  // namespace
 
-class KernelFD : public ::testing::TestWithParam<std::tuple<StrainMeasure, Quadrature>> {};
+/// A strain measure and a quadrature rule: its table, a stiffness and the points.
+class KernelFD : public ::testing::TestWithParam<std::tuple<StrainMeasure, Quadrature>> {
+ protected:
+  const StrainTable& T = strain_table(std::get<0>(GetParam()));
+  const Stiffness C = test_stiffness();
+  const std::vector<GaussPoint> pts = span_points(std::get<1>(GetParam()));
+};
 
 TEST_P(KernelFD, ResidualIsEnergyGradientAndTangentIsResidualDerivative) {
-  const auto [measure, quad] = GetParam();
-  const StrainTable& T = strain_table(measure);
-  const Stiffness C = test_stiffness();
   const Vec6 eps0 = test_eps0();
-  const auto pts = span_points(quad);
   for (size_t g = 0; g < pts.size(); ++g) {
     const GaussPoint& gp = pts[g];
     const VecEl q = deformed_state(17 + static_cast<int>(g));
@@ -172,11 +174,7 @@ TEST(Kernels, ClosestOrthonormalFrameIsThePolarFactor) {
 // Energy-momentum kernel: the tangent is d r / d q1 (q0 fixed), for the conserving scheme and
 // its energy-decaying variant; and the discrete-gradient property U(q1) - U(q0) = r . (q1 - q0).
 TEST_P(KernelFD, EnergyMomentumTangentAndDiscreteGradient) {
-  const auto [measure, quad] = GetParam();
-  const StrainTable& T = strain_table(measure);
-  const Stiffness C = test_stiffness();
   const Vec6 eps0 = test_eps0();
-  const auto pts = span_points(quad);
   for (size_t g = 0; g < pts.size(); ++g) {
     const GaussPoint& gp = pts[g];
     const VecEl q0 = deformed_state(5 + static_cast<int>(g)), q1 = deformed_state(29 + static_cast<int>(g));
@@ -206,10 +204,6 @@ TEST_P(KernelFD, EnergyMomentumTangentAndDiscreteGradient) {
 // The residual path of time steps (one span, q0's state cached, points in SIMD lanes, strain
 // terms written out) is the sum of the points' energy-momentum forces.
 TEST_P(KernelFD, SpanResidualOfTimeStepsIsTheSumOverPoints) {
-  const auto [measure, quad] = GetParam();
-  const StrainTable& T = strain_table(measure);
-  const Stiffness C = test_stiffness();
-  const auto pts = span_points(quad);
   std::vector<Vec6> eps0(pts.size());
   for (size_t g = 0; g < pts.size(); ++g) eps0[g] = (1.0 + 0.5 * static_cast<double>(g)) * test_eps0();
   const VecEl q0 = deformed_state(7), q1 = deformed_state(31);

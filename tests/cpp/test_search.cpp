@@ -28,6 +28,22 @@ BeamSpec wound_carrier(const std::string& name, int spans) {
   }
   return s;
 }
+
+/// 200 points near and far from a carrier wound about the z axis (radius r0 + up to 2, height up
+/// to `height`), deterministic.
+std::vector<ClosestPointQuery> scattered_queries(int carrier, double r0, double height) {
+  std::vector<ClosestPointQuery> queries;
+  for (int i = 0; i < 200; ++i) {
+    ClosestPointQuery q;
+    q.carrier = carrier;
+    const double t = 0.05 * i, r = r0 + 2.0 * std::fabs(std::sin(3.1 * i));
+    q.point[0] = r * std::cos(7 * t);
+    q.point[1] = r * std::sin(5 * t);
+    q.point[2] = height * std::fmod(0.37 * i, 1.0) + 0.3 * std::sin(i);
+    queries.push_back(q);
+  }
+  return queries;
+}
 }  // namespace
 
 TEST(ClosestPointSearch, MatchesTheSerialSearchOverEverySpan) {
@@ -36,17 +52,7 @@ TEST(ClosestPointSearch, MatchesTheSerialSearchOverEverySpan) {
   m.add_beam(wound_carrier("carrier", 64));
   m.finalize();
   const Beam& C = m.beam(1);
-  std::vector<ClosestPointQuery> queries;
-  for (int i = 0; i < 200; ++i) {
-    ClosestPointQuery q;
-    q.carrier = 1;
-    // points near and far (up to 3 radii off), deterministic
-    const double t = 0.05 * i, r = 1.0 + 2.0 * std::fabs(std::sin(3.1 * i));
-    q.point[0] = r * std::cos(7 * t);
-    q.point[1] = r * std::sin(5 * t);
-    q.point[2] = 2.0 * std::fmod(0.37 * i, 1.0) + 0.3 * std::sin(i);
-    queries.push_back(q);
-  }
+  std::vector<ClosestPointQuery> queries = scattered_queries(1, 1.0, 2.0);  // up to 3 radii off
   ClosestPointQuery start;  // the curve's first point: the ends and the axis are exact cases
   start.carrier = 1;
   start.point[0] = 1.0;
@@ -89,16 +95,7 @@ TEST(ClosestPointSearch, AncfCarrierMatchesTheSerialSearchOverEveryElement) {
   m.finalize();
   const Beam& C = m.beam(1);
   const sliding::Curve curve{sliding::Curve::Kind::Hermite, C.n_spans(), C.length()};
-  std::vector<ClosestPointQuery> queries;
-  for (int i = 0; i < 200; ++i) {
-    ClosestPointQuery q;
-    q.carrier = 1;
-    const double t = 0.05 * i, r = 0.2 + 2.0 * std::fabs(std::sin(3.1 * i));
-    q.point[0] = r * std::cos(7 * t);
-    q.point[1] = r * std::sin(5 * t);
-    q.point[2] = 3.0 * std::fmod(0.37 * i, 1.0) + 0.3 * std::sin(i);
-    queries.push_back(q);
-  }
+  std::vector<ClosestPointQuery> queries = scattered_queries(1, 0.2, 3.0);
   ClosestPointQuery on;  // a point of the cable: distance ~0 at its s
   on.carrier = 1;
   const double t_on = 2.0 * std::acos(-1.0) * 1.5 * 0.6137;
