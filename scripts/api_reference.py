@@ -96,8 +96,9 @@ print(summary["complete"], summary["final_energy"]["total"])
 
 ```python
 import slidebeam
-from slidebeam import plots, render
-from slidebeam.rundata import open_run
+from slidebeam import plots
+from slidebeam.plots import render
+from slidebeam.output.rundata import open_run
 
 scene = slidebeam.load_scene("runs/pendulum16.toml", ["analysis.t_end=0.02", "beam.0.spans=4"])
 sim = slidebeam.Simulation(scene)
@@ -161,16 +162,18 @@ assert sim.solve_static()[-1].converged
 # (heading, [objects as "module:name" or "module:Class.member"])
 ITEMS = [
     ("Scenes", ["scene:load_scene", "scene:scene_from_dict", "scene:Scene", "scene:SceneError"]),
-    ("Simulation", ["simulation:Simulation"]),
-    ("Results of a run", ["simulation:StepRecord", "dynamics:RunOutcome", "dynamics:DynamicRecord",
-                          "simulation:BeamPoint", "dynamics:JointState", "dynamics:Reaction"]),
-    ("Writing results", ["results:ResultWriter", "results:write_results", "results:static_summary",
-                         "results:dynamic_summary"]),
-    ("Restarts", ["checkpoint:write_checkpoint", "checkpoint:read_checkpoint", "checkpoint:CheckpointError"]),
-    ("Warnings and errors", ["simulation:ConstraintWarning", "simulation:EquilibriumFailure"]),
-    ("Comparisons", ["catenary:ElasticCatenary"]),
-    ("Plots and pictures", ["plots:plot", "plots:figure", "plots:available", "render:pictures", "render:animation",
-                            "rundata:open_run", "rundata:Run", "rundata:Series"]),
+    ("Simulation", ["run.simulation:Simulation"]),
+    ("Results of a run", ["run.simulation:StepRecord", "run.dynamics:RunOutcome", "run.dynamics:DynamicRecord",
+                          "run.simulation:BeamPoint", "run.dynamics:JointState", "run.dynamics:Reaction"]),
+    ("Writing results", ["output.results:ResultWriter", "output.results:write_results",
+                         "output.results:static_summary", "output.results:dynamic_summary"]),
+    ("Restarts", ["output.checkpoint:write_checkpoint", "output.checkpoint:read_checkpoint",
+                  "output.checkpoint:CheckpointError"]),
+    ("Warnings and errors", ["run.simulation:ConstraintWarning", "run.simulation:EquilibriumFailure"]),
+    ("Comparisons", ["scene.catenary:ElasticCatenary"]),
+    ("Plots and pictures", ["plots:plot", "plots:figure", "plots:available", "plots.render:pictures",
+                            "plots.render:animation", "output.rundata:open_run", "output.rundata:Run",
+                            "output.rundata:Series"]),
 ]
 
 ROLE = re.compile(r":(?:class|meth|func|attr|mod|data):`~?([^`]+)`")

@@ -21,8 +21,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 
-from slidebeam.render import Renderer  # noqa: E402
-from slidebeam.rundata import open_run  # noqa: E402
+from slidebeam.plots.render import Renderer  # noqa: E402
+from slidebeam.output.rundata import open_run  # noqa: E402
 
 
 def bench(folder: Path, frames: int) -> dict[str, float]:

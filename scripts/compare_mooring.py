@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """The mooring chain of runs/cables/mooring_line.toml at rest: slidebeam's equilibrium start against
-the quasi-static catenary on a frictionless seabed, as slidebeam.catenary.MooringLine computes it
+the quasi-static catenary on a frictionless seabed, as slidebeam.scene.catenary.MooringLine computes it
 and, when installed, as MoorPy does (its Catenary function: the line model of MoorPy and of
 MoorDyn's static solve). Prints one table: fairlead tension, the anchor's horizontal pull, the
 length of chain on the seabed, and the errors against MoorPy.
@@ -49,10 +49,10 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--spans", type=int, nargs="+", default=[110, 220], help="meshes of the chain (default 110 220)")
     args = p.parse_args()
-    from slidebeam.catenary import MooringLine
+    from slidebeam.scene.catenary import MooringLine
 
     exact = MooringLine(span=SPAN, height=DEPTH, length=LENGTH, EA=EA, w=W)
-    rows = [("slidebeam.catenary.MooringLine", exact.fairlead_tension, exact.H, LENGTH - exact.suspended_length)]
+    rows = [("slidebeam.scene.catenary.MooringLine", exact.fairlead_tension, exact.H, LENGTH - exact.suspended_length)]
     try:
         from moorpy.Catenary import catenary  # type: ignore[import-not-found]
 

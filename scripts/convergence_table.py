@@ -41,7 +41,7 @@ def main() -> int:
     import numpy as np
 
     import slidebeam
-    from slidebeam.catenary import ElasticCatenary
+    from slidebeam.scene.catenary import ElasticCatenary
     from test_locking_free import reissner_tip
 
     def elastica(n: int, load: float, EA: float, q: str) -> float:

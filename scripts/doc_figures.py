@@ -18,7 +18,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "python"))
 
-from slidebeam import plots, render  # noqa: E402
+from slidebeam import plots  # noqa: E402
+from slidebeam.plots import render  # noqa: E402
 
 
 def run(*args: str) -> None:

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Peak memory of runs against their size: the measurements behind python/slidebeam/resources.py.
+"""Peak memory of runs against their size: the measurements behind python/slidebeam/run/resources.py.
 
 Runs short variants of a few scenes (static and dynamic, director beams and ANCF cables, with
 XDMF output) at growing numbers of spans, each in its own process(es), and prints per run the
@@ -30,7 +30,7 @@ SCENES = {  # scene, extra --set for a short run
 WRAPPER = """
 import resource, sys
 from mpi4py import MPI
-from slidebeam.cli import main
+from slidebeam.app.cli import main
 sys.argv[0] = "slidebeam"
 code = main(sys.argv[1:])
 peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
@@ -66,7 +66,7 @@ def main() -> None:
     from slidebeam.scene import load_scene
 
     try:
-        from slidebeam.resources import estimate
+        from slidebeam.run.resources import estimate
     except ImportError:  # before resources.py existed
         estimate = None
 

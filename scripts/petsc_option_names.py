@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Regenerate python/slidebeam/petsc_options.txt: the option names a slidebeam run can use, for
-the "did you mean" of unused PETSc options (python/slidebeam/options_check.py).
+the "did you mean" of unused PETSc options (python/slidebeam/run/options_check.py).
 
 The names come from PETSc's own `-help` output of small runs that take the solver paths
 slidebeam uses and the common alternatives (SuperLU, MUMPS, Schwarz, ASM, GMRES, ILU, trust

@@ -19,7 +19,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
-from slidebeam.study import Variant, _run_one, load_run  # noqa: E402
+from slidebeam.app.study import Variant, _run_one, load_run  # noqa: E402
 
 INTEGRATORS = {
     "energy-momentum": {},

@@ -15,7 +15,8 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 import slidebeam
-from slidebeam import _core, options_check
+from slidebeam import _core
+from slidebeam.run import options_check
 
 
 def cantilever(**analysis):

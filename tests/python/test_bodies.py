@@ -285,9 +285,9 @@ g = [0.0, 0.0, -9.81]
 @pytest.mark.skip_in_parallel
 def test_bodies_are_written_for_paraview_and_read_back(run_cli, tmp_path):
     """bodies.xdmf: one vertex per body with displacement, velocity and its axes, read back by
-    slidebeam.rundata as the history has it; view.py shows the series; slidebeam render draws
+    slidebeam.output.rundata as the history has it; view.py shows the series; slidebeam render draws
     the body's axes from its centre."""
-    from slidebeam import rundata
+    from slidebeam.output import rundata
 
     (tmp_path / "bob.toml").write_text(BOB_TOML)
     out = run_cli("run", "bob.toml", "--out", "res", "-q")
@@ -302,7 +302,7 @@ def test_bodies_are_written_for_paraview_and_read_back(run_cli, tmp_path):
     assert "'bodies'" in (tmp_path / "res" / "view.py").read_text()
     assert np.allclose(run.summary["final_bodies"]["bob"]["position"], centre, atol=1e-12)
     # slidebeam render draws the body at its centre with its axes d1, d2, d3
-    from slidebeam.render import Renderer
+    from slidebeam.plots.render import Renderer
 
     frame = Renderer(run, size=(320, 200)).frame(last)
     assert np.allclose(frame.masses[-1], centre)

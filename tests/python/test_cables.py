@@ -216,10 +216,10 @@ def test_static_start_runs_distributed_when_rank_0_cannot_hold_the_model(monkeyp
     any model on one rank): the static start asked to run there (-sb_equilibrium_on_rank_0) runs
     on all ranks instead, and says so."""
     import slidebeam
-    import slidebeam.model
+    import slidebeam.run.model
     from slidebeam.scene import SceneError
 
-    check = slidebeam.model.check_memory
+    check = slidebeam.run.model.check_memory
 
     def refuse_alone(scene, comm=None):
         if comm is not None and comm.Get_size() == 1:
@@ -231,7 +231,7 @@ def test_static_start_runs_distributed_when_rank_0_cannot_hold_the_model(monkeyp
     scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "ropeway.toml", ["analysis.t_end=0.002"])
     with petsc_options(sb_equilibrium_on_rank_0="true"):
         sim = slidebeam.Simulation(scene, MPI.COMM_WORLD)
-    monkeypatch.setattr(slidebeam.model, "check_memory", refuse_alone)
+    monkeypatch.setattr(slidebeam.run.model, "check_memory", refuse_alone)
     sim.settle()
     assert sim.settled.converged and not sim.settled_on_rank_0
     assert any("rank 0 alone cannot hold the model" in w for w in sim.warnings)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import slidebeam
-from slidebeam.catenary import ElasticCatenary
+from slidebeam.scene.catenary import ElasticCatenary
 
 ROOT = Path(__file__).resolve().parents[2]
 R, E, RHO, G = 0.006, 1e11, 7850.0, 9.81

@@ -14,7 +14,7 @@ import pytest
 import slidebeam
 import test_ancf
 from checks import check_step_jacobian, check_step_jacobian_and_rows, distributed_and_serial_records, drifts
-from slidebeam.catenary import MooringLine
+from slidebeam.scene.catenary import MooringLine
 from test_dynamics import INTEGRATORS, everything_scene
 
 # Shapes through the test scenes' beams: some points in contact, some free
@@ -359,11 +359,13 @@ def test_contact_outputs_are_history_columns(tmp_path):
     keeps. While the rod lands the bed pushes up; before it lands, and high in its bounce, nothing."""
     import csv
 
-    from slidebeam import history
+    from slidebeam.output import history
+
+    from mpi4py import MPI
 
     data = dict(dropped_rod("director").data)
     data["analysis"] = {**data["analysis"], "t_end": 0.3}
-    sim = slidebeam.Simulation(slidebeam.scene_from_dict(data))
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(data), MPI.COMM_SELF)  # each rank its own folder
     outcome = sim.run_dynamic()
     slidebeam.write_results(sim, outcome, tmp_path)
     with open(tmp_path / "history.csv") as f:

@@ -339,7 +339,7 @@ def test_floor_stop_saves_the_iteration_that_confirms_the_roundoff_floor(root):
     assert floor < 0.95 * plain, (floor, plain)
 
 
-def soft_pendulum_run(root, integrator: str, **petsc: str) -> slidebeam.dynamics.RunOutcome:
+def soft_pendulum_run(root, integrator: str, **petsc: str) -> slidebeam.run.dynamics.RunOutcome:
     """0.2 s (200 steps of 1e-3) of runs/soft_pendulum.toml with the given scheme under extra
     PETSc options, every step recorded."""
     scene = slidebeam.load_scene(root / "runs" / "soft_pendulum.toml",

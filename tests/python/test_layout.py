@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """The package's dependencies run one way: no module imports, at any depth of a function, a
-module that imports it back (imports under ``if TYPE_CHECKING:`` are for annotations only)."""
+module that imports it back (imports under ``if TYPE_CHECKING:`` are for annotations only), and
+its rooms depend on the rooms below them only: app -> plots -> output -> run -> scene."""
 from __future__ import annotations
 
 import ast
@@ -74,8 +75,28 @@ def test_no_import_cycle():
     files = [p for p in PACKAGE.rglob("*.py")]
     modules = {_module_name(p) for p in files}
     graph = {_module_name(p): _imports(p, modules) for p in files}
-    assert graph["simulation"] >= {"dynamics", "model", "options_check"}  # the graph is read at all
+    assert graph["run.simulation"] >= {"run.dynamics", "run.model", "run.options_check"}  # the graph is read at all
     assert _cycles(graph) == []
+
+
+ROOMS = ["scene", "run", "output", "plots", "app"]  # each may import the rooms before it
+
+
+def test_rooms_depend_on_the_rooms_below_only():
+    files = [p for p in PACKAGE.rglob("*.py")]
+    modules = {_module_name(p) for p in files}
+    rank = {room: k for k, room in enumerate(ROOMS)}
+    upward = []
+    for p in files:
+        name = _module_name(p)
+        room = name.split(".")[0]
+        if room not in rank:  # the package's own __init__, __main__, _core
+            continue
+        for target in _imports(p, modules):
+            other = target.split(".")[0]
+            if other in rank and rank[other] > rank[room]:
+                upward.append(f"{name} -> {target}")
+    assert sorted(modules) and not upward, upward
 
 
 def test_a_cycle_is_found():

@@ -77,7 +77,7 @@ def test_a_net_cut_wider_than_the_limit_is_owned_by_rank_0(tmp_path):
     rank 0 owns the whole model (the coupling correction's set-up would cost more than the split
     saves on nets cut across many ropes), and the run says why."""
     import slidebeam
-    from slidebeam.results import parallel_line, parallel_summary
+    from slidebeam.output.results import parallel_line, parallel_summary
     from test_condensation import petsc_options
 
     scene = slidebeam.load_scene(net_scene(tmp_path, 4, 2))
@@ -97,7 +97,7 @@ def test_the_run_header_groups_a_nets_beams(tmp_path):
     """A net has hundreds of beams: the run's header lists beams described alike as one line
     (a scene of a dozen beams or fewer lists each)."""
     import slidebeam
-    from slidebeam.cli import BEAMS_LISTED, _describe
+    from slidebeam.app.cli import BEAMS_LISTED, _describe
 
     header = _describe(slidebeam.load_scene(net_scene(tmp_path, 3, 2))).splitlines()
     assert header[1].startswith("  24 beams (x0_0 ... y2_3): line, L = 5, 2 spans"), header

@@ -116,7 +116,7 @@ def test_study_reports_each_unused_option_once(run_cli, root, tmp_path):
 
 
 def test_every_sb_option_of_the_core_is_a_known_option():
-    from slidebeam.options_check import closest, known_options
+    from slidebeam.run.options_check import closest, known_options
 
     in_source = set()
     for path in (ROOT / "src").rglob("*.[ch]pp"):

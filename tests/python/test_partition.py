@@ -74,7 +74,7 @@ def test_two_ranks_cut_a_ropeway_once(tmp_path):
     outcome = sim.run_dynamic()
     assert outcome.complete and sim.snes.getKSP().getType() == PETSc.KSP.Type.PREONLY
     # summary.json says so: every step Jacobian solved by one application plus the correction
-    from slidebeam.results import dynamic_summary, parallel_line
+    from slidebeam.output.results import dynamic_summary, parallel_line
 
     summary = dynamic_summary(sim, outcome)
     p = summary["parallel"]

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from slidebeam import plots
-from slidebeam.render import BEAM_COLOUR, MASS_COLOUR, SLIDER_COLOUR, Renderer, parse_view
-from slidebeam.rundata import open_run
+from slidebeam.plots.render import BEAM_COLOUR, MASS_COLOUR, SLIDER_COLOUR, Renderer, parse_view
+from slidebeam.output.rundata import open_run
 
 pytestmark = pytest.mark.skip_in_parallel  # spawns its own runs; reading results has no parallel part
 

@@ -10,7 +10,7 @@ import pytest
 
 import slidebeam
 from slidebeam import _core
-from slidebeam.effect_tables import SPECS_FILE, effect_specs, table_specs
+from slidebeam.scene.effect_tables import SPECS_FILE, effect_specs, table_specs
 from slidebeam.scene import SceneError
 
 from test_dynamics import everything_scene

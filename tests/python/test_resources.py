@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import slidebeam
-from slidebeam import resources
+from slidebeam.run import resources
 from slidebeam.scene import SceneError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -102,7 +102,7 @@ def test_unknowns_beyond_32_bit_indices_are_refused_even_with_memory(monkeypatch
 
 def test_reference_geometry_needs_memory_linear_in_the_spans():
     """The B-spline collocation is a banded solve: at 4000 spans a dense one took 128 MB."""
-    from slidebeam.geometry import reference_coordinates
+    from slidebeam.run.geometry import reference_coordinates
 
     for path in (ROLLUP, ROOT / "runs" / "bend45.toml", ROOT / "runs" / "right_angle_cantilever.toml"):
         beam = slidebeam.load_scene(path).beams[0]

@@ -133,7 +133,7 @@ def test_a_checkpoint_keeps_the_records_exactly_and_older_checkpoints_still_read
     import h5py
 
     import slidebeam
-    from slidebeam.checkpoint import read_checkpoint, write_checkpoint
+    from slidebeam.output.checkpoint import read_checkpoint, write_checkpoint
 
     scene = slidebeam.load_scene(root / "runs" / "effects" / "ropeway.toml", ["analysis.t_end=0.02", "output.every=1"])
     sim = slidebeam.Simulation(scene)
@@ -164,7 +164,7 @@ def test_a_checkpoint_is_committed_after_its_before_commit_step(root, tmp_path):
     writers finish keeps the previous checkpoint, whose restart writes the records after it
     again, instead of a final checkpoint beside a damaged last .h5."""
     import slidebeam
-    from slidebeam.checkpoint import read_checkpoint, write_checkpoint
+    from slidebeam.output.checkpoint import read_checkpoint, write_checkpoint
 
     scene = slidebeam.load_scene(root / "runs" / "seed" / "free_fall_1+4.toml", ["analysis.t_end=0.005"])
     sim = slidebeam.Simulation(scene)

@@ -11,7 +11,7 @@ import textwrap
 import pytest
 
 # load scene.py on its own: the package __init__ may import a compiled module not built yet
-_p = pathlib.Path(__file__).resolve().parents[2] / "python" / "slidebeam" / "scene.py"
+_p = pathlib.Path(__file__).resolve().parents[2] / "python" / "slidebeam" / "scene" / "parse.py"
 _spec = importlib.util.spec_from_file_location("slidebeam_scene_standalone", _p)
 scene = importlib.util.module_from_spec(_spec)
 sys.modules[_spec.name] = scene
@@ -639,8 +639,8 @@ def _two_legs(joint):
 def _model_error(data: dict) -> str:
     """The message of the SceneError that building the model of a scene raises (checks an
     effect makes itself, with the model's beams at hand)."""
-    from slidebeam.model import build_model
-    from slidebeam.scene import SceneError, scene_from_dict  # the package's (this file loads scene.py alone)
+    from slidebeam.run.model import build_model
+    from slidebeam.scene import SceneError, scene_from_dict  # the package's (this file loads parse.py alone)
 
     with pytest.raises(SceneError) as info:
         build_model(scene_from_dict(data))
@@ -676,7 +676,7 @@ def test_damping_refuses_both_retardation_keys():
     data["damping"] = [{"beam": "a", "retardation_time": 0.01, "retardation_times": [0.0] * 6}]
     text = _model_error(data)
     assert "[[damping]] #1, key 'retardation_times'" in text and "not both" in text, text
-    from slidebeam.model import build_model
+    from slidebeam.run.model import build_model
 
     for damping in ({"retardation_time": 0.01}, {"retardation_times": [0.0] * 6}, {"mass_proportional": 0.1}):
         data["damping"] = [{"beam": "a", **damping}]

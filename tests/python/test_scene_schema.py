@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 """The scene reference cannot go stale: every key scene.py accepts is described in
-scene_schema.py (and nothing else is), the documented defaults are the parser's, and the
+scene/schema.py (and nothing else is), the documented defaults are the parser's, and the
 committed docs/scene-reference.md is what scripts/scene_reference.py writes."""
 from __future__ import annotations
 
@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from slidebeam import scene as sc
-from slidebeam import scene_schema as schema
-from slidebeam.effect_tables import table_specs
+from slidebeam.scene import parse as sc
+from slidebeam.scene import schema
+from slidebeam.scene.effect_tables import table_specs
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -65,7 +65,7 @@ def test_time_function_variants_are_the_parsers():
 def test_check_keys_takes_only_documented_constants():
     """Every `check_keys(...)` in scene.py names its keys through the constants above (a new
     literal key list would bypass the schema)."""
-    tree = ast.parse((ROOT / "python" / "slidebeam" / "scene.py").read_text())
+    tree = ast.parse((ROOT / "python" / "slidebeam" / "scene" / "parse.py").read_text())
     calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)
              and n.func.attr == "check_keys" and n.args]
     assert len(calls) >= 10
@@ -74,7 +74,7 @@ def test_check_keys_takes_only_documented_constants():
             if isinstance(node, ast.Constant) and isinstance(node.value, str):
                 assert node.value in ("type", "rotation"), \
                     f"scene.py line {call.lineno}: literal key '{node.value}' in check_keys: add it to a constant " \
-                    f"and to scene_schema.py"
+                    f"and to scene/schema.py"
             if isinstance(node, ast.Name) and node.id.lstrip("_").isupper():
                 assert node.id in KEY_CONSTANTS, f"scene.py line {call.lineno}: {node.id} is not in the schema test"
 

@@ -152,7 +152,7 @@ ARC_CASES = [(a, n) for a in (180.0, -180.0, 179.0, 270.0, -270.0, 360.0, -360.0
 
 @pytest.mark.parametrize("angle, spans", ARC_CASES)
 def test_arc_reference_frames_are_exact_at_any_angle(angle, spans):
-    from slidebeam.geometry import reference_coordinates
+    from slidebeam.run.geometry import reference_coordinates
 
     beam = arc_scene(angle, spans, {"steps": 1}).beams[0]
     q = reference_coordinates(beam)

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import slidebeam
-from slidebeam import scene as sc
+from slidebeam.scene import parse as sc
 from slidebeam.scene import TimeFunction
 from test_dynamics import everything_scene
 

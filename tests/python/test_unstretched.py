@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import slidebeam
-from slidebeam.catenary import ElasticCatenary
+from slidebeam.scene.catenary import ElasticCatenary
 from slidebeam.scene import SceneError, stretch_at_tension
 
 EA, RHO_A, G = 1.0e7, 1.0, 9.81
@@ -91,7 +91,7 @@ def test_unstretched_length_longer_than_the_chord_hangs_as_the_elastic_catenary(
     assert np.linalg.norm(f["spherical[rope@start]"]) == pytest.approx(exact, rel=1e-5)
 
 
-@pytest.mark.filterwarnings("ignore::slidebeam.simulation.ConstraintWarning")  # the supports' ends stay put
+@pytest.mark.filterwarnings("ignore::slidebeam.run.simulation.ConstraintWarning")  # the supports' ends stay put
 def test_a_pretensioned_rope_conserves_energy():
     """A taut rope (stretch 1.002) given a sideways velocity, under energy-momentum: energy to the
     Newton tolerance, no gravity."""

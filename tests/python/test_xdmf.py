@@ -101,7 +101,7 @@ def test_the_series_reads_back_with_meshio_as_the_simulation_sampled(root, tmp_p
     flushed records only: with FLUSH_EVERY = 3, after 4 records it has 3 steps or is not there yet
     (the writer appends them once their data is written), 4 after a flush that waits."""
     import slidebeam
-    from slidebeam import xdmf
+    from slidebeam.output import xdmf
 
     monkeypatch.setattr(xdmf, "FLUSH_EVERY", 3)
     scene = slidebeam.load_scene(root.joinpath(*SEED), ["analysis.t_end=0.007", "output.every=1",
@@ -333,7 +333,7 @@ def test_a_series_written_before_issue_22_is_continued_in_the_new_structure(tmp_
     import xml.etree.ElementTree as ET
 
     from meshio.xdmf import TimeSeriesWriter
-    from slidebeam.xdmf import Series
+    from slidebeam.output.xdmf import Series
 
     monkeypatch.chdir(tmp_path)  # meshio's own writer puts the .h5 in the working directory
     points = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]])

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from ..rundata import Run, RunFolderError, open_run
+from ..output.rundata import Run, RunFolderError, open_run
 from . import engineering
 from .energy import energy_figure
 from .style import FORMATS, save

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..rundata import Run, RunFolderError
+from ..output.rundata import Run, RunFolderError
 from .style import LINE_STYLES, finish, new_figure
 
 

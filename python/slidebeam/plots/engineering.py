@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..rundata import Run
+from ..output.rundata import Run
 from .style import LINE_STYLES, blank_figure, finish, new_figure
 
 MAX_PANELS = 12  # reactions and beams shown at most (the largest); the title says how many more

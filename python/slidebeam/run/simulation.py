@@ -16,13 +16,14 @@ from typing import Any, Callable, Iterator, NamedTuple
 import numpy as np
 from petsc4py import PETSc
 
-from . import _core, interrupts
+from .. import _core
+from . import interrupts
 from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end, carrier_end_message,
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .options_check import apply_scene_options
 from .parallel import equilibrium_on_rank_0, statics_on_rank_0, wait_sleeping
-from .scene import Scene, SceneError
+from ..scene.parse import Scene, SceneError
 
 
 class ConstraintWarning(UserWarning):
@@ -486,7 +487,7 @@ class Simulation:
 
     def _potential_energies(self) -> dict[str, float]:
         """Strain and potential energy (see energies)."""
-        from .effect_tables import effect_specs
+        from ..scene.effect_tables import effect_specs
 
         specs = effect_specs()
         e = self._model.effect_energies(self.t, self.x)
@@ -853,12 +854,12 @@ class Simulation:
     def run_dynamic(self, on_step: Callable[[DynamicRecord], None] | None = None, state: RunState | None = None,
                     on_checkpoint: Callable[[RunState], None] | None = None) -> RunOutcome:
         """Integrate a dynamic scene to ``analysis.t_end`` with step control (see
-        :func:`slidebeam.dynamics.run_dynamic`), first settling into equilibrium if the scene says
-        ``analysis.start = "equilibrium"``. Returns a :class:`~slidebeam.dynamics.RunOutcome`: its
-        ``records`` are the history (one :class:`~slidebeam.dynamics.DynamicRecord` every
+        :func:`slidebeam.run.dynamics.run_dynamic`), first settling into equilibrium if the scene says
+        ``analysis.start = "equilibrium"``. Returns a :class:`~slidebeam.run.dynamics.RunOutcome`: its
+        ``records`` are the history (one :class:`~slidebeam.run.dynamics.DynamicRecord` every
         ``output.every`` steps and at the end), ``complete`` says whether t_end was reached and
         ``message`` why not. ``on_step`` is called with every record as it is taken; ``state``
-        (from :func:`slidebeam.checkpoint.read_checkpoint`) resumes a run."""
+        (from :func:`slidebeam.output.checkpoint.read_checkpoint`) resumes a run."""
         if self.integrator is None:
             raise ValueError("run_dynamic needs [analysis] type = \"dynamic\"")
         if state is None and self.scene.analysis.start == "equilibrium" and self.settled is None:

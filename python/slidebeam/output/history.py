@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .dynamics import DynamicRecord, JointState, Reaction
+from ..run.dynamics import DynamicRecord, JointState, Reaction
 
 _BASE_KINDS = "iffcsii" + "f" * 15  # step .. constraint_residual; c: converged, an integer too
 _REASON = 4  # the reason's column

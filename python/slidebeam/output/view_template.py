@@ -20,7 +20,7 @@ import re
 import sys
 from pathlib import Path
 
-# <run> the run's own values, filled in by slidebeam.paraview_script
+# <run> the run's own values, filled in by slidebeam.output.paraview_script
 SCENE = "scene"
 SERIES = ("beams",)  # the series the run writes, of beams, sliders, masses
 TUBE_RADIUS = 0.01  # m

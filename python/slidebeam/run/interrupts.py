@@ -29,7 +29,7 @@ def stop_on_signals() -> Iterator[None]:
     """Within the block, SIGINT and SIGTERM request a clean stop instead of raising
     KeyboardInterrupt or ending the process."""
     global _active
-    from . import _core
+    from .. import _core
 
     previous = {s: signal.getsignal(s) for s in _handled}
     _core.install_stop_handlers()
@@ -49,7 +49,7 @@ def requested(comm: object | None = None) -> int | None:
         return None
     from mpi4py import MPI
 
-    from . import _core
+    from .. import _core
 
     comm = run_comm() if comm is None else comm
     mine = _core.stop_signal()

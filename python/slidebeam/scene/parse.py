@@ -565,7 +565,7 @@ _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"),
 _OUTPUT_KEYS = ("every", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
 _TRACK_KEYS = ("beam", "at", "body")
 _MOTION_KEYS = ("displacement", "rotation", "time_function")  # rotation: clamps and fixed beams only (6 components)
-# every key above is described, with its unit and default, in scene_schema.py (the scene reference;
+# every key above is described, with its unit and default, in schema.py (the scene reference;
 # tests/python/test_scene_schema.py keeps the two in step)
 _CREATABLE = {"scene", "analysis", "petsc", "output", "section", "arc", "time_function"}
 

@@ -37,11 +37,11 @@ from typing import Any
 
 import numpy as np
 
-from .options_check import warnings_of_runs
+from ..run.options_check import warnings_of_runs
 
 # Each run is `python -m slidebeam run ...` under this interpreter, importing this same package
 # (the source tree's python/ or an installed copy: docs/install.md).
-PACKAGE_PARENT = Path(__file__).resolve().parents[1]
+PACKAGE_PARENT = Path(__file__).resolve().parents[2]
 
 
 class StudyError(ValueError):
@@ -276,7 +276,7 @@ def common_record_interval(scene: Path, variants: list[Variant], base_sets: dict
     """Give every dynamic run the same record times, so that errors are taken where both runs
     have a state (no interpolation error): records every max(dt) of the study, that is
     output.every = max(dt) / dt for each run (when that is a whole number)."""
-    from .scene import load_scene
+    from ..scene.parse import load_scene
 
     base = load_scene(scene, [f"{k}={v}" for k, v in base_sets.items()])
     if base.analysis.type != "dynamic" or base.analysis.dt is None:

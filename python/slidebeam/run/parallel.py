@@ -74,7 +74,7 @@ def _core_bool(name: str) -> bool:
     """The bool option -sb_<name>, or its default in the core (_core.<NAME>)."""
     from petsc4py import PETSc
 
-    from . import _core
+    from .. import _core
 
     return bool(PETSc.Options().getBool(f"sb_{name}", getattr(_core, name.upper())))
 
@@ -93,7 +93,7 @@ def _core_int(name: str) -> int:
     """The int option -sb_<name>, or its default in the core (_core.<NAME>)."""
     from petsc4py import PETSc
 
-    from . import _core
+    from .. import _core
 
     return int(PETSc.Options().getInt(f"sb_{name}", getattr(_core, name.upper())))
 

@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 from petsc4py import PETSc
 
-from . import _core, interrupts
+from .. import _core
+from . import interrupts
 
 if TYPE_CHECKING:
     from .simulation import Simulation
@@ -53,7 +54,7 @@ class JointState:
 class DynamicRecord:
     """One time step as it goes to history.csv (``RunOutcome.records``); step 0 is the initial
     state. Energies in J, momenta in the global frame; ``tracked``, ``joints`` and
-    ``reactions`` as in :class:`~slidebeam.simulation.StepRecord`."""
+    ``reactions`` as in :class:`~slidebeam.run.simulation.StepRecord`."""
 
     step: int
     t: float

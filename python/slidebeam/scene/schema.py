@@ -1,11 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""The scene's own tables, described: every key scene.py accepts, with its meaning, SI unit,
+"""The scene's own tables, described: every key parse.py accepts, with its meaning, SI unit,
 default and allowed values.
 
 Data only. The effect tables ([[support]], [[load]], [gravity], [[damping]], ...) are described
 by the core's registry (effect_specs.json, read by effect_tables.py); the tables here are the ones
-scene.py parses by hand. `scripts/scene_reference.py` writes both into docs/scene-reference.md,
-and tests/python/test_scene_schema.py checks that every key scene.py accepts is described here
+parse.py parses by hand. `scripts/scene_reference.py` writes both into docs/scene-reference.md,
+and tests/python/test_scene_schema.py checks that every key parse.py accepts is described here
 and that every key described here is accepted.
 
 A key's `default` is TOML text when the default is a value ("static", 10, 1.0), prose when it

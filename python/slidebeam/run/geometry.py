@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _core
-from .scene import Beam
+from .. import _core
+from ..scene.parse import Beam
 
 
 def default_d2(d1: np.ndarray) -> np.ndarray:

@@ -17,9 +17,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from .dynamics import DynamicRecord, JointState, RunOutcome
-from .parallel import serial_above_cut
-from .simulation import Simulation, StepRecord
+from ..run.dynamics import DynamicRecord, JointState, RunOutcome
+from ..run.parallel import serial_above_cut
+from ..run.simulation import Simulation, StepRecord
 
 
 def _atomic_write(path: Path, text: str) -> None:
@@ -67,7 +67,8 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
                 *[repr(v) for v in r.outputs]]
 
     if sim.integrator is not None:
-        from . import _core, history
+        from .. import _core
+        from . import history
 
         flow_cols = sim.energy_flow_labels()
         w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols, *reaction_cols, *output_cols, *flow_cols])
@@ -332,7 +333,7 @@ def write_results(sim: Simulation, result, folder: str | Path, wall_time: float 
     """Write history.csv, final_configuration.csv and summary.json of a run into `folder` (made
     if needed), as ``slidebeam run`` does: `result` is what the run returned, the records of
     ``solve_static`` (or a script's own :meth:`Simulation.record` list) or the
-    :class:`~slidebeam.dynamics.RunOutcome` of ``run_dynamic``. The final configuration is the
+    :class:`~slidebeam.run.dynamics.RunOutcome` of ``run_dynamic``. The final configuration is the
     current state. The XDMF series needs the states as they pass: use :class:`ResultWriter` for it.
     Returns the summary. Collective: every rank calls it, rank 0 writes."""
     folder = Path(folder)

@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from .parallel import run_comm
-from .scene import Scene, SceneError
+from ..scene.parse import Scene, SceneError
 
 # Read at PetscFinalize or at start-up only, or harmless: never "unused" in a useful sense.
 READ_AT_FINALIZE = frozenset("""
@@ -70,7 +70,7 @@ class UnusedOption:
 @lru_cache(maxsize=1)
 def known_options() -> tuple[str, ...]:
     """Option names (without the dash) a slidebeam run may read: PETSc's and the core's."""
-    text = Path(__file__).with_name("petsc_options.txt").read_text()
+    text = (Path(__file__).parents[1] / "petsc_options.txt").read_text()
     return tuple(line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#"))
 
 
@@ -172,7 +172,7 @@ def unused_options(scene=None, comm=None) -> list[UnusedOption]:
     the run's: parallel.run_comm). Given: on the command line, in its options files, in PETSC_OPTIONS or a
     .petscrc (what the database held when remember_command_line was called) and the scene's
     [petsc] table and options file."""
-    from . import _core
+    from .. import _core
 
     comm = comm or run_comm()
     left = {name.lower(): (name, value) for name, value in _core.options_left()}

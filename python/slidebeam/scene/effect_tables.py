@@ -6,7 +6,7 @@ scene's ``[[table]]`` entries (or by its single ``[table]``); effect types that 
 its variants, picked by the entry's ``type`` key (``[[support]] type = "clamp"``). Which keys a table takes, their kinds, units, defaults and
 bounds come from the registry's specs, which the build writes to ``effect_specs.json`` beside
 this module: nothing here names an effect. Stdlib only (the scene parser must import without
-the core); scene.py validates the entries with these specs.
+the core); parse.py validates the entries with these specs.
 """
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-SPECS_FILE = Path(__file__).with_name("effect_specs.json")
+SPECS_FILE = Path(__file__).parents[1] / "effect_specs.json"  # the package's, beside _core
 
 
 @dataclass(frozen=True)

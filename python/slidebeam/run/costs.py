@@ -18,7 +18,7 @@ OUTPUT_EVENT = "SBOutput"
 
 def start_logging() -> None:
     """Turn on the event log of the cost table before the run (PETSc's whole log with -log_view)."""
-    from . import _core
+    from .. import _core
 
     _core.start_cost_log()
 
@@ -43,7 +43,7 @@ class output_phase:  # noqa: N801 - used as `with output_phase():`, like a funct
 def _perf(name: str) -> tuple[float, int]:
     from mpi4py import MPI
 
-    from . import _core
+    from .. import _core
 
     time, count = _core.event_stats(name)
     comm = run_comm()

@@ -24,7 +24,7 @@ Files in the output folder (names are stable):
 - ``bodies.xdmf`` + ``bodies.h5`` (scenes with rigid bodies): one vertex per body at its centre
   of mass in the drawing, with ``displacement``, ``velocity``, its axes ``d1``, ``d2``, ``d3``
   (for glyphs), ``mass`` and ``body_id``; ``/mesh`` has the attribute ``body_names``.
-- ``view.py``: a ParaView script that opens the series (:mod:`slidebeam.paraview_script`).
+- ``view.py``: a ParaView script that opens the series (:mod:`slidebeam.output.paraview_script`).
 
 In the ``.h5``: ``/mesh/points``, ``/mesh/cells`` and the fields that never change (``s``,
 ``beam_id``, ``joint_id``, ``mass``, ``mass_id``) under ``/mesh``, written once; every other field one dataset per
@@ -56,11 +56,11 @@ from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
-from .parallel import run_comm
+from ..run.parallel import run_comm
 
 if TYPE_CHECKING:
-    from .dynamics import JointState
-    from .simulation import Simulation
+    from ..run.dynamics import JointState
+    from ..run.simulation import Simulation
 
 BEAMS = "beams"
 SLIDERS = "sliders"
@@ -147,7 +147,7 @@ class Series:
                  names: dict[str, list[str]] | None = None) -> None:
         import h5py
 
-        from . import _core
+        from .. import _core
 
         self.xdmf = Path(xdmf)
         self.h5_path = self.xdmf.with_suffix(".h5")
@@ -172,7 +172,7 @@ class Series:
         """A record writer on the current segment's data file (created empty beyond the first)."""
         import h5py
 
-        from . import _core
+        from .. import _core
 
         path = self.segment_path(self.segment)
         if self.segment > 0:
@@ -463,7 +463,7 @@ class XdmfOutput:
         self._ref_x.destroy()
         self._bodies = list(sim.scene.bodies)
         self._body_ref = np.array([b.position for b in self._bodies]).reshape(-1, 3)
-        from . import _core
+        from .. import _core
 
         self._sampler = _core.BeamSeriesSampler(self._beam_indices, self.k, ref, self._half2.ravel(), self._half3.ravel())
         self._series: dict[str, Series] = {}  # by name; emptied when the output is abandoned
@@ -609,7 +609,7 @@ class XdmfOutput:
     # -- writing ---------------------------------------------------------------------------
     def write(self, t: float, joints: list[JointState] | None = None) -> None:
         """Append the current state at time t (collective); ``joints`` as for slider_fields."""
-        from .costs import output_phase
+        from ..run.costs import output_phase
 
         with output_phase():
             self._write(t, joints)

@@ -16,16 +16,16 @@ import traceback
 import warnings
 from pathlib import Path
 
-from . import interrupts
-from .effect_tables import table_specs
-from .scene import Scene, SceneError, load_scene, scene_from_dict
-from .checkpoint import CheckpointError
-from .rundata import RunFolderError
-from .costs import output_phase
-from . import options_check
-from .parallel import release_waiting_ranks, running_alone, serial_below, statics_on_rank_0, wait_sleeping
-from .resources import check_memory, constraint_entries, estimate, memory_line, size_text
-from .xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
+from ..run import interrupts
+from ..scene.effect_tables import table_specs
+from ..scene.parse import Scene, SceneError, load_scene, scene_from_dict
+from ..output.checkpoint import CheckpointError
+from ..output.rundata import RunFolderError
+from ..run.costs import output_phase
+from ..run import options_check
+from ..run.parallel import release_waiting_ranks, running_alone, serial_below, statics_on_rank_0, wait_sleeping
+from ..run.resources import check_memory, constraint_entries, estimate, memory_line, size_text
+from ..output.xdmf import NoOutput, OutputFailure, XdmfOutput, bytes_per_record
 
 EXIT_OK, EXIT_SOLVE_FAILED, EXIT_INPUT, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -192,7 +192,7 @@ def _effects_line(effects) -> str:
 
 def _is_solver_failure(err: Exception) -> bool:
     try:
-        from . import _core
+        from .. import _core
     except ImportError:
         return False
     return isinstance(err, _core.SolverFailure)
@@ -209,13 +209,13 @@ def _quiet_broken_pipe() -> None:
 
 def _finish_costs(sim, summary: dict, t0: float, rank: int, quiet: bool) -> None:
     """The run's cost by effect and phase: into summary.json and, unless quiet, a table."""
-    from .costs import cost_breakdown, cost_table
+    from ..run.costs import cost_breakdown, cost_table
 
     wall = time.perf_counter() - t0
     rows = cost_breakdown(sim, wall)
     summary["cost"] = rows
     if sim.integrator is not None:
-        from .costs import event_time
+        from ..run.costs import event_time
 
         summary["stepping_time_s"] = event_time("SBTimeStep")  # the time steps alone (no set-up)
         summary["contact_search_setup_s"] = event_time("SBContactSearch")  # initial slider projection
@@ -282,7 +282,7 @@ _RESTART_CHANGES_OK = ("analysis.t_end", "output.")
 def _restart_scene(args: argparse.Namespace, restart: Path, rank: int) -> Scene:
     """The scene of a restart: the file with the overrides of the run that wrote the checkpoint,
     then this command's; say what differs from that run."""
-    from .checkpoint import scene_differences, scene_of_checkpoint
+    from ..output.checkpoint import scene_differences, scene_of_checkpoint
 
     kept = scene_of_checkpoint(restart) if restart.is_file() else None
     if kept is None:  # a checkpoint that does not keep its scene
@@ -331,7 +331,7 @@ def _check(args: argparse.Namespace, rank: int) -> int:
     import petsc4py
 
     petsc4py.init([sys.argv[0]])
-    from .model import build_model
+    from ..run.model import build_model
 
     model, effects = build_model(scene)
     del model
@@ -356,12 +356,12 @@ def _run(args: argparse.Namespace, petsc_args: list[str], rank: int) -> int:
     petsc4py.init([sys.argv[0], *petsc_args])
     options_check.remember_command_line(petsc_args)
     _quiet_broken_pipe()
-    from .costs import start_logging
+    from ..run.costs import start_logging
 
     start_logging()
     from mpi4py import MPI
 
-    from .results import prepare_output_dir_on
+    from ..output.results import prepare_output_dir_on
 
     check_memory(scene)  # before the output folder: a scene that cannot fit leaves nothing behind
     comm = MPI.COMM_WORLD
@@ -402,7 +402,7 @@ def _wait_for_rank_0(comm) -> None:
 
 def _run_scene(scene: Scene, restart: Path | None, out: Path, args: argparse.Namespace, rank: int, ranks: int) -> int:
     """The run itself, on the run's communicator (parallel.run_comm)."""
-    from .simulation import ConstraintWarning, Simulation
+    from ..run.simulation import ConstraintWarning, Simulation
 
     t0 = time.perf_counter()
     with warnings.catch_warnings():  # said below, in the command's own words
@@ -415,7 +415,7 @@ def _run_scene(scene: Scene, restart: Path | None, out: Path, args: argparse.Nam
         _say_run_warnings(sim, rank)
     state = None
     if restart is not None:
-        from .checkpoint import read_checkpoint
+        from ..output.checkpoint import read_checkpoint
 
         state = read_checkpoint(sim, restart)
         _say(rank, f"restarting from {restart} at t = {sim.t:.6g} (step {state.step})")
@@ -440,7 +440,7 @@ def _run_scene(scene: Scene, restart: Path | None, out: Path, args: argparse.Nam
 
 def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
                 output: XdmfOutput) -> int:
-    from .results import static_summary, write_files
+    from ..output.results import static_summary, write_files
 
     def progress(rec) -> None:
         if not args.quiet:
@@ -476,8 +476,8 @@ def _run_static(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: in
 
 def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: int, ranks: int, t0: float,
                  output: XdmfOutput, state=None) -> int:
-    from .checkpoint import write_checkpoint
-    from .results import dynamic_summary, parallel_line, write_files
+    from ..output.checkpoint import write_checkpoint
+    from ..output.results import dynamic_summary, parallel_line, write_files
 
     checkpoint = out / "checkpoint.h5"
 
@@ -508,7 +508,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
                    f"{'' if rec.converged else '  FAILED: ' + rec.reason}")
 
     if state is None and a.start == "equilibrium":
-        from .simulation import ConstraintWarning, EquilibriumFailure
+        from ..run.simulation import ConstraintWarning, EquilibriumFailure
 
         _say(rank, "static start: solving for the equilibrium under the loads at t = 0 ...")
         try:
@@ -578,7 +578,7 @@ def _equilibrium_failed(sim, scene: Scene, out: Path, args: argparse.Namespace, 
                         output: XdmfOutput, err: Exception) -> int:
     """The static start found no equilibrium: nothing is stepped; the folder still gets the XDMF
     (the initial state), a history with that state, and a summary saying what happened."""
-    from .results import static_start_summary, write_files
+    from ..output.results import static_start_summary, write_files
 
     signum = sim.settled.interrupted
     causes = [] if signum else _likely_causes(scene)
@@ -619,14 +619,14 @@ def main(argv: list[str] | None = None) -> int:
     rank = _rank()
     try:
         if args.command == "plot":
-            from .plots import parse_kinds, plot
+            from ..plots import parse_kinds, plot
 
             files = plot(args.runs, parse_kinds(args.what) if args.what else None, args.out, args.format, args.drift)
             for f in files:
                 _say(rank, f"wrote {f}")
             return EXIT_OK
         if args.command == "render":
-            from .render import render_command
+            from ..plots.render import render_command
 
             for f in render_command(args, lambda text: _say(rank, text)):
                 _say(rank, f"wrote {f}")

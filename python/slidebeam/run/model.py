@@ -6,12 +6,12 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from . import _core
-from .effect_tables import effect_specs
+from .. import _core
+from ..scene.effect_tables import effect_specs
 from .geometry import reference_coordinates
 from .parallel import run_comm
 from .resources import check_memory
-from .scene import Scene, SceneError
+from ..scene.parse import Scene, SceneError
 
 
 @dataclass(frozen=True)

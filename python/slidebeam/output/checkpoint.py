@@ -5,7 +5,7 @@ A checkpoint (``checkpoint.h5`` in the output folder) holds the integrator's vec
 to rank 0 and written by h5py as PETSc's HDF5 viewer writes them, read back with the viewer (x: coordinates, sliding coordinates and multipliers; v; a; v_prev and
 sliding_rate, the predictor's memory) and, in the group ``slidebeam``, the time, the last step
 size, the linear-solver state, the step controller (current dt, counters) and the records so
-far (``history``: the table of :mod:`slidebeam.history`, exact, with ``history_reasons`` and the
+far (``history``: the table of :mod:`slidebeam.output.history`, exact, with ``history_reasons`` and the
 ``history_layout``). Restarting from it continues the run as if it had not stopped: the same predictor, the
 same step sizes, so the same Newton iterates and the same history (to roundoff). Writing a checkpoint makes the run
 that goes on build a fresh Jacobian at its next step, as the restarted one does, so that this
@@ -22,13 +22,13 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
-from .parallel import run_comm
+from ..run.parallel import run_comm
 
 if TYPE_CHECKING:  # imported lazily: petsc4py must not be initialised before the CLI passes its options
-    from .dynamics import DynamicRecord, RunState
-    from .simulation import Simulation
+    from ..run.dynamics import DynamicRecord, RunState
+    from ..run.simulation import Simulation
 
-FORMAT = 2  # 2: the records as a table (slidebeam.history); 1: as JSON (still read)
+FORMAT = 2  # 2: the records as a table (slidebeam.output.history); 1: as JSON (still read)
 VECTORS = ("x", "v", "a", "v_prev", "sliding_rate")
 
 
@@ -140,7 +140,7 @@ def scene_differences(before: dict, after: dict, prefix: str = "") -> list[tuple
 
 
 def _record(d: dict) -> "DynamicRecord":
-    from .dynamics import DynamicRecord, JointState, Reaction
+    from ..run.dynamics import DynamicRecord, JointState, Reaction
 
     d = dict(d)
     d["linear_momentum"] = tuple(d["linear_momentum"])
@@ -196,7 +196,7 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
     if "energy_flows" in meta:
         sim.integrator.set_energy_flows(json.loads(meta["energy_flows"]))
         sim.initial_energy = float(meta["initial_energy"])
-    from .dynamics import RunState
+    from ..run.dynamics import RunState
 
     if "history" in meta:
         from . import history

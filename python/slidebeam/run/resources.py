@@ -31,8 +31,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from .effect_tables import effect_specs
-from .scene import Scene, SceneError
+from ..scene.effect_tables import effect_specs
+from ..scene.parse import Scene, SceneError
 from .parallel import run_comm
 
 # Fits (bytes): director 6.0-6.3 kB per unknown serially, 7.0 kB on 2 ranks (sum over ranks);

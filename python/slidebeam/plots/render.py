@@ -13,7 +13,7 @@ a thousandth of the structure's size and would not show.
 
 From Python::
 
-    from slidebeam import render
+    from slidebeam.plots import render
     render.pictures("out/ropeway", times=[0.0, 3.0], out="ropeway.png", view="front")
     render.animation("out/ropeway", out="ropeway.gif")
 """
@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .rundata import Run, RunFolderError, open_run
+from ..output.rundata import Run, RunFolderError, open_run
 
 VIEWS = {"iso": (25.0, -60.0), "front": (0.0, -90.0), "side": (0.0, 0.0), "top": (90.0, -90.0)}
 FIELDS = ("tension", "velocity", "displacement", "s", "none")
