@@ -178,3 +178,23 @@ def upward_crossings(records, coordinate: int = 0, tracked: int = -1) -> np.ndar
     x = np.array([r.tracked[tracked][coordinate] for r in records])
     return np.array([t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
                      for i in range(len(x) - 1) if x[i] < 0 <= x[i + 1]])
+
+
+def hanger_toml(carrier: str, top: tuple[float, float, float], length: float) -> str:
+    """TOML of a steel hanger (2 spans, r = 1 cm) hanging straight down from `top` and sliding on
+    `carrier` there: a [[beam]] "hanger" and its [[sliding_joint]]."""
+    x, y, z = top
+    return f"""
+[[beam]]
+name = "hanger"
+start = [{x!r}, {y!r}, {z!r}]
+end = [{x!r}, {y!r}, {z - length!r}]
+d2 = [1.0, 0.0, 0.0]
+spans = 2
+section = {{ shape = "circle", r = 0.01, E = 2.1e11, nu = 0.3, rho = 7800.0 }}
+
+[[sliding_joint]]
+slider = "hanger"
+at = "start"
+carrier = "{carrier}"
+"""

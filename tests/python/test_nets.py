@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 from mpi4py import MPI
 
+from checks import hanger_toml
 from test_cables import lu_nonzeros_per_unknown
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -115,20 +116,7 @@ def test_a_hanger_sliding_on_a_net_is_eliminated_before_the_net(tmp_path):
     import slidebeam
 
     scene = net_scene(tmp_path, 3, 2)
-    scene.write_text(scene.read_text() + '''
-[[beam]]
-name = "hanger"
-start = [7.5, 10.0, 0.0]
-end = [7.5, 10.0, -1.0]
-d2 = [1.0, 0.0, 0.0]
-spans = 2
-section = { shape = "circle", r = 0.01, E = 2.1e11, nu = 0.3, rho = 7800.0 }
-
-[[sliding_joint]]
-slider = "hanger"
-at = "start"
-carrier = "x1_1"
-''')
+    scene.write_text(scene.read_text() + hanger_toml("x1_1", (7.5, 10.0, 0.0), 1.0))
     sim = slidebeam.Simulation(slidebeam.load_scene(scene), MPI.COMM_SELF)
     order = sim.elimination_order()
     assert sorted(order) == list(range(sim.x.getSize()))

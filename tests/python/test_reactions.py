@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import slidebeam
-from checks import static_scene_text
+from checks import hanger_toml, static_scene_text
 
 ROOT = Path(__file__).resolve().parents[2]
 G = np.array([0.0, 0.0, -9.81])
@@ -90,20 +90,7 @@ def test_static_runs_report_sliding_joints(tmp_path):
     pseudo-transient continuation does (87 Newton iterations before, in Newton's fall-backs on
     the whole system; 36 now, 52 under mpirun, where no zero pivot ends the first attempt)."""
     text = static_scene_text(ROOT / "runs" / "cables" / "hanging_rope.toml", steps=4)
-    text += """
-[[beam]]
-name = "hanger"
-start = [10.0, 0.0, -2.0]
-end = [10.0, 0.0, -2.5]
-d2 = [1.0, 0.0, 0.0]
-spans = 2
-section = { shape = "circle", r = 0.01, E = 2.1e11, nu = 0.3, rho = 7800.0 }
-
-[[sliding_joint]]
-slider = "hanger"
-at = "start"
-carrier = "rope"
-
+    text += hanger_toml("rope", (10.0, 0.0, -2.0), 0.5) + """
 [[point_mass]]
 beam = "hanger"
 at = "end"
