@@ -228,8 +228,8 @@ PYBIND11_MODULE(_core, m) {
            "force of each given sliding joint on its slider at x, global frame (collective)")
       .def("effect_outputs", &Model::effect_outputs, py::arg("t"), py::arg("x"),
            "the values of the effects that have outputs (a contact's force and length in contact) at x, "
-           "named by output_labels() (collective)")
-      .def("output_labels", &Model::output_labels, "'<effect label>.<name>' of each effect_outputs() value")
+           "named by output_names() (collective)")
+      .def("output_names", &Model::output_names, "(effect index, name) of each effect_outputs() value")
       .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
       .def_property_readonly("cut_points", &Model::cut_points,
                              "the most control points a rank holds next to another rank's in the split over all "

@@ -117,11 +117,11 @@ class Model:
         ...
     def effect_outputs(self, t: float, x: PETSc.Vec) -> list[float]:
         """the values of the effects that have outputs (a contact's force and length in contact) at
-        x, named by output_labels() (collective)
+        x, named by output_names() (collective)
         """
         ...
-    def output_labels(self) -> list[str]:
-        """'<effect label>.<name>' of each effect_outputs() value"""
+    def output_names(self) -> list[tuple[int, str]]:
+        """(effect index, name) of each effect_outputs() value"""
         ...
     @property
     def ghost_count(self) -> int: ...

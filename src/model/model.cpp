@@ -664,12 +664,12 @@ std::vector<double> Model::effect_energies(double t, Vec x, const std::vector<si
   return e;
 }
 
-std::vector<std::string> Model::output_labels() const {
-  std::vector<std::string> labels;
-  for (const auto& e : effects_)
-    if (const auto* o = part_of<OutputSource>(*e))
-      for (const std::string& name : o->output_names()) labels.push_back(e->label() + "." + name);
-  return labels;
+std::vector<std::pair<int, std::string>> Model::output_names() const {
+  std::vector<std::pair<int, std::string>> names;
+  for (size_t k = 0; k < effects_.size(); ++k)
+    if (const auto* o = part_of<OutputSource>(*effects_[k]))
+      for (const std::string& name : o->output_names()) names.emplace_back(static_cast<int>(k), name);
+  return names;
 }
 
 std::vector<double> Model::effect_outputs(double t, Vec x) const {

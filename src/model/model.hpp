@@ -140,9 +140,9 @@ class Model {
   std::vector<std::pair<int, Reaction>> static_reactions(double t, Vec x) const;
 
   /// The OutputSource effects' values at x (collective), in effect order and each effect's
-  /// order of names; output_labels() names them "<effect label>.<name>".
+  /// order of names; output_names() says whose (effect index) and which.
   std::vector<double> effect_outputs(double t, Vec x) const;
-  std::vector<std::string> output_labels() const;
+  std::vector<std::pair<int, std::string>> output_names() const;
   /// JointTarget::joint_force of each of the given effects in the state x under the rule ev (the step
   /// start as set_step_start left it), on every rank (collective).
   std::vector<std::array<double, 3>> joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const;

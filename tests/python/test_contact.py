@@ -356,7 +356,8 @@ def test_the_block_and_tackle_hangs_its_block_on_half_its_weight(root):
 def test_contact_outputs_are_history_columns(tmp_path):
     """The contact's force and length in contact go to history.csv as <label>.force.x/y/z and
     .length, bit for bit the records' values, and come back from the history table a checkpoint
-    keeps. While the rod lands the bed pushes up; before it lands, and high in its bounce, nothing."""
+    keeps; summary.json has the last values, and the outputs plot draws the history's. While
+    the rod lands the bed pushes up; before it lands, and high in its bounce, nothing."""
     import csv
 
     from slidebeam.output import history
@@ -380,3 +381,26 @@ def test_contact_outputs_are_history_columns(tmp_path):
     values, reasons, layout = history.table(outcome.records, len(sim.energy_flow_labels()))
     assert layout.outputs == 4 and history.Layout.from_dict(layout.as_dict()) == layout
     assert [r.outputs for r in history.records(values, reasons, layout)] == [r.outputs for r in outcome.records]
+    import json
+
+    from slidebeam import plots
+    from slidebeam.output.rundata import open_run
+
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["outputs"] == {"plane_contact[rod]": dict(zip(("force.x", "force.y", "force.z", "length"),
+                                                                 outcome.records[-1].outputs))}
+    run = open_run(tmp_path)
+    assert "outputs" in plots.available(run)
+    fig = plots.figure("outputs", [run])
+    lines = {ln.get_label(): ln.get_ydata() for a in fig.axes for ln in a.get_lines()}
+    assert np.array_equal(lines["length"], table[:, 3]) and np.array_equal(lines["force.z"], table[:, 2])
+
+
+def test_two_contacts_on_one_beam_have_their_own_columns():
+    """A second [[contact]] on the same beam reports under the label the history gives it (#2)."""
+    data = dict(dropped_rod("director").data)
+    data["contact"] = [*data["contact"], {"type": "plane", "beam": "rod", "point": [0.0, 0.0, -0.1],
+                                          "normal": [0.0, 0.0, 1.0], "stiffness": 1e3}]
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(data))
+    assert list(sim.output_groups()) == ["plane_contact[rod]", "plane_contact[rod]#2"]
+    assert len(set(sim.output_labels())) == 8

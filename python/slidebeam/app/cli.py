@@ -77,11 +77,12 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("-j", "--jobs", type=int, default=None, help="runs at once (default 1, or the study file's jobs)")
     st.add_argument("--out", help="output folder (default: out/study_<name>)")
     st.add_argument("-q", "--quiet", action="store_true", help="no progress output")
-    plot = sub.add_parser("plot", help="plot runs: energy, paths, tension, reactions, sliders, solver (PNG/PDF)",
+    plot = sub.add_parser("plot", help="plot runs: energy, paths, tension, reactions, sliders, outputs, solver (PNG/PDF)",
                           description="Draw plots of one or more run folders (one line style per run): energy "
                                       "(energy, energy balance, momenta), paths (tracked points and point masses), "
                                       "tension (along every beam over time), reactions (supports and joints), "
-                                      "sliders (sliding joints' s and speed), solver (Newton iterations, step size, "
+                                      "sliders (sliding joints' s and speed), outputs (what effects report: a "
+                                      "contact's force and length in contact), solver (Newton iterations, step size, "
                                       "rejected steps).",
                           formatter_class=argparse.RawDescriptionHelpFormatter,
                           epilog="Examples:\n"
@@ -91,7 +92,7 @@ def _parser() -> argparse.ArgumentParser:
                                  "  slidebeam plot out/em out/midpoint --out energy.png")
     plot.add_argument("runs", nargs="+", help="run folders (with history.csv)")
     plot.add_argument("--what", metavar="KINDS",
-                      help="comma-separated: energy, paths, tension, reactions, sliders, solver, or all "
+                      help="comma-separated: energy, paths, tension, reactions, sliders, outputs, solver, or all "
                            "(default: every kind the runs have; with --out FILE.png: energy)")
     plot.add_argument("--out", help="a folder (one file per plot; default: <first run>/plots), a .png file "
                                     "(one plot) or a .pdf file (one page per plot)")

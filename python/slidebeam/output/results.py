@@ -192,7 +192,20 @@ def static_summary(sim: Simulation, records: list[StepRecord], wall_time: float 
     }
     if scene.sliding_joints:
         summary["sliding_joints"] = sliding_joint_summary(sim, good[-1].joints)
+    if good[-1].outputs:
+        summary["outputs"] = output_summary(sim, good[-1].outputs)
     return summary
+
+
+def output_summary(sim: Simulation, values: list[float]) -> dict[str, dict[str, float]]:
+    """summary.json's `outputs`: per effect (its label) the last value of each of its outputs (the
+    history's columns <label>.<name>)."""
+    out: dict[str, dict[str, float]] = {}
+    k = 0
+    for label, names in sim.output_groups().items():
+        out[label] = dict(zip(names, values[k:k + len(names)]))
+        k += len(names)
+    return out
 
 
 def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | None = None,
@@ -200,7 +213,8 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
     """summary.json of a dynamic run (the outcome of ``run_dynamic``): completeness, message,
     steps, rejected steps, Newton iterations, final energies, the largest constraint residual,
     the static start and the initial velocities' projection (``initial_velocity``: not for a
-    restart), sliding joints and reactions. Collective."""
+    restart), sliding joints, reactions and the effects' outputs (their last values, by history
+    column). Collective."""
     scene, a = sim.scene, sim.scene.analysis
     recs = outcome.records
     last = recs[-1] if recs[-1].converged or len(recs) == 1 else recs[-2]
@@ -237,6 +251,8 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
     if scene.sliding_joints:
         summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
     summary["reactions"] = [r.as_dict() for r in last.reactions]
+    if last.outputs:
+        summary["outputs"] = output_summary(sim, last.outputs)
     if sim.x.getComm().getSize() > 1:
         summary["parallel"] = parallel_summary(sim)
     return summary

@@ -3,8 +3,8 @@
 
 Kinds (``KINDS``): ``energy`` (energy, energy balance, momenta), ``paths`` (tracked points and
 point masses), ``tension`` (along every beam over time), ``reactions`` (supports and joints),
-``sliders`` (sliding joints' s and speed) and ``solver`` (Newton iterations, step size, rejected
-steps, residuals). ``available`` says which a run has data for; ``plot`` draws them to files::
+``sliders`` (sliding joints' s and speed), ``outputs`` (what effects report: a contact's force and
+length in contact) and ``solver`` (Newton iterations, step size, rejected steps, residuals). ``available`` says which a run has data for; ``plot`` draws them to files::
 
     from slidebeam import plots
     plots.plot(["out/ropeway"], what=["tension", "reactions"], out="figures/")   # figures/tension.png, ...
@@ -20,7 +20,7 @@ from . import engineering
 from .energy import energy_figure
 from .style import FORMATS, save
 
-KINDS = ("energy", "paths", "tension", "reactions", "sliders", "solver")
+KINDS = ("energy", "paths", "tension", "reactions", "sliders", "outputs", "solver")
 
 _HAS: dict[str, Callable[[Run], bool]] = {
     "energy": lambda r: r.dynamic,
@@ -28,6 +28,7 @@ _HAS: dict[str, Callable[[Run], bool]] = {
     "tension": lambda r: r.beams is not None and "tension" in r.beams.fields and len(r.beams.times) > 1,
     "reactions": lambda r: bool(r.columns(".fx") or r.columns(".reaction.x")),
     "sliders": lambda r: bool(r.columns(".ds_dt")),
+    "outputs": lambda r: bool(engineering.outputs(r)),
     "solver": lambda r: "newton_iterations" in r.history,
 }
 _WHY_NOT = {
@@ -36,6 +37,7 @@ _WHY_NOT = {
     "tension": "the run wrote no beams.xdmf with more than one record ([output] xdmf)",
     "reactions": "the scene has no supports or joints with reactions",
     "sliders": "the scene has no sliding joints",
+    "outputs": "no effect of the scene reports values (contact, buoyancy do)",
     "solver": "history.csv has no newton_iterations column",
 }
 

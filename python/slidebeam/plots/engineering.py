@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """What an engineer asks of a run first: where the tracked points and the point masses go, the
-tension along every beam, the reactions of supports and joints, the sliders' travel and speed, and
-how hard the solver worked. Each ``*_figure`` takes opened run folders and returns a Figure; runs
+tension along every beam, the reactions of supports and joints, the sliders' travel and speed, what
+effects report (a contact's force and length in contact), and how hard the solver worked. Each ``*_figure`` takes opened run folders and returns a Figure; runs
 given together are drawn over each other, one line style per run."""
 from __future__ import annotations
 
@@ -209,6 +209,78 @@ def sliders_figure(runs: list[Run]):
     pos.set_title("sliding joints")
     pos.legend(fontsize=8)
     finish([pos, speed])
+    fig.tight_layout()
+    return fig
+
+
+# -- effects' outputs ----------------------------------------------------------------------------
+def outputs(run: Run) -> dict[str, dict[str, np.ndarray]]:
+    """Effect -> {name: values over the converged records} of the values effects report
+    (summary.json's ``outputs`` names them; history.csv has them as <effect>.<name>); a vector's
+    <name>.x/.y/.z as one (n, 3) array under <name>."""
+    h, ok = run.history, _ok(run)
+    out: dict[str, dict[str, np.ndarray]] = {}
+    for label, names in run.summary.get("outputs", {}).items():
+        values: dict[str, np.ndarray] = {}
+        for name in names:
+            if f"{label}.{name}" not in h:
+                continue
+            base, _, axis = name.rpartition(".")
+            if axis in ("x", "y", "z") and all(f"{label}.{base}.{c}" in h for c in "xyz"):
+                if base not in values:
+                    values[base] = np.column_stack([h[f"{label}.{base}.{c}"][ok] for c in "xyz"])
+            else:
+                values[name] = h[f"{label}.{name}"][ok]
+        if values:
+            out[label] = values
+    return out
+
+
+_UNITS = {"force": "N", "length": "m"}  # of the names effects report (others: as named)
+
+
+def _axis_label(name: str) -> str:
+    return f"{name} [{_UNITS[name]}]" if name in _UNITS else name
+
+
+def outputs_figure(runs: list[Run]):
+    """One panel per effect that reports values: vectors as their components and magnitude,
+    numbers dashed on a second axis (a contact: the shape's force on the beam, and the length
+    in contact)."""
+    panels: dict[str, list[tuple[int, np.ndarray, dict[str, np.ndarray]]]] = {}
+    for k, run in enumerate(runs):
+        t = run.history["t"][_ok(run)]
+        for label, values in outputs(run).items():
+            panels.setdefault(label, []).append((k, t, values))
+    shown = list(panels)[:MAX_PANELS]
+    cols = 1 if len(shown) <= 2 else 2
+    rows = -(-len(shown) // cols)
+    fig, axes = new_figure(rows, cols, figsize=(7 * cols, 2.8 * rows + 0.6), squeeze=False, sharex=True)
+    for a, label in zip(axes.flat, shown):
+        second = None
+        for k, t, values in panels[label]:
+            suffix = "" if len(runs) == 1 else f", {_run_label(runs, k)}"
+            for name, v in values.items():
+                if v.ndim == 2:
+                    for c, axis in enumerate("xyz"):
+                        a.plot(t, v[:, c], _style(k), color=f"C{c}", label=f"{name}.{axis}{suffix}")
+                    a.plot(t, np.linalg.norm(v, axis=1), _style(k), color="k", lw=1.6, label=f"|{name}|{suffix}")
+                    a.set_ylabel(_axis_label(name))
+                else:
+                    second = second or a.twinx()
+                    second.plot(t, v, ":", color="C3", lw=1.6, label=f"{name}{suffix}")
+                    second.set_ylabel(_axis_label(name))
+        a.set_title(label, fontsize=9)
+        a.legend(fontsize=7, loc="upper left", ncol=2)
+        if second is not None:
+            second.legend(fontsize=7, loc="upper right")
+    for a in axes[-1]:
+        a.set_xlabel(_time_label(runs[0]))
+    for a in list(axes.flat)[len(shown):]:
+        a.set_visible(False)
+    if len(panels) > len(shown):
+        fig.suptitle(f"the first {len(shown)} effects ({len(panels) - len(shown)} more not shown)")
+    finish(axes)
     fig.tight_layout()
     return fig
 

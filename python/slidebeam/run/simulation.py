@@ -718,9 +718,16 @@ class Simulation:
     def output_labels(self) -> list[str]:
         """History column names of the effects' named values: <effect label>.<name> (a contact's
         force.x/y/z and length in contact, buoyancy's force and submerged length)."""
-        if self._output_labels is None:
-            self._output_labels = list(self._model.output_labels())
+        if self._output_labels is None:  # the effects' labels as the history names them (#2: a second entry)
+            self._output_labels = [f"{self.active_effects[k].label}.{name}" for k, name in self._model.output_names()]
         return self._output_labels
+
+    def output_groups(self) -> dict[str, list[str]]:
+        """The effects that have outputs, by label: the names of their values."""
+        groups: dict[str, list[str]] = {}
+        for k, name in self._model.output_names():
+            groups.setdefault(self.active_effects[k].label, []).append(name)
+        return groups
 
     def effect_outputs(self) -> list[float]:
         """The values named by :meth:`output_labels` in the current state (collective)."""
