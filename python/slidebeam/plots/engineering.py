@@ -30,6 +30,27 @@ def _ok(run: Run) -> np.ndarray:
     return run.history["converged"] > 0
 
 
+def _panels(count: int):
+    """(figure, axes) of `count` panels over one time axis: one column up to two, else two."""
+    cols = 1 if count <= 2 else 2
+    rows = -(-count // cols)
+    return new_figure(rows, cols, figsize=(7 * cols, 2.8 * rows + 0.6), squeeze=False, sharex=True)
+
+
+def _finish_panels(fig, axes, runs: list[Run], shown: int, total: int, title: str):
+    """Time labels, the unused panels hidden, and a title saying what was left out (`title`: what
+    the shown ones are, e.g. "the 12 largest reactions")."""
+    for a in axes[-1]:
+        a.set_xlabel(_time_label(runs[0]))
+    for a in list(axes.flat)[shown:]:
+        a.set_visible(False)
+    if total > shown:
+        fig.suptitle(f"{title} ({total - shown} more not shown)")
+    finish(axes)
+    fig.tight_layout()
+    return fig
+
+
 # -- paths ---------------------------------------------------------------------------------------
 def tracked_points(run: Run) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """name -> (times, positions (n, 3)): the history's tracked points (``<beam>@<s>``) and the
@@ -157,9 +178,7 @@ def reactions_figure(runs: list[Run]):
             panels.setdefault(name, []).append((k, t, r))
     order = sorted(panels, key=lambda n: -max(float(np.abs(r["force"]).max(initial=0.0)) for _, _, r in panels[n]))
     shown = order[:MAX_PANELS]
-    cols = 1 if len(shown) <= 2 else 2
-    rows = -(-len(shown) // cols)
-    fig, axes = new_figure(rows, cols, figsize=(7 * cols, 2.8 * rows + 0.6), squeeze=False, sharex=True)
+    fig, axes = _panels(len(shown))
     for a, name in zip(axes.flat, shown):
         moment_axis = None
         for k, t, r in panels[name]:
@@ -178,15 +197,7 @@ def reactions_figure(runs: list[Run]):
         if moment_axis is not None:
             moment_axis.set_ylabel("moment [N m]")
             moment_axis.legend(fontsize=7, loc="upper right")
-    for a in axes[-1]:
-        a.set_xlabel(_time_label(runs[0]))
-    for a in list(axes.flat)[len(shown):]:
-        a.set_visible(False)
-    if len(order) > len(shown):
-        fig.suptitle(f"the {len(shown)} largest reactions ({len(order) - len(shown)} more not shown)")
-    finish(axes)
-    fig.tight_layout()
-    return fig
+    return _finish_panels(fig, axes, runs, len(shown), len(order), f"the {len(shown)} largest reactions")
 
 
 # -- sliders -------------------------------------------------------------------------------------
@@ -253,9 +264,7 @@ def outputs_figure(runs: list[Run]):
         for label, values in outputs(run).items():
             panels.setdefault(label, []).append((k, t, values))
     shown = list(panels)[:MAX_PANELS]
-    cols = 1 if len(shown) <= 2 else 2
-    rows = -(-len(shown) // cols)
-    fig, axes = new_figure(rows, cols, figsize=(7 * cols, 2.8 * rows + 0.6), squeeze=False, sharex=True)
+    fig, axes = _panels(len(shown))
     for a, label in zip(axes.flat, shown):
         second = None
         for k, t, values in panels[label]:
@@ -274,15 +283,7 @@ def outputs_figure(runs: list[Run]):
         a.legend(fontsize=7, loc="upper left", ncol=2)
         if second is not None:
             second.legend(fontsize=7, loc="upper right")
-    for a in axes[-1]:
-        a.set_xlabel(_time_label(runs[0]))
-    for a in list(axes.flat)[len(shown):]:
-        a.set_visible(False)
-    if len(panels) > len(shown):
-        fig.suptitle(f"the first {len(shown)} effects ({len(panels) - len(shown)} more not shown)")
-    finish(axes)
-    fig.tight_layout()
-    return fig
+    return _finish_panels(fig, axes, runs, len(shown), len(panels), f"the first {len(shown)} effects")
 
 
 # -- solver --------------------------------------------------------------------------------------
