@@ -52,21 +52,6 @@ def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "stability: the hard-case suite of runs/hard/ (issue 8; a few minutes)")
 
 
-def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Tests that start mpirun themselves share one xdist worker (scripts/test.sh runs xdist with
-    --dist loadgroup): two of them at once in the two workers put 4-5 ranks on 2 cores."""
-    import inspect
-    import re
-
-    for item in items:
-        try:
-            source = inspect.getsource(item.function)  # type: ignore[attr-defined]
-        except (AttributeError, OSError, TypeError):
-            continue
-        if re.search(r"\bnp=(?!1\b)|\"mpirun\"", source):
-            item.add_marker(pytest.mark.xdist_group("mpirun"))
-
-
 def pytest_runtest_setup(item: pytest.Item) -> None:
     if item.get_closest_marker("skip_in_parallel") and MPI.COMM_WORLD.Get_size() > 1:
         pytest.skip("runs only in serial")
