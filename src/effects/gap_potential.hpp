@@ -142,31 +142,18 @@ class GapPotential : public CentreLineEffect<W>, public OutputSource {
 
   std::vector<std::string> output_names() const override { return {"force.x", "force.y", "force.z", "length"}; }
   void outputs(const EvalContext& ctx, double* values) const override {
-    const Beam& b = ctx.model.beam(this->beam_);
-    for (int e : this->elements_) {
-      const typename Base::VecY y = this->gather(ctx, ctx.x, b, e);
-      for (int g = 0; g < Base::n_points(b); ++g) {
-        const CentreLinePoint<W> q = Base::point(b, e, g);
-        const Eigen::Vector3d x = position(q, y);
-        const double dv = law_.dV(shape_.gap(x));
-        if (dv == 0.0) continue;
-        const Eigen::Vector3d f = -q.w * dv * shape_.gradient(x);
-        for (int k = 0; k < 3; ++k) values[k] += f(k);
-        values[3] += q.w;
-      }
-    }
+    at_points(ctx, [&](double w, const Eigen::Vector3d& x) {
+      const double dv = law_.dV(shape_.gap(x));
+      if (dv == 0.0) return;
+      const Eigen::Vector3d f = -w * dv * shape_.gradient(x);
+      for (int k = 0; k < 3; ++k) values[k] += f(k);
+      values[3] += w;
+    });
   }
 
   double energy(const EvalContext& ctx) const override {
-    const Beam& b = ctx.model.beam(this->beam_);
     double U = 0.0;
-    for (int e : this->elements_) {
-      const typename Base::VecY y = this->gather(ctx, ctx.x, b, e);
-      for (int g = 0; g < Base::n_points(b); ++g) {
-        const CentreLinePoint<W> q = Base::point(b, e, g);
-        U += q.w * law_.V(shape_.gap(position(q, y)));
-      }
-    }
+    at_points(ctx, [&](double w, const Eigen::Vector3d& x) { U += w * law_.V(shape_.gap(x)); });
     return U;
   }
 
@@ -190,6 +177,18 @@ class GapPotential : public CentreLineEffect<W>, public OutputSource {
   }
 
  private:
+  /// f(weight, position) at every mass quadrature point of this rank's elements, in the state x.
+  template <class F>
+  void at_points(const EvalContext& ctx, F&& f) const {
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      const typename Base::VecY y = this->gather(ctx, ctx.x, b, e);
+      for (int g = 0; g < Base::n_points(b); ++g) {
+        const CentreLinePoint<W> q = Base::point(b, e, g);
+        f(q.w, position(q, y));
+      }
+    }
+  }
   static Eigen::Vector3d position(const CentreLinePoint<W>& q, const typename Base::VecY& y) {
     Eigen::Vector3d x = Eigen::Vector3d::Zero();
     for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);

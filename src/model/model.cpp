@@ -222,8 +222,7 @@ void Model::finalize(const PartitionPolicy& partition) {
   }
   SB_CHECK(VecAssemblyBegin(s_mask_));
   SB_CHECK(VecAssemblyEnd(s_mask_));
-  for (const auto& e : effects_)
-    if (part_of<MassSource>(*e)) has_inertia_ = true;
+  has_inertia_ = std::any_of(mass_of_.begin(), mass_of_.end(), [](const MassSource* m) { return m != nullptr; });
   rate_force_.clear();
   for (const auto& e : effects_) {
     rate_force_.push_back(EffectRegistry::instance().spec(e->type()).rate_force ? 1 : 0);
@@ -284,8 +283,8 @@ void Model::compute_beam_masses() {
     }
   };
   const MatSink sink(&tally);
-  for (const auto& e : effects_)
-    if (const auto* ms = part_of<MassSource>(*e)) SB_CHECK(ms->mass(*this, sink));
+  for (const MassSource* ms : mass_of_)
+    if (ms) SB_CHECK(ms->mass(*this, sink));
   MPI_Allreduce(MPI_IN_PLACE, beam_mass_.data(), static_cast<int>(beam_mass_.size()), MPI_DOUBLE, MPI_SUM, comm_);
 }
 
@@ -299,8 +298,8 @@ Mat Model::create_mass_matrix() const {
   CooAssembly coo;
   coo.begin();
   MatSink sink(&coo);
-  for (const auto& e : effects_)
-    if (const auto* ms = part_of<MassSource>(*e)) SB_CHECK(ms->mass(*this, sink));
+  for (const MassSource* ms : mass_of_)
+    if (ms) SB_CHECK(ms->mass(*this, sink));
   SB_CHECK(coo.end(M));
   return M;
 }

@@ -156,7 +156,7 @@ class Simulation:
         self._statics_on_rank_0_option = statics_on_rank_0()
         self._equilibrium_on_rank_0_option = equilibrium_on_rank_0()
         self._model, self.effects = build_model(scene, comm)
-        self._output_labels: list[str] | None = None
+        self._output_groups: dict[str, list[str]] | None = None
         self._solver = _core.StaticSolver(self._model)
         self._t = 0.0
         self.use_predictor = True
@@ -718,20 +718,20 @@ class Simulation:
     def output_labels(self) -> list[str]:
         """History column names of the effects' named values: <effect label>.<name> (a contact's
         force.x/y/z and length in contact, buoyancy's force and submerged length)."""
-        if self._output_labels is None:  # the effects' labels as the history names them (#2: a second entry)
-            self._output_labels = [f"{self.active_effects[k].label}.{name}" for k, name in self._model.output_names()]
-        return self._output_labels
+        return [f"{label}.{name}" for label, names in self.output_groups().items() for name in names]
 
     def output_groups(self) -> dict[str, list[str]]:
-        """The effects that have outputs, by label: the names of their values."""
-        groups: dict[str, list[str]] = {}
-        for k, name in self._model.output_names():
-            groups.setdefault(self.active_effects[k].label, []).append(name)
-        return groups
+        """The effects that have outputs, by label (as the history names them: #2 a second entry):
+        the names of their values, in the order of effect_outputs()."""
+        if self._output_groups is None:
+            self._output_groups = {}
+            for k, name in self._model.output_names():
+                self._output_groups.setdefault(self.active_effects[k].label, []).append(name)
+        return self._output_groups
 
     def effect_outputs(self) -> list[float]:
         """The values named by :meth:`output_labels` in the current state (collective)."""
-        return list(self._model.effect_outputs(self.t, self.x)) if self.output_labels() else []
+        return list(self._model.effect_outputs(self.t, self.x)) if self.output_groups() else []
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
         """Positions (x, y, z) of the scene's ``[output] track`` points in the current state."""
