@@ -31,6 +31,14 @@ if ! dpkg-query -W -f='${Status}' python3-paraview 2>/dev/null | grep -q "instal
 fi
 # Debian's petsc4py imports only under /usr/bin/python3: pin it.
 cmake -S "$here" -B "$here/build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3 >/dev/null
-cmake --build "$here/build" -j"$(nproc)" 2>&1 | grep -vE "^(\[|lto-wrapper|gmake)" || true
-test -f "$here/build/unit_tests" && ls "$here"/python/slidebeam/_core*.so >/dev/null
+# the build's own messages without the progress lines; a failed build fails the set-up
+build_log=$(mktemp)
+if ! cmake --build "$here/build" -j"$(nproc)" >"$build_log" 2>&1; then
+  grep -vE "^(\[|lto-wrapper|gmake)" "$build_log" >&2
+  rm -f "$build_log"
+  echo "setup: the build failed (messages above)" >&2
+  exit 1
+fi
+grep -vE "^(\[|lto-wrapper|gmake)" "$build_log" || true
+rm -f "$build_log"
 echo "setup: built $here/build and python/slidebeam/_core"

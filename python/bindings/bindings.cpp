@@ -473,13 +473,27 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("wall_time", &StepAdvance::wall_time, "seconds in the step's first attempt")
       .def_readonly("event", &StepAdvance::event, "'event': index into Stepper.events")
       .def_readonly("event_step_taken", &StepAdvance::event_step_taken,
-                    "'event': a shortened step was taken (else the state is at t_n)");
+                    "'event': a shortened step was taken (else the state is at t_n)")
+      .def_readonly("local_error", &StepAdvance::local_error,
+                    "error control: the step's error in units of its tolerance (<= 1 accepted; -1: none)");
 
   py::class_<Stepper>(m, "Stepper", "step control of a dynamic run: sizes, cuts and events (src/time/stepper.hpp)")
       .def(py::init<Model&, TimeIntegrator&, double, double>(), py::arg("model"), py::arg("integrator"),
            py::arg("dt"), py::arg("dt_min"), py::keep_alive<1, 2>(), py::keep_alive<1, 3>())
       .def("advance", &Stepper::advance, py::arg("t_end"), "take the next step towards t_end (collective)")
       .def_property("dt", &Stepper::dt, &Stepper::set_dt, "the step size the next advance tries")
+      .def(
+          "set_error_control",
+          [](Stepper& s, double rtol, double atol, double dt_max, double span, double constant) {
+            s.set_error_control({rtol, atol, dt_max, span, constant});
+          },
+          py::arg("rtol"), py::arg("atol"), py::arg("dt_max"), py::arg("span"), py::arg("constant"),
+          "choose the steps by their local error from now on (src/time/error_control.hpp): rtol on "
+          "directions, atol [m] on points and sliding coordinates, for the error at the end of a run "
+          "of duration span; constant: the scheme's C")
+      .def("restart_error_estimate", &Stepper::restart_error_estimate,
+           "begin the local error estimate afresh at the current state (checkpoints)")
+      .def_property_readonly("error_controlled", &Stepper::error_controlled)
       .def_property_readonly(
           "events",
           [](const Stepper& s) {

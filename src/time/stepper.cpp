@@ -29,8 +29,19 @@ Stepper::Stepper(Model& model, TimeIntegrator& integrator, double dt, double dt_
       sources_.push_back(source);
     }
   }
-  if (!events_.empty())
-    for (Vec* v : {&snap_.x, &snap_.v, &snap_.a, &snap_.v_prev, &snap_.sdot}) SB_CHECK(VecDuplicate(integ_.x(), v));
+  if (!events_.empty()) allocate_snapshot();
+}
+
+void Stepper::allocate_snapshot() {
+  if (snapshots_) return;
+  for (Vec* v : {&snap_.x, &snap_.v, &snap_.a, &snap_.v_prev, &snap_.sdot}) SB_CHECK(VecDuplicate(integ_.x(), v));
+  snapshots_ = true;
+}
+
+void Stepper::set_error_control(const ErrorControlParams& params) {
+  allocate_snapshot();
+  control_ = std::make_unique<ErrorControl>(model_, integ_.x(), params);
+  control_->start(integ_.x());
 }
 
 Stepper::~Stepper() {
@@ -83,18 +94,29 @@ StepAdvance Stepper::advance(double t_end) {
   // The step is dt unless less remains; a remainder within roundoff of dt is taken as dt, so
   // that a run stopped at t_end and restarted takes exactly the steps of one that went on.
   const double remaining = t_end - integ_.time();
-  const double h = remaining >= dt_ * (1 - 1e-9) ? dt_ : remaining;
+  double h = remaining >= dt_ * (1 - 1e-9) ? dt_ : remaining;
+  // error control: no sliver of a step at the end, two equal ones instead
+  if (control_ && remaining > dt_ * (1 + 1e-9) && remaining < 1.5 * dt_) h = remaining / 2;
   std::vector<double> g_in;
-  if (!events_.empty()) {
-    take();
-    g_in = indicators();
-  }
+  if (snapshots_) take();
+  if (!events_.empty()) g_in = indicators();
   const auto started = std::chrono::steady_clock::now();
   adv.result = integ_.step(h);
   adv.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   adv.h = h;
   adv.newton_iterations = adv.result.iterations;
   if (adv.result.converged()) {  // the integrator already counts NaN/Inf in F or x as a failure
+    if (control_) {
+      adv.local_error = control_->error(integ_.x(), h);
+      if (adv.local_error > 1.0) {
+        restore();
+        adv.rejected_attempts = 1;
+        const double next = control_->rejected(h, adv.local_error);
+        adv.status = next < dt_min_ * (1 - 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
+        dt_ = std::max(next, dt_min_);
+        return adv;
+      }
+    }
     if (!events_.empty()) {
       const std::vector<double> g = indicators();
       for (size_t k = 0; k < events_.size(); ++k)
@@ -103,10 +125,19 @@ StepAdvance Stepper::advance(double t_end) {
           return adv;
         }
     }
-    dt_ = std::min(2 * dt_, dt_nominal_);
+    if (control_)
+      dt_ = control_->accepted(integ_.x(), h, adv.local_error);
+    else
+      dt_ = std::min(2 * dt_, dt_nominal_);
     return adv;
   }
   adv.rejected_attempts = 1;
+  if (control_) {
+    const double next = control_->rejected(h, 0.0);
+    adv.status = h <= dt_min_ * (1 + 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
+    dt_ = std::max(next, dt_min_);
+    return adv;
+  }
   if (h / 2 < dt_min_ * (1 - 1e-12)) {
     adv.status = StepAdvance::Status::Failed;
     return adv;

@@ -12,13 +12,20 @@
 ///             was taken again from t_n, shortened by Illinois regula falsi on its size until the
 ///             indicator lies within [0, 1e-9] of its scale, and that shortened step is the
 ///             run's last (or, if no shortened step stays inside, the state is left at t_n).
+/// With error control (set_error_control, `[analysis] adapt`) an accepted Newton solve whose
+/// local error estimate exceeds the tolerance is a rejection: the state goes back to t_n and
+/// the call ends as `cut` with a smaller step; accepted steps set the next size from the
+/// estimate (time/error_control.hpp), and `failed` also means the error stayed above the
+/// tolerance at dt_min.
 /// The caller records, checkpoints and answers signals between calls (one call per step: the
 /// record cadence and the run's end are the caller's).
 
 #include "model/effect_parts.hpp"
 #include "model/model.hpp"
+#include "time/error_control.hpp"
 #include "solvers/time_integrator.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace slidebeam {
@@ -33,6 +40,7 @@ struct StepAdvance {
   double wall_time = 0.0;        ///< seconds in the step's first attempt (the event's tries not counted)
   int event = -1;                ///< Event: index into Stepper::events()
   bool event_step_taken = false; ///< Event: a shortened step was taken (else the state is at t_n)
+  double local_error = -1.0;     ///< error control: err of the step (<= 1 accepted; -1: none)
 };
 
 class Stepper {
@@ -56,6 +64,14 @@ class Stepper {
   double dt() const { return dt_; }
   void set_dt(double dt) { dt_ = dt; }
   const std::vector<Event>& events() const { return events_; }
+  /// Choose the steps by their local error from now on (the estimate starts at the current state).
+  void set_error_control(const ErrorControlParams& params);
+  /// Begin the estimate afresh at the current state (a checkpoint: the run then goes on as a
+  /// restart from it would).
+  void restart_error_estimate() {
+    if (control_) control_->start(integ_.x());
+  }
+  bool error_controlled() const { return control_ != nullptr; }
 
  private:
   /// The integrator's state at t_n, to take a step again with another size.
@@ -66,6 +82,7 @@ class Stepper {
     bool pivoting = false;
     std::vector<double> flows;
   };
+  void allocate_snapshot();
   void take();
   void restore();
   /// Every indicator at the integrator's x (collective).
@@ -80,6 +97,8 @@ class Stepper {
   std::vector<Event> events_;
   std::vector<const EventSource*> sources_;  // per event
   Snapshot snap_;
+  bool snapshots_ = false;  // snap_'s vectors exist (events or error control)
+  std::unique_ptr<ErrorControl> control_;
 };
 
 }  // namespace slidebeam

@@ -21,6 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 ACCEPTED = {
     "scene": set(sc._SCENE_KEYS),
     "analysis": set(sc._ANALYSIS_KEYS),
+    "analysis.adapt": set(sc._ADAPT_KEYS),
     "beam": set(sc._BEAM_KEYS),
     "body": set(sc._BODY_KEYS),
     "beam.arc": set(sc._ARC_KEYS),
@@ -32,7 +33,7 @@ ACCEPTED = {
     "motion": set(sc._MOTION_KEYS),
 }
 # module constants of scene.py that hold accepted keys (each must be covered by ACCEPTED above)
-KEY_CONSTANTS = {"_TOP_KEYS", "_SCENE_KEYS", "_ANALYSIS_KEYS", "_BEAM_KEYS", "_BODY_KEYS", "_ARC_KEYS", "_SHAPE_KEYS",
+KEY_CONSTANTS = {"_TOP_KEYS", "_SCENE_KEYS", "_ANALYSIS_KEYS", "_ADAPT_KEYS", "_BEAM_KEYS", "_BODY_KEYS", "_ARC_KEYS", "_SHAPE_KEYS",
                  "_EXPLICIT_KEYS", "_ANCF_SHAPE_KEYS", "_ANCF_EXPLICIT_KEYS", "_OUTPUT_KEYS", "_TRACK_KEYS",
                  "_TF_PARAMS", "_MOTION_KEYS"}
 

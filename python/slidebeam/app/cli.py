@@ -242,7 +242,7 @@ def _check_output_size(scene: Scene, out: Path, t0: float, rank: int) -> None:
     import shutil
 
     a = scene.analysis
-    steps = a.steps if a.type == "static" else math.ceil((a.t_end - t0) / a.dt - 1e-9)
+    steps = a.steps if a.type == "static" else a.planned_steps(t0)
     records = (steps if a.type == "static" else steps // max(1, scene.output.every)) + 2
     need = records * bytes_per_record(scene)
     free = shutil.disk_usage(out).free
@@ -488,7 +488,7 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
             write_checkpoint(sim, st, checkpoint)
 
     a = scene.analysis
-    n_steps = max(1, round(a.t_end / a.dt))
+    n_steps = a.planned_steps()
     report_every = max(1, n_steps // 20)  # about 20 progress lines per run
     next_report = [0]
     rejected = [0]  # step cuts since the last progress line

@@ -179,6 +179,20 @@ def carrier_end_message(sim: "Simulation", joint: int, s: float, when: str) -> s
             f"run stopped (at_carrier_end = '{j.at_carrier_end}')")
 
 
+def error_control_args(sim: "Simulation") -> dict[str, float]:
+    """Stepper.set_error_control's arguments for the scene's [analysis] adapt: atol defaults to
+    rtol times the longest beam's length; the scheme's error constant C is 1/12 for
+    energy-momentum and midpoint, |beta - 1/12| / 2 for Newmark and HHT (time/error_control.hpp)."""
+    a = sim.scene.analysis
+    assert a.adapt is not None
+    length = max((b.geometry.length for b in sim.scene.beams), default=1.0)
+    atol = a.adapt.atol if a.adapt.atol is not None else a.adapt.rtol * length
+    constant = 1.0 / 12.0
+    if a.integrator in ("newmark", "hht"):
+        constant = abs(a.newmark_beta - 1.0 / 12.0) / 2.0
+    return dict(rtol=a.adapt.rtol, atol=atol, dt_max=a.adapt.dt_max, span=a.t_end, constant=constant)
+
+
 def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | None = None,
                 state: RunState | None = None,
                 on_checkpoint: Callable[[RunState], None] | None = None) -> RunOutcome:
@@ -200,13 +214,16 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
         if on_step:
             on_step(state.records[0])
     st = state
-    st.dt = min(st.dt, a.dt)  # a restart may ask for smaller steps
+    if a.adapt is None:
+        st.dt = min(st.dt, a.dt)  # a restart may ask for smaller steps
 
     def outcome(complete: bool, message: str, failed: bool = False, extra: list[DynamicRecord] | None = None):
         return RunOutcome(st.records + (extra or []), complete, message, st.step, st.rejected, st.newton, failed, st)
 
-    stepper = _core.Stepper(sim._model, sim.integrator, a.dt, a.dt_min)
+    stepper = _core.Stepper(sim._model, sim.integrator, a.dt_max_step, a.dt_min)
     stepper.dt = st.dt
+    if a.adapt is not None:
+        stepper.set_error_control(**error_control_args(sim))
     return _step_loop(sim, stepper, st, on_step, on_checkpoint, outcome)
 
 
@@ -279,6 +296,7 @@ def _step_loop(sim: "Simulation", stepper: "_core.Stepper", st: RunState, on_ste
                 return interrupted(signum)
             if on_checkpoint and ckpt_every and st.step % ckpt_every == 0 and not last:
                 on_checkpoint(st)
+                stepper.restart_error_estimate()  # goes on as a restart from the checkpoint would
             continue
         st.rejected_since_record += 1  # a cut or the failure
         if adv.status == "failed":
@@ -287,9 +305,11 @@ def _step_loop(sim: "Simulation", stepper: "_core.Stepper", st: RunState, on_ste
             fail.converged = False
             if on_step:
                 on_step(fail)
-            message = (f"Newton failed at step {st.step + 1} (t = {integ.time:.6g} -> {integ.time + h:.6g}, "
-                       f"dt = {h:.3g}, minimum dt_min = {a.dt_min:.3g}): {result.reason_name}, "
-                       f"residual norm {result.residual_norm:.3e}; results hold the last good state "
+            what, cause = "Newton failed", f"{result.reason_name}, residual norm {result.residual_norm:.3e}"
+            if adv.local_error > 1.0:
+                what, cause = "the error control failed", f"the local error stayed {adv.local_error:.3g} times the tolerance"
+            message = (f"{what} at step {st.step + 1} (t = {integ.time:.6g} -> {integ.time + h:.6g}, dt = {h:.3g}, "
+                       f"minimum dt_min = {a.dt_min:.3g}): {cause}; results hold the last good state "
                        f"(t = {integ.time:.6g}) and are marked incomplete")
             return outcome(False, message, failed=True, extra=[fail])
         signum = interrupts.requested()  # a cut: the next advance tries half the step

@@ -83,7 +83,7 @@ def recorded_steps(scene: Scene) -> tuple[int | float, str]:
     a = scene.analysis
     if a.type == "static":
         return a.steps + 2, "steps"
-    steps = a.t_end / a.dt
+    steps = a.planned_steps()
     return steps / max(1, scene.output.every) + 2, "dt"
 
 

@@ -254,6 +254,15 @@ class SlidingJoint:
 
 
 @dataclass(frozen=True)
+class Adapt:
+    """[analysis] adapt: steps chosen by their local error (src/time/error_control.hpp)."""
+
+    rtol: float                 # on directions, and atol's default scale
+    atol: float | None          # on points and sliding coordinates [m]; None: rtol x the longest beam
+    dt_max: float               # no step above it
+
+
+@dataclass(frozen=True)
 class Analysis:
     type: str
     steps: int
@@ -266,6 +275,20 @@ class Analysis:
     dt_min: float | None
     em_dissipation: float = 0.0  # energy-momentum: xi of the energy-decaying variant (0: conserving)
     start: str = "reference"     # dynamic: 'reference' (the scene's geometry) or 'equilibrium' (static first)
+    adapt: Adapt | None = None   # dynamic: error-controlled steps (dt is then the first step)
+
+    @property
+    def dt_max_step(self) -> float:
+        """The largest step the step control may take: dt, or adapt.dt_max."""
+        assert self.dt is not None
+        return self.adapt.dt_max if self.adapt is not None else self.dt
+
+    def planned_steps(self, t0: float = 0.0) -> int:
+        """Time steps from t0 to t_end: t_end / dt, or under adapt an estimate (20 steps per
+        dt_max: the sizes are chosen in the run), for progress lines and output size estimates."""
+        assert self.dt is not None
+        h = self.dt if self.adapt is None else self.adapt.dt_max / 20
+        return max(1, math.ceil((self.t_end - t0) / h - 1e-9))
 
 
 @dataclass(frozen=True)
@@ -542,8 +565,9 @@ _BODY_KEYS = ("name", "mass", "inertia", "position", "orientation", "velocity", 
 _SCENE_KEYS = ("name", "description")
 _ANALYSIS_KEYS = (
     "type", "steps", "t_end", "dt", "integrator", "newmark_beta", "newmark_gamma", "hht_alpha", "dt_min",
-    "em_dissipation", "start",
+    "em_dissipation", "start", "adapt",
 )
+_ADAPT_KEYS = ("rtol", "atol", "dt_max")
 _INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 _BEAM_KEYS = (
     "name", "start", "end", "polyline", "arc", "d2", "spans", "quadrature", "strain",
@@ -757,11 +781,17 @@ def _parse_analysis(t: _Table) -> Analysis:
     kind = t.choice("type", ("static", "dynamic"), "static")
     positive = dict(check=lambda x: x > 0, requirement="> 0")
     dt = t.number("dt", None, **positive)  # type: ignore[arg-type]
+    t_end = t.number("t_end", 1.0, **positive)
+    adapt = _adapt(t, kind, t_end)
+    if adapt is not None and dt is None:
+        dt = 1e-4 * t_end
     if kind == "dynamic" and dt is None:
-        raise t.error("dt", "missing required key (required when type = \"dynamic\")")
+        raise t.error("dt", "missing required key (required when type = \"dynamic\" without adapt)")
+    if adapt is not None and dt > adapt.dt_max:
+        raise t.error("dt", f"is the first step under adapt: must not exceed adapt.dt_max = {adapt.dt_max}, got {dt}")
     dt_min = t.number("dt_min", None, **positive)  # type: ignore[arg-type]
     if dt_min is None and kind == "dynamic":
-        dt_min = dt / 16.0
+        dt_min = dt / 16.0 if adapt is None else 1e-6 * dt
     if dt is not None and dt_min is not None and dt_min > dt:
         raise t.error("dt_min", f"must not exceed dt = {dt}, got {dt_min}")
     integrator = t.choice("integrator", _INTEGRATORS, "energy-momentum")
@@ -785,7 +815,7 @@ def _parse_analysis(t: _Table) -> Analysis:
     return Analysis(
         type=kind,
         steps=t.integer("steps", 10),
-        t_end=t.number("t_end", 1.0, **positive),  # type: ignore[arg-type]
+        t_end=t_end,
         dt=dt,
         integrator=integrator,
         newmark_beta=beta,  # type: ignore[arg-type]
@@ -794,7 +824,21 @@ def _parse_analysis(t: _Table) -> Analysis:
         dt_min=dt_min,
         em_dissipation=_em_dissipation(t, integrator),
         start=_start(t, kind),
+        adapt=adapt,
     )
+
+
+def _adapt(t: _Table, kind: str, t_end: float) -> Adapt | None:
+    if not t.has("adapt"):
+        return None
+    if kind != "dynamic":
+        raise t.error("adapt", 'applies to type = "dynamic" only')
+    a = t.sub("adapt", "[analysis].adapt")
+    a.check_keys(_ADAPT_KEYS)
+    rtol = a.number("rtol", check=lambda x: 0 < x < 1, requirement="in (0, 1)")
+    atol = a.number("atol", None, check=lambda x: x > 0, requirement="> 0")
+    dt_max = a.number("dt_max", 0.1 * t_end, check=lambda x: x > 0, requirement="> 0")
+    return Adapt(rtol, atol, dt_max)
 
 
 def _start(t: _Table, kind: str) -> str:
@@ -848,8 +892,8 @@ def default_every(analysis: Analysis) -> int:
     """output.every when the scene leaves it out: every step of a static run; about
     RECORDS_BY_DEFAULT records (200 to 399) of a dynamic one, so that the output stays small
     next to the solve however many steps the run takes."""
-    if analysis.type != "dynamic" or not analysis.dt:
-        return 1
+    if analysis.type != "dynamic" or not analysis.dt or analysis.adapt is not None:
+        return 1  # (adapt: the number of steps is not known before the run)
     steps = round(analysis.t_end / analysis.dt)
     return max(1, steps // RECORDS_BY_DEFAULT)
 

@@ -47,8 +47,12 @@ ANALYSIS = Table("analysis", "[analysis]", "What is solved: load stepping (stati
                 "dynamic: time integration from t = 0 to t_end", "", '"static"', '"static", "dynamic"'),
     Key("steps", "number of load steps (static)", "", "10", "integer >= 1"),
     Key("t_end", "end time (dynamic); the pseudo-time of the last load step (static)", "s", "1.0", "> 0"),
-    Key("dt", "time step (dynamic)", "s", "required when type = \"dynamic\"", "> 0"),
-    Key("dt_min", "smallest step the step control may cut to after a failed step", "s", "dt / 16", "> 0, <= dt"),
+    Key("dt", "time step (dynamic); under adapt the first step", "s",
+        "required when type = \"dynamic\" (adapt: 1e-4 t_end)", "> 0 (adapt: <= adapt.dt_max)"),
+    Key("adapt", "error-controlled steps, a sub-table (see [analysis.adapt])", "", "fixed steps dt",
+        "table; type = \"dynamic\" only"),
+    Key("dt_min", "smallest step the step control may cut to after a failed step", "s", "dt / 16 (adapt: 1e-6 dt)",
+        "> 0, <= dt"),
     Key("integrator", "time integrator (dynamic)", "", '"energy-momentum"',
         '"energy-momentum", "midpoint", "newmark", "hht"'),
     Key("newmark_beta", "Newmark's beta (newmark and hht)", "", "0.25 (hht: (1 - hht_alpha)^2 / 4)", "> 0"),
@@ -123,6 +127,14 @@ BODY = Table("body", "[[body]]", "A rigid body (a cabin, hook block, platform, b
                        "unit axis)", "rad", "[0.0, 0.0, 0.0]", "3 numbers"),
     Key("velocity", "initial velocity of its centre of mass (dynamic)", "m/s", "[0.0, 0.0, 0.0]", "3 numbers"),
     Key("angular_velocity", "initial angular velocity (dynamic)", "rad/s", "[0.0, 0.0, 0.0]", "3 numbers"),
+))
+
+ADAPT = Table("analysis.adapt", "adapt = { rtol, atol, dt_max }",
+              "Steps chosen by their local error so that the error at t_end stays near the tolerance "
+              "(docs/theory.md, \"Adaptive steps\"); dt is the first step.", (
+    Key("rtol", "tolerance on directions (directors, ANCF slopes), and atol's scale", "", REQUIRED, "in (0, 1)"),
+    Key("atol", "tolerance on points and sliding coordinates", "m", "rtol x the longest beam's length", "> 0"),
+    Key("dt_max", "largest step", "s", "t_end / 10", "> 0"),
 ))
 
 ARC = Table("beam.arc", "arc = { center, radius, normal, start, angle }",
@@ -223,4 +235,4 @@ MOTION = Table("motion", "motion = { displacement = ..., rotation = ..., time_fu
 ))
 
 # the scene's own tables, in the order the reference lists them
-TABLES: tuple[Table, ...] = (SCENE, ANALYSIS, BEAM, ARC, SECTION, BODY, OUTPUT, TRACK, PETSC, TIME_FUNCTION, MOTION)
+TABLES: tuple[Table, ...] = (SCENE, ANALYSIS, ADAPT, BEAM, ARC, SECTION, BODY, OUTPUT, TRACK, PETSC, TIME_FUNCTION, MOTION)
