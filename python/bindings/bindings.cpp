@@ -493,7 +493,6 @@ PYBIND11_MODULE(_core, m) {
           "of duration span; constant: the scheme's C")
       .def("restart_error_estimate", &Stepper::restart_error_estimate,
            "begin the local error estimate afresh at the current state (checkpoints)")
-      .def_property_readonly("error_controlled", &Stepper::error_controlled)
       .def_property_readonly(
           "events",
           [](const Stepper& s) {

@@ -57,7 +57,7 @@ double ErrorControl::error(Vec x1, double h) const {
   SB_CHECK(VecGetArrayRead(past_[2], &p0));
   SB_CHECK(VecGetArrayRead(tol_inv_, &w));
   // x''' = 6 x[t_n+1, t_n, t_n-1, t_n-2]; the error C h^3 x''' in units of tol * h / T
-  const double scale = params_.constant * 6.0 * h * h * h * params_.span / h;
+  const double scale = params_.constant * 6.0 * h * h * params_.span;
   double worst = 0.0;
   for (PetscInt i = 0; i < n; ++i) {
     if (w[i] == 0.0) continue;

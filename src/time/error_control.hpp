@@ -54,7 +54,6 @@ class ErrorControl {
   double accepted(Vec x1, double h, double err);
   /// The step of size h was rejected (err > 1; a failed Newton solve: 0): the size to try instead.
   double rejected(double h, double err);
-  const ErrorControlParams& params() const { return params_; }
 
  private:
   static constexpr int kSettle = 3;

@@ -33,9 +33,8 @@ Stepper::Stepper(Model& model, TimeIntegrator& integrator, double dt, double dt_
 }
 
 void Stepper::allocate_snapshot() {
-  if (snapshots_) return;
+  if (snapshots()) return;
   for (Vec* v : {&snap_.x, &snap_.v, &snap_.a, &snap_.v_prev, &snap_.sdot}) SB_CHECK(VecDuplicate(integ_.x(), v));
-  snapshots_ = true;
 }
 
 void Stepper::set_error_control(const ErrorControlParams& params) {
@@ -98,7 +97,7 @@ StepAdvance Stepper::advance(double t_end) {
   // error control: no sliver of a step at the end, two equal ones instead
   if (control_ && remaining > dt_ * (1 + 1e-9) && remaining < 1.5 * dt_) h = remaining / 2;
   std::vector<double> g_in;
-  if (snapshots_) take();
+  if (snapshots()) take();
   if (!events_.empty()) g_in = indicators();
   const auto started = std::chrono::steady_clock::now();
   adv.result = integ_.step(h);
@@ -110,10 +109,7 @@ StepAdvance Stepper::advance(double t_end) {
       adv.local_error = control_->error(integ_.x(), h);
       if (adv.local_error > 1.0) {
         restore();
-        adv.rejected_attempts = 1;
-        const double next = control_->rejected(h, adv.local_error);
-        adv.status = next < dt_min_ * (1 - 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
-        dt_ = std::max(next, dt_min_);
+        cut(h, control_->rejected(h, adv.local_error), adv);
         return adv;
       }
     }
@@ -131,13 +127,11 @@ StepAdvance Stepper::advance(double t_end) {
       dt_ = std::min(2 * dt_, dt_nominal_);
     return adv;
   }
-  adv.rejected_attempts = 1;
   if (control_) {
-    const double next = control_->rejected(h, 0.0);
-    adv.status = h <= dt_min_ * (1 + 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
-    dt_ = std::max(next, dt_min_);
+    cut(h, control_->rejected(h, 0.0), adv);
     return adv;
   }
+  adv.rejected_attempts = 1;
   if (h / 2 < dt_min_ * (1 - 1e-12)) {
     adv.status = StepAdvance::Status::Failed;
     return adv;
@@ -145,6 +139,12 @@ StepAdvance Stepper::advance(double t_end) {
   adv.status = StepAdvance::Status::Cut;
   dt_ = h / 2;
   return adv;
+}
+
+void Stepper::cut(double h, double next, StepAdvance& adv) {
+  adv.rejected_attempts = 1;
+  adv.status = h <= dt_min_ * (1 + 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
+  dt_ = std::max(next, dt_min_);
 }
 
 void Stepper::arrive(int k, double h, double g_in, double g_out, StepAdvance& adv) {

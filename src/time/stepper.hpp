@@ -71,7 +71,6 @@ class Stepper {
   void restart_error_estimate() {
     if (control_) control_->start(integ_.x());
   }
-  bool error_controlled() const { return control_ != nullptr; }
 
  private:
   /// The integrator's state at t_n, to take a step again with another size.
@@ -83,6 +82,10 @@ class Stepper {
     std::vector<double> flows;
   };
   void allocate_snapshot();
+  /// snap_'s vectors exist (there are events or error control).
+  bool snapshots() const { return snap_.x != nullptr; }
+  /// After a rejected attempt of size h: try next, but not below dt_min; fail if h was dt_min.
+  void cut(double h, double next, StepAdvance& adv);
   void take();
   void restore();
   /// Every indicator at the integrator's x (collective).
@@ -97,7 +100,6 @@ class Stepper {
   std::vector<Event> events_;
   std::vector<const EventSource*> sources_;  // per event
   Snapshot snap_;
-  bool snapshots_ = false;  // snap_'s vectors exist (events or error control)
   std::unique_ptr<ErrorControl> control_;
 };
 
