@@ -523,6 +523,14 @@ constexpr double kFloorShare = 0.1;
 constexpr int kFloorRemeasure = 8;
 }  // namespace
 
+double TimeIntegrator::rounding_level(SNES snes) {
+  if (level_jacobian_ != jac_evals_) {  // |J| |x| changes little while one Jacobian serves
+    SB_CHECK(test_.rounding_level(snes, &level_));
+    level_jacobian_ = jac_evals_;
+  }
+  return level_;
+}
+
 PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
                                          SNESConvergedReason* reason, void* ctx) {
   PetscFunctionBeginUser;
@@ -544,10 +552,20 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
     const bool stagnates = it > 1 && rate >= 0.5;
     // below this fraction of the initial residual an old Jacobian's iterate may be at roundoff
     constexpr double kOldJacobianFloor = 1e-8;
-    if (stagnates && ((fnorm <= (fresh ? 1e-6 : kOldJacobianFloor) * rt.fnorm0 && snorm <= 1e-7 * xnorm) || snorm <= 1e-9 * xnorm)) {
+    const double relative_floor = (fresh ? 1e-6 : kOldJacobianFloor) * rt.fnorm0;
+    if (stagnates && ((fnorm <= relative_floor && snorm <= 1e-7 * xnorm) || snorm <= 1e-9 * xnorm)) {
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates (initial %g)\n", (double)fnorm,
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
+      self->floor_sample_ = fnorm;
+    } else if (stagnates && fnorm > relative_floor && self->rounding_level(snes) > 1e-6 * rt.fnorm0 &&
+               fnorm <= self->rounding_level(snes)) {
+      // (at small steps the residual's own roundoff, c0 M |x| eps, lies above the fraction of a
+      // large initial residual that the test above asks for even of a fresh Jacobian, and the
+      // multipliers' noise keeps the Newton step above 1e-9: a fresh Jacobian would only confirm
+      // the floor)
+      PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates at eps || |J| |x| ||\n", (double)fnorm));
+      *reason = SNES_CONVERGED_FNORM_ABS;
       self->floor_sample_ = fnorm;
     } else if (self->use_floor_ && fnorm <= kFloorMargin * self->floor_ && snorm <= 1e-7 * xnorm &&
                rt.fnorm_prev * self->rate_prev_ <= kFloorShare * self->floor_) {

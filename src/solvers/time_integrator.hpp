@@ -259,6 +259,11 @@ class TimeIntegrator {
   PetscReal reuse_rate_ = 0.2;
   PetscBool full_newton_after_rebuild_ = PETSC_FALSE;
   int jac_evals_ = 0;
+  /// eps || |J| |x| ||, the residual's rounding level, for the Jacobian of evaluation number
+  /// level_jacobian_ (computed when a solve stagnates).
+  double rounding_level(SNES snes);
+  double level_ = 0.0;
+  int level_jacobian_ = -1;
   ParallelSolves solves_before_;  // the block path's counts when a pivoting LU took over
   long solve_count_ = 0, jac_solve_ = -1;
   PetscInt jac_iter_ = -1;

@@ -11,6 +11,9 @@ namespace slidebeam {
 namespace {
 constexpr double kSafety = 0.9;
 constexpr double kGrowMax = 2.0, kShrinkMax = 0.25, kGrowMin = 1.25;
+// the envelope forgets a step's err by this factor a step: a spike (a snap, a slider crossing a
+// knot) holds the step for some tens of steps, not for the rest of the run
+constexpr double kForget = 0.97;
 }  // namespace
 
 ErrorControl::ErrorControl(const Model& model, Vec like, const ErrorControlParams& params) : params_(params) {
@@ -23,11 +26,14 @@ ErrorControl::ErrorControl(const Model& model, Vec like, const ErrorControlParam
   SB_CHECK(VecGetOwnershipRange(tol_inv_, &lo, &hi));
   PetscScalar* w = nullptr;
   SB_CHECK(VecGetArray(tol_inv_, &w));
+  where_.assign(static_cast<size_t>(hi - lo), {-1, -1});
   for (PetscInt cp = 0; cp < map.n_cp(); ++cp) {
     if (!map.owns_cp(cp)) continue;
     for (int c = 0; c < map.n_coordinates(cp); ++c) {
       const PetscInt i = map.q(cp, c);
-      if (i >= lo && i < hi) w[i - lo] = 1.0 / (c < 3 ? params_.atol : params_.rtol);
+      if (i < lo || i >= hi) continue;
+      w[i - lo] = 1.0 / (c < 3 ? params_.atol : params_.rtol);
+      where_[static_cast<size_t>(i - lo)] = {cp, c};
     }
   }
   SB_CHECK(VecRestoreArray(tol_inv_, &w));
@@ -56,14 +62,28 @@ double ErrorControl::error(Vec x1, double h) const {
   SB_CHECK(VecGetArrayRead(past_[1], &p1));
   SB_CHECK(VecGetArrayRead(past_[2], &p0));
   SB_CHECK(VecGetArrayRead(tol_inv_, &w));
-  // x''' = 6 x[t_n+1, t_n, t_n-1, t_n-2]; the error C h^3 x''' in units of tol * h / T
-  const double scale = params_.constant * 6.0 * h * h * params_.span;
+  // x'' = 2 x[t_n+1, t_n, t_n-1] (or the earlier triple's), x''' = 6 x[t_n+1, t_n, t_n-1, t_n-2];
+  // the phase error carried to t_end, C h^3 |x'''| T / h, saturates at twice the amplitude
+  // |x''|^3 / |x'''|^2 of the oscillation that makes it
+  const double phase = params_.constant * 6.0 * h * h * params_.span;
   double worst = 0.0;
+  limit_ = Limit{};
+  PetscInt lo = 0;
+  SB_CHECK(VecGetOwnershipRange(x1, &lo, nullptr));
   for (PetscInt i = 0; i < n; ++i) {
     if (w[i] == 0.0) continue;
     const double d32 = (p3[i] - p2[i]) / h, d21 = (p2[i] - p1[i]) / h2, d10 = (p1[i] - p0[i]) / h1;
-    const double dd = ((d32 - d21) / (h + h2) - (d21 - d10) / (h2 + h1)) / (h + h2 + h1);
-    worst = std::max(worst, std::abs(dd) * w[i]);
+    const double s1 = (d32 - d21) / (h + h2), s0 = (d21 - d10) / (h2 + h1);
+    const double third = 6.0 * std::abs((s1 - s0) / (h + h2 + h1));
+    if (third == 0.0) continue;
+    const double second = 2.0 * std::max(std::abs(s1), std::abs(s0));
+    const double amplitude = second * second * second / (third * third);
+    const double bound = std::min(phase * third / 6.0, 2.0 * amplitude) * w[i];
+    if (bound > worst) {
+      worst = bound;
+      limit_ = {lo + i, where_[static_cast<size_t>(i)].first, where_[static_cast<size_t>(i)].second,
+                phase * third / 6.0 * w[i], 2.0 * amplitude * w[i], bound};
+    }
   }
   SB_CHECK(VecRestoreArrayRead(x1, &p3));
   SB_CHECK(VecRestoreArrayRead(past_[0], &p2));
@@ -71,7 +91,7 @@ double ErrorControl::error(Vec x1, double h) const {
   SB_CHECK(VecRestoreArrayRead(past_[2], &p0));
   SB_CHECK(VecRestoreArrayRead(tol_inv_, &w));
   double global = 0.0;
-  const double local = worst * scale;
+  const double local = worst;
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(x1)));
   return global;
 }
@@ -85,7 +105,7 @@ double ErrorControl::accepted(Vec x1, double h, double err) {
   known_ = std::min(known_ + 1, 3);
   ++settled_;
   if (err < 0) return bounded(h);
-  worst_ = std::max(worst_, err);
+  worst_ = std::max(worst_ * kForget, err);
   if (settled_ < kSettle) return bounded(h);
   const double grow = worst_ > 0 ? kSafety / std::sqrt(worst_) : kGrowMax;
   if (grow < kGrowMin) return bounded(h);

@@ -18,14 +18,23 @@
 ///
 ///   err = max_i |C h^3 x'''_i| / tol_i * T / h,     accepted when err <= 1.
 ///
+/// An oscillation's phase error stops adding up once its phase is lost: it is then at most twice
+/// its amplitude, |x''|^3 / |x'''|^2 for one mode (the same from resolved and unresolved
+/// samples), and that bound replaces the estimate where it is smaller. A stiff mode barely
+/// excited (the axial vibration of a steel beam) or Newton's noise then asks for no small steps
+/// unless its amplitude exceeds the tolerance.
+///
 /// The next step is h * 0.9 err^(-1/2), at most 2x larger and 4x smaller. It grows only when the
-/// largest err since the step size last changed allows 1.25x or more, after at least kSettle
-/// steps of that size: each change costs a fresh step Jacobian, and an oscillation's error comes
+/// envelope of err since the step size last changed (each step's err forgotten by 3 % a step)
+/// allows 1.25x or more, after at least kSettle steps of that size: each change costs a fresh step Jacobian, and an oscillation's error comes
 /// and goes twice a period, so the step follows its envelope, not every swing.
 
 #include "model/model.hpp"
 
 #include <petscvec.h>
+
+#include <utility>
+#include <vector>
 
 namespace slidebeam {
 
@@ -39,6 +48,10 @@ struct ErrorControlParams {
 
 class ErrorControl {
  public:
+  /// The first two steps have no estimate: they are taken at this fraction of the first step
+  /// asked for, and the steps grow from there as the estimate allows.
+  static constexpr double kStartFraction = 0.01;
+
   ErrorControl(const Model& model, Vec like, const ErrorControlParams& params);
   ~ErrorControl();
   ErrorControl(const ErrorControl&) = delete;
@@ -55,6 +68,18 @@ class ErrorControl {
   /// The step of size h was rejected (err > 1; a failed Newton solve: 0): the size to try instead.
   double rejected(double h, double err);
 
+  /// What set the last error(): the unknown whose term was largest, where it sits, and its two
+  /// bounds in units of the tolerance (the phase estimate, twice the oscillation's amplitude).
+  struct Limit {
+    PetscInt unknown = -1;  ///< global index (-1: none)
+    PetscInt control_point = -1;
+    int coordinate = -1;    ///< at the control point (0-2 the point, then directions; -1: a sliding coordinate)
+    double phase = 0.0, oscillation = 0.0;
+    double err = 0.0;       ///< this rank's largest term (the step's err where it is largest)
+  };
+  /// The limit on this rank; the rank holding the largest term has the unknown.
+  const Limit& limit() const { return limit_; }
+
  private:
   static constexpr int kSettle = 3;
   double bounded(double h) const { return params_.dt_max > 0 ? std::min(h, params_.dt_max) : h; }
@@ -63,8 +88,10 @@ class ErrorControl {
   Vec past_[3] = {nullptr, nullptr, nullptr};  // x_n, x_{n-1}, x_{n-2}
   double past_h_[2] = {0.0, 0.0};     // t_n - t_{n-1}, t_{n-1} - t_{n-2}
   int known_ = 0;           // past solutions held (0..3)
-  double worst_ = 0.0;      // largest err since the step size last changed
+  double worst_ = 0.0;      // the envelope of err since the step size last changed (decaying)
   int settled_ = 0;         // accepted steps at the current size
+  std::vector<std::pair<PetscInt, int>> where_;  // per local entry: control point, coordinate
+  mutable Limit limit_;
 };
 
 }  // namespace slidebeam

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <tuple>
 
 namespace slidebeam {
@@ -41,6 +42,23 @@ void Stepper::set_error_control(const ErrorControlParams& params) {
   allocate_snapshot();
   control_ = std::make_unique<ErrorControl>(model_, integ_.x(), params);
   control_->start(integ_.x());
+  dt_ = std::max(dt_min_, ErrorControl::kStartFraction * dt_);
+  PetscBool monitor = PETSC_FALSE;
+  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-sb_adapt_monitor", &monitor));
+  monitor_ = monitor;
+}
+
+void Stepper::report_error(double h, double err) const {
+  const ErrorControl::Limit& l = control_->limit();
+  if (l.unknown < 0 || l.err != err) return;  // the rank holding the largest term reports it
+  const std::string at = l.coordinate < 0 ? "a sliding coordinate"
+                         : "control point " + std::to_string(l.control_point) + ", " +
+                               (l.coordinate < 3 ? "position " : "direction ") + std::to_string(l.coordinate);
+  SB_CHECK(PetscPrintf(PETSC_COMM_SELF,
+                       "adapt: t = %.9g h = %.4g err = %.3g %s; largest at unknown %" PetscInt_FMT
+                       " (%s): phase %.3g, oscillation bound %.3g\n",
+                       integ_.time(), h, err, err > 1.0 ? "rejected" : "accepted", l.unknown, at.c_str(), l.phase,
+                       l.oscillation));
 }
 
 Stepper::~Stepper() {
@@ -107,6 +125,7 @@ StepAdvance Stepper::advance(double t_end) {
   if (adv.result.converged()) {  // the integrator already counts NaN/Inf in F or x as a failure
     if (control_) {
       adv.local_error = control_->error(integ_.x(), h);
+      if (monitor_) report_error(h, adv.local_error);
       if (adv.local_error > 1.0) {
         restore();
         cut(h, control_->rejected(h, adv.local_error), adv);

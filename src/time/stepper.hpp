@@ -101,6 +101,8 @@ class Stepper {
   std::vector<const EventSource*> sources_;  // per event
   Snapshot snap_;
   std::unique_ptr<ErrorControl> control_;
+  bool monitor_ = false;  // -sb_adapt_monitor: each estimate and what set it, on the console
+  void report_error(double h, double err) const;
 };
 
 }  // namespace slidebeam

@@ -78,3 +78,54 @@ def test_bad_adapt_tables_are_named(sets, key, words):
         scene.load_scene(PENDULUM, sets)
     text = str(info.value)
     assert "soft_pendulum.toml" in text and key in text and words in text, text
+
+
+def test_the_steps_start_small_and_grow():
+    """The first two steps have no estimate: they are 1/100 of the first step asked for."""
+    _, _, out = _final(["analysis.adapt={rtol=1e-3}", "analysis.dt=1e-2"])
+    dts = [r.dt for r in out.records[1:]]
+    assert dts[0] == pytest.approx(1e-4, rel=1e-12) and dts[1] == dts[0]
+    assert max(dts) > 10 * dts[0]
+
+
+def test_adapt_false_means_fixed_steps():
+    sc = scene.load_scene(PENDULUM, ["analysis.adapt=false", "analysis.dt=1e-2"])
+    assert sc.analysis.adapt is None and sc.analysis.dt == 1e-2
+
+
+SEED = ROOT / "runs" / "seed" / "free_fall_1+4.toml"
+
+
+def _seed(sets: list[str]):
+    sc = scene.load_scene(SEED, ["analysis.t_end=0.2", "output.every=1000000", "analysis.dt_min=1e-12", *sets])
+    sim = slidebeam.Simulation(sc, MPI.COMM_SELF)
+    out = sim.run_dynamic()
+    assert out.complete, out.message
+    points = [i for b in range(2) for c in range(sim.control_points(b).shape[0])
+              for i in range(sim.control_point_unknowns(sim.first_control_point(b) + c)[0],
+                             sim.control_point_unknowns(sim.first_control_point(b) + c)[0] + 3)]
+    return sim.x.getArray()[points].copy(), out
+
+
+def test_a_stiff_mode_below_the_tolerance_asks_for_no_small_steps():
+    """The seed's steel beams vibrate axially far above the motion, with amplitudes below the
+    tolerance: the estimate's oscillation bound keeps them from setting the step (without it,
+    rtol = 1e-3 took 2.5x the steps of the fixed step of the same error)."""
+    ref, _ = _seed(["analysis.dt=2.5e-5"])
+    fixed, fixed_out = _seed(["analysis.dt=3e-4"])
+    adapt, out = _seed(["analysis.adapt={rtol=1e-3}"])
+    err = float(np.abs(adapt - ref).max()) / 2.0  # over the carrier's length
+    assert 0.1e-3 < err < 10e-3, err
+    fixed_err = float(np.abs(fixed - ref).max()) / 2.0
+    assert out.steps < 1.6 * fixed_out.steps * (fixed_err / err) ** 0.5, (out.steps, fixed_out.steps, err, fixed_err)
+
+
+def test_a_small_step_converges_at_the_residuals_rounding_level():
+    """At h = 2e-6 the ropeway's step residual cannot fall below eps |J| |x| (the inertia's
+    2 M / h^2 times the coordinates' roundoff), 1e-3 of its initial value: Newton stops there
+    instead of failing the step."""
+    sc = scene.load_scene(ROOT / "runs" / "cables" / "ropeway.toml",
+                          ["analysis.dt=2e-6", "analysis.t_end=6e-6", "output.every=1"])
+    out = slidebeam.Simulation(sc, MPI.COMM_SELF).run_dynamic()
+    assert out.complete and out.rejected_steps == 0, out.message
+    assert all(r.newton_iterations <= 6 for r in out.records[1:])

@@ -548,7 +548,10 @@ def _run_dynamic(sim, scene: Scene, out: Path, args: argparse.Namespace, rank: i
             _say(rank, f"note: {summary['pivoting_lu_steps']} steps ran on the pivoting LU (SuperLU), which is slower, "
                        "after the LU without pivoting failed on them (a zero pivot, or Newton did not converge); the "
                        "steps after each went back to it (docs/troubleshooting.md, \"Solvers\")")
-        if summary["rejected_steps"]:
+        if summary["rejected_steps"] and scene.analysis.adapt is not None:
+            _say(rank, f"note: {summary['rejected_steps']} steps were rejected by the error control or by Newton and "
+                       "taken again smaller (history.csv rejected_steps and dt say where)")
+        elif summary["rejected_steps"]:
             _say(rank, f"note: {summary['rejected_steps']} steps failed and were retried at half the step size "
                        f"(summary.json rejected_steps; history.csv rejected_steps says where): dt = "
                        f"{summary['dt']:g} is too large for parts of this run")

@@ -829,7 +829,7 @@ def _parse_analysis(t: _Table) -> Analysis:
 
 
 def _adapt(t: _Table, kind: str, t_end: float) -> Adapt | None:
-    if not t.has("adapt"):
+    if not t.has("adapt") or t.raw("adapt") is False:  # (false: fixed steps, e.g. --set analysis.adapt=false)
         return None
     if kind != "dynamic":
         raise t.error("adapt", 'applies to type = "dynamic" only')

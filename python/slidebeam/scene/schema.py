@@ -49,7 +49,7 @@ ANALYSIS = Table("analysis", "[analysis]", "What is solved: load stepping (stati
     Key("t_end", "end time (dynamic); the pseudo-time of the last load step (static)", "s", "1.0", "> 0"),
     Key("dt", "time step (dynamic); under adapt the first step", "s",
         "required when type = \"dynamic\" (adapt: 1e-4 t_end)", "> 0 (adapt: <= adapt.dt_max)"),
-    Key("adapt", "error-controlled steps, a sub-table (see [analysis.adapt])", "", "fixed steps dt",
+    Key("adapt", "error-controlled steps, a sub-table (see [analysis.adapt]); false: fixed steps", "", "fixed steps dt",
         "table; type = \"dynamic\" only"),
     Key("dt_min", "smallest step the step control may cut to after a failed step", "s", "dt / 16 (adapt: 1e-6 dt)",
         "> 0, <= dt"),
