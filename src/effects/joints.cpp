@@ -262,8 +262,7 @@ class Joint final : public Effect, public ExtraUnknowns, public NumberingHints, 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const Eigen::VectorXd y = gather(ctx, ctx.x), yf = gather(ctx, ctx.xf);
-    const Eigen::VectorXd mu = multipliers(ctx);
+    const auto [y, yf, mu] = step_values(ctx);
     const Eigen::VectorXd f = gradient(yf).transpose() * mu;  // constraint forces at the force state
     const Eigen::VectorXd g = value(y);                        // constraints at the end of the step
     const auto d = local_dofs(ctx.model);
@@ -275,8 +274,7 @@ class Joint final : public Effect, public ExtraUnknowns, public NumberingHints, 
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
     if (!owned_) PetscFunctionReturn(0);
-    const Eigen::VectorXd y = gather(ctx, ctx.x), yf = gather(ctx, ctx.xf);
-    const Eigen::VectorXd mu = multipliers(ctx);
+    const auto [y, yf, mu] = step_values(ctx);
     const int nq = coordinates(), nc = 3 + n_orient_, n = nq + nc;
     using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     RowMajor A = RowMajor::Zero(n, n);
@@ -383,6 +381,13 @@ class Joint final : public Effect, public ExtraUnknowns, public NumberingHints, 
         y.segment(o, S.coords) =
             Eigen::Map<const Eigen::VectorXd>(m.beam(S.beam).q_ref().data() + S.coords * S.cp[j], S.coords);
     return y;
+  }
+  /// The coordinates at the end of the step and at the force state, and the multipliers.
+  struct StepValues {
+    Eigen::VectorXd y, yf, mu;
+  };
+  StepValues step_values(const EvalContext& ctx) const {
+    return {gather(ctx, ctx.x), gather(ctx, ctx.xf), multipliers(ctx)};
   }
   Eigen::VectorXd multipliers(const EvalContext& ctx) const {
     Eigen::VectorXd mu(3 + n_orient_);

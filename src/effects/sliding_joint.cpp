@@ -195,8 +195,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (!owned_) PetscFunctionReturn(0);
     if (frame_) PetscFunctionReturn(frame_residual(ctx, r));
     const Terms t = terms(ctx);
-    const Eigen::Vector3d mu = multipliers(ctx.x);
-    const Beam& C = ctx.model.beam(carrier_);
+    const Eigen::Vector3d& mu = t.mu;
+    const Beam& C = *t.carrier;
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (int A = t.lo; A <= t.hi; ++A) {
       Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, C, A)) += t.Wq.at(A) * mu;
@@ -216,8 +216,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (!owned_) PetscFunctionReturn(0);
     if (frame_) PetscFunctionReturn(frame_jacobian(ctx, J));
     const Terms t = terms(ctx);
-    const Eigen::Vector3d mu = multipliers(ctx.x);
-    const Beam& C = ctx.model.beam(carrier_);
+    const Eigen::Vector3d& mu = t.mu;
+    const Beam& C = *t.carrier;
     // The (s, mu) columns of the position rows and the (s, mu) rows over the slider and the
     // window of carrier points (see pattern()), filled directly: O(window) per joint.
     move_window(t.lo, t.hi);
@@ -351,6 +351,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     sliding::Weights N1, dN1;   // constraint at the end of the step: N(s1), N'(s1)
     Eigen::Vector3d Gs = Eigen::Vector3d::Zero();
     double blend_old = 0.0;     // xhat = blend_old x_old + (1 - blend_old) x
+    Eigen::Vector3d mu = Eigen::Vector3d::Zero();  // the multipliers
+    const Beam* carrier = nullptr;
   };
 
   Terms terms(const EvalContext& ctx) const {
@@ -358,6 +360,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     const sliding::Curve& cv = curve_;
     const double s1 = ctx.x.at(s_index()), s0 = ctx.x_old.at(s_index());
     Terms t;
+    t.mu = multipliers(ctx.x);
+    t.carrier = &C;
     const auto range = cv.touched_blocks(s0, s1);
     t.lo = range[0];
     t.hi = range[1];

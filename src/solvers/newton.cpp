@@ -151,7 +151,20 @@ PetscErrorCode RoundoffTest::rounding_level(SNES snes, double* level) {
   PetscObjectId id = 0;
   PetscCall(MatGetNonzeroState(P, &state));
   PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(P), &id));
-  if (!abs_ || state != state_ || id != id_ || pattern_generation != generation_) {  // a new pattern
+  // (a matrix whose pattern grows during a run, contact on several ranks, may keep its nonzero
+  // state on one rank while another's blocks change: the stored entries are compared too, and
+  // every rank makes the same choice)
+  int fresh = !abs_ || state != state_ || id != id_ || pattern_generation != generation_;
+  if (!fresh) {
+    MatInfo now, kept;
+    PetscCall(MatGetInfo(P, MAT_LOCAL, &now));
+    PetscCall(MatGetInfo(abs_, MAT_LOCAL, &kept));
+    fresh = now.nz_used != kept.nz_used;
+  }
+  MPI_Comm comm = MPI_COMM_NULL;
+  PetscCall(PetscObjectGetComm(reinterpret_cast<PetscObject>(P), &comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &fresh, 1, MPI_INT, MPI_LOR, comm));
+  if (fresh) {  // a new pattern
     PetscCall(MatDestroy(&abs_));
     PetscCall(VecDestroy(&ax_));
     PetscCall(VecDestroy(&y_));

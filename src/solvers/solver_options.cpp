@@ -103,81 +103,101 @@ PetscErrorCode inherit_plain_options(const std::string& prefix) {
   PetscFunctionReturn(0);
 }
 
+/// One -sb_ option: its name, help and the value it sets (exactly one of flag, integer, real).
+struct CoreOption {
+  const char* name;
+  const char* help;
+  PetscBool* flag = nullptr;
+  PetscInt* integer = nullptr;
+  PetscReal* real = nullptr;
+  PetscBool* given = nullptr;  ///< set when the option is on the command line (or nullptr)
+};
+
 PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
   PetscFunctionBeginUser;
+  const CoreOption table[] = {
+      {"-sb_condense_directors",
+       "Newton with director triads condensed to 6 unknowns per control point, updated by "
+       "rotations (false: plain Newton on the full system)",
+       &o->condense_directors, nullptr, nullptr, nullptr},
+      {"-sb_exponential_update",
+       "statics: turn the triads by the rotation exp(w) of the Newton step (false: the closest "
+       "orthonormal frame of d + w x d)",
+       &o->exponential_update, nullptr, nullptr, nullptr},
+      {"-sb_corotate_jacobian",
+       "time steps with -sb_jacobian_reuse: rotate the reused condensed Jacobian with the triads",
+       &o->corotate_jacobian, nullptr, nullptr, nullptr},
+      {"-sb_jacobian_reuse",
+       "time steps: modified Newton, the Jacobian and its LU kept across iterations and steps "
+       "(false: full Newton)",
+       &o->jacobian_reuse, nullptr, nullptr, &o->jacobian_reuse_set},
+      {"-sb_newton_by_cost",
+       "time steps without -sb_jacobian_reuse: modified or full Newton, each measured over a "
+       "stretch of steps and the cheaper one run (iterations + 4 per Jacobian)",
+       &o->newton_by_cost, nullptr, nullptr, nullptr},
+      {"-sb_jacobian_reuse_rate",
+       "modified Newton: a fresh Jacobian once an iteration reduces |F| by less than this factor",
+       nullptr, nullptr, &o->jacobian_reuse_rate, nullptr},
+      {"-sb_backtrack",
+       "time steps, Newton on the director manifold: halve a step that makes |F| grow, up to 6 "
+       "times",
+       &o->backtrack, nullptr, nullptr, nullptr},
+      {"-sb_full_newton_after_rebuild",
+       "modified Newton: finish a step with full Newton once its Jacobian had to be rebuilt",
+       &o->full_newton_after_rebuild, nullptr, nullptr, nullptr},
+      {"-sb_floor_stop",
+       "time steps: stop Newton once |F| is near the roundoff floor measured on earlier steps",
+       &o->floor_stop, nullptr, nullptr, nullptr},
+      {"-sb_project_velocity",
+       "project the initial velocities onto the constraints (false: as given, sliding rates 0)",
+       &o->project_velocity, nullptr, nullptr, nullptr},
+      {"-sb_schwarz",
+       "time steps: GMRES + Schwarz on the model's subdomains (default: on more than one rank "
+       "unless a KSP, PC or factor package is given)",
+       &o->schwarz, nullptr, nullptr, &o->schwarz_set},
+      {"-sb_schwarz_overlap",
+       "Schwarz: 0 block Jacobi, one block per rank; 1 restricted additive Schwarz with overlap",
+       nullptr, &o->schwarz_overlap, nullptr, nullptr},
+      {"-sb_schwarz_exact",
+       "block Jacobi on coupled ranks: one application made exact by the correction on the "
+       "ranks' interface unknowns, where no rank has more than -sb_schwarz_exact_max_interface "
+       "coupled rows (false: GMRES)",
+       &o->schwarz_exact, nullptr, nullptr, nullptr},
+      {"-sb_schwarz_exact_max_interface",
+       "-sb_schwarz_exact: the exact correction only while no rank has more rows coupled to "
+       "another rank (its set-up solves once per interface unknown)",
+       nullptr, &o->schwarz_exact_max_interface, nullptr, nullptr},
+      {"-sb_statics_on_rank_0",
+       "static analyses under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
+       "static analysis there; Simulation.solve_static hands its state to every rank (false: "
+       "on all ranks, MUMPS on the whole system)",
+       &o->statics_on_rank_0, nullptr, nullptr, nullptr},
+      {"-sb_equilibrium_on_rank_0",
+       "the static start of a distributed dynamic run on rank 0 alone by the serial solver, "
+       "bit for bit the serial run's (false: on all ranks, see -sb_equilibrium_blocks)",
+       &o->equilibrium_on_rank_0, nullptr, nullptr, nullptr},
+      {"-sb_equilibrium_blocks",
+       "a distributed static start: its continuation steps on the time steps' block solve "
+       "(condensed exact blocks, the coupling correction), a plain Newton polish where one is "
+       "needed on MUMPS (false: MUMPS throughout)",
+       &o->equilibrium_blocks, nullptr, nullptr, nullptr},
+      {"-sb_serial_below",
+       "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
+       nullptr, &o->partition.serial_below, nullptr, nullptr},
+      {"-sb_serial_above_cut",
+       "a model whose split over ranks leaves a rank more control points next to another "
+       "rank's is owned and solved by rank 0 alone (0: no limit)",
+       nullptr, &o->partition.serial_above_cut, nullptr, nullptr},
+      {"-sb_adapt_monitor",
+       "error-controlled steps ([analysis] adapt): print each step's error estimate and the unknown that set it",
+       &o->adapt_monitor, nullptr, nullptr, nullptr},
+  };
   PetscOptionsBegin(comm, nullptr, "slidebeam core options (docs/petsc-options.md)", "slidebeam");
-  PetscCall(PetscOptionsBool("-sb_condense_directors",
-                             "Newton with director triads condensed to 6 unknowns per control point, updated by "
-                             "rotations (false: plain Newton on the full system)",
-                             "", o->condense_directors, &o->condense_directors, nullptr));
-  PetscCall(PetscOptionsBool("-sb_exponential_update",
-                             "statics: turn the triads by the rotation exp(w) of the Newton step (false: the closest "
-                             "orthonormal frame of d + w x d)",
-                             "", o->exponential_update, &o->exponential_update, nullptr));
-  PetscCall(PetscOptionsBool("-sb_corotate_jacobian",
-                             "time steps with -sb_jacobian_reuse: rotate the reused condensed Jacobian with the triads",
-                             "", o->corotate_jacobian, &o->corotate_jacobian, nullptr));
-  PetscCall(PetscOptionsBool("-sb_jacobian_reuse",
-                             "time steps: modified Newton, the Jacobian and its LU kept across iterations and steps "
-                             "(false: full Newton)",
-                             "", o->jacobian_reuse, &o->jacobian_reuse, &o->jacobian_reuse_set));
-  PetscCall(PetscOptionsBool("-sb_newton_by_cost",
-                             "time steps without -sb_jacobian_reuse: modified or full Newton, each measured over a "
-                             "stretch of steps and the cheaper one run (iterations + 4 per Jacobian)",
-                             "", o->newton_by_cost, &o->newton_by_cost, nullptr));
-  PetscCall(PetscOptionsReal("-sb_jacobian_reuse_rate",
-                             "modified Newton: a fresh Jacobian once an iteration reduces |F| by less than this factor",
-                             "", o->jacobian_reuse_rate, &o->jacobian_reuse_rate, nullptr));
-  PetscCall(PetscOptionsBool("-sb_backtrack",
-                             "time steps, Newton on the director manifold: halve a step that makes |F| grow, up to 6 "
-                             "times",
-                             "", o->backtrack, &o->backtrack, nullptr));
-  PetscCall(PetscOptionsBool("-sb_full_newton_after_rebuild",
-                             "modified Newton: finish a step with full Newton once its Jacobian had to be rebuilt", "",
-                             o->full_newton_after_rebuild, &o->full_newton_after_rebuild, nullptr));
-  PetscCall(PetscOptionsBool("-sb_floor_stop",
-                             "time steps: stop Newton once |F| is near the roundoff floor measured on earlier steps",
-                             "", o->floor_stop, &o->floor_stop, nullptr));
-  PetscCall(PetscOptionsBool("-sb_project_velocity",
-                             "project the initial velocities onto the constraints (false: as given, sliding rates 0)",
-                             "", o->project_velocity, &o->project_velocity, nullptr));
-  PetscCall(PetscOptionsBool("-sb_schwarz",
-                             "time steps: GMRES + Schwarz on the model's subdomains (default: on more than one rank "
-                             "unless a KSP, PC or factor package is given)",
-                             "", o->schwarz, &o->schwarz, &o->schwarz_set));
-  PetscCall(PetscOptionsInt("-sb_schwarz_overlap",
-                            "Schwarz: 0 block Jacobi, one block per rank; 1 restricted additive Schwarz with overlap",
-                            "", o->schwarz_overlap, &o->schwarz_overlap, nullptr));
-  PetscCall(PetscOptionsBool("-sb_schwarz_exact",
-                             "block Jacobi on coupled ranks: one application made exact by the correction on the "
-                             "ranks' interface unknowns, where no rank has more than -sb_schwarz_exact_max_interface "
-                             "coupled rows (false: GMRES)",
-                             "", o->schwarz_exact, &o->schwarz_exact, nullptr));
-  PetscCall(PetscOptionsInt("-sb_schwarz_exact_max_interface",
-                            "-sb_schwarz_exact: the exact correction only while no rank has more rows coupled to "
-                            "another rank (its set-up solves once per interface unknown)",
-                            "", o->schwarz_exact_max_interface, &o->schwarz_exact_max_interface, nullptr));
-  PetscCall(PetscOptionsBool("-sb_statics_on_rank_0",
-                             "static analyses under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
-                             "static analysis there; Simulation.solve_static hands its state to every rank (false: "
-                             "on all ranks, MUMPS on the whole system)",
-                             "", o->statics_on_rank_0, &o->statics_on_rank_0, nullptr));
-  PetscCall(PetscOptionsBool("-sb_equilibrium_on_rank_0",
-                             "the static start of a distributed dynamic run on rank 0 alone by the serial solver, "
-                             "bit for bit the serial run's (false: on all ranks, see -sb_equilibrium_blocks)",
-                             "", o->equilibrium_on_rank_0, &o->equilibrium_on_rank_0, nullptr));
-  PetscCall(PetscOptionsBool("-sb_equilibrium_blocks",
-                             "a distributed static start: its continuation steps on the time steps' block solve "
-                             "(condensed exact blocks, the coupling correction), a plain Newton polish where one is "
-                             "needed on MUMPS (false: MUMPS throughout)",
-                             "", o->equilibrium_blocks, &o->equilibrium_blocks, nullptr));
-  PetscCall(PetscOptionsInt("-sb_serial_below",
-                            "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
-                            "", o->partition.serial_below, &o->partition.serial_below, nullptr));
-  PetscCall(PetscOptionsInt("-sb_serial_above_cut",
-                            "a model whose split over ranks leaves a rank more control points next to another "
-                            "rank's is owned and solved by rank 0 alone (0: no limit)",
-                            "", o->partition.serial_above_cut, &o->partition.serial_above_cut, nullptr));
+  for (const CoreOption& c : table) {
+    if (c.flag) PetscCall(PetscOptionsBool(c.name, c.help, "", *c.flag, c.flag, c.given));
+    if (c.integer) PetscCall(PetscOptionsInt(c.name, c.help, "", *c.integer, c.integer, c.given));
+    if (c.real) PetscCall(PetscOptionsReal(c.name, c.help, "", *c.real, c.real, c.given));
+  }
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }

@@ -87,6 +87,8 @@ struct CoreOptions {
   /// a distributed static start solves its continuation steps on the time steps' block path
   /// (BlockSolvePath); false: on MUMPS like its polish
   PetscBool equilibrium_blocks = PETSC_TRUE;
+  /// error-controlled steps: print each step's estimate and the unknown that set it
+  PetscBool adapt_monitor = PETSC_FALSE;
 };
 
 /// Read the -sb_ options (collective on comm).

@@ -11,6 +11,8 @@ namespace slidebeam {
 namespace {
 constexpr double kSafety = 0.9;
 constexpr double kGrowMax = 2.0, kShrinkMax = 0.25, kGrowMin = 1.25;
+// growth per step while the run starts (until the estimate first limits it)
+constexpr double kStartGrowMax = 10.0;
 // the envelope forgets a step's err by this factor a step: a spike (a snap, a slider crossing a
 // knot) holds the step for some tens of steps, not for the rest of the run
 constexpr double kForget = 0.97;
@@ -49,6 +51,7 @@ void ErrorControl::start(Vec x_n) {
   known_ = 1;
   worst_ = 0.0;
   settled_ = 0;
+  starting_ = true;
 }
 
 double ErrorControl::error(Vec x1, double h) const {
@@ -106,6 +109,15 @@ double ErrorControl::accepted(Vec x1, double h, double err) {
   ++settled_;
   if (err < 0) return bounded(h);
   worst_ = std::max(worst_ * kForget, err);
+  if (starting_) {  // from the small first steps up to the size the estimate asks for, a step at a time
+    const double grow = err > 0 ? kSafety / std::sqrt(err) : kStartGrowMax;
+    if (grow < kStartGrowMax) starting_ = false;
+    if (grow >= kGrowMin) {
+      worst_ = 0.0, settled_ = 0;
+      return bounded(h * std::min(grow, kStartGrowMax));
+    }
+    return bounded(h);
+  }
   if (settled_ < kSettle) return bounded(h);
   const double grow = worst_ > 0 ? kSafety / std::sqrt(worst_) : kGrowMax;
   if (grow < kGrowMin) return bounded(h);
@@ -115,6 +127,7 @@ double ErrorControl::accepted(Vec x1, double h, double err) {
 }
 
 double ErrorControl::rejected(double h, double err) {
+  starting_ = false;
   worst_ = 0.0;
   settled_ = 0;
   if (err <= 0) return 0.5 * h;

@@ -49,7 +49,8 @@ struct ErrorControlParams {
 class ErrorControl {
  public:
   /// The first two steps have no estimate: they are taken at this fraction of the first step
-  /// asked for, and the steps grow from there as the estimate allows.
+  /// asked for, and the steps grow from there as the estimate allows (every step, up to 10x,
+  /// until the estimate first limits the growth or a step is rejected).
   static constexpr double kStartFraction = 0.01;
 
   ErrorControl(const Model& model, Vec like, const ErrorControlParams& params);
@@ -90,6 +91,7 @@ class ErrorControl {
   int known_ = 0;           // past solutions held (0..3)
   double worst_ = 0.0;      // the envelope of err since the step size last changed (decaying)
   int settled_ = 0;         // accepted steps at the current size
+  bool starting_ = true;    // since start(): growing by the estimate every step, up to 10x
   std::vector<std::pair<PetscInt, int>> where_;  // per local entry: control point, coordinate
   mutable Limit limit_;
 };

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "time/stepper.hpp"
 
+#include "solvers/solver_options.hpp"
 #include "util/petsc_check.hpp"
 
 #include <algorithm>
@@ -43,9 +44,7 @@ void Stepper::set_error_control(const ErrorControlParams& params) {
   control_ = std::make_unique<ErrorControl>(model_, integ_.x(), params);
   control_->start(integ_.x());
   dt_ = std::max(dt_min_, ErrorControl::kStartFraction * dt_);
-  PetscBool monitor = PETSC_FALSE;
-  SB_CHECK(PetscOptionsHasName(nullptr, nullptr, "-sb_adapt_monitor", &monitor));
-  monitor_ = monitor;
+  monitor_ = core_options(model_.comm()).adapt_monitor;
 }
 
 void Stepper::report_error(double h, double err) const {

@@ -216,11 +216,7 @@ def test_unsolvable_initial_acceleration_is_a_solver_error(run_cli, tmp_path):
     and the system is singular. That is a property of the scene: exit 1 with a hint, no trace."""
     scene = tmp_path / "massless.toml"
     scene.write_text("""
-[analysis]
-type = "dynamic"
-integrator = "newmark"
-dt = 0.01
-t_end = 0.02
+analysis = { type = "dynamic", integrator = "newmark", dt = 0.01, t_end = 0.02 }
 [[beam]]
 name = "a"
 start = [0.0, 0.0, 0.0]

@@ -18,6 +18,14 @@ sys.modules[_spec.name] = scene
 _spec.loader.exec_module(scene)
 
 
+STEEL_STRIP = """[beam.section]
+shape = "rectangle"
+b = 0.005
+h = 0.005
+E = 2.07e11
+nu = 0.3
+"""  # a 5 mm square steel strip
+
 FULL = """
 [scene]
 name = "rollup"
@@ -47,13 +55,7 @@ d2 = [0, 2, 0]
 spans = 16
 quadrature = "reduced"
 velocity = [1, 0, 0]
-[beam.section]
-shape = "rectangle"
-b = 0.005
-h = 0.005
-E = 2.07e11
-nu = 0.3
-rho = 7800
+""" + STEEL_STRIP + """rho = 7800
 
 [[beam]]
 name = "ring"
@@ -128,13 +130,7 @@ name = "strip"
 start = [0, 0, 0]
 end = [10, 0, 0]
 spans = 16
-[beam.section]
-shape = "rectangle"
-b = 0.005
-h = 0.005
-E = 2.07e11
-nu = 0.3
-"""
+""" + STEEL_STRIP
 
 
 def _write(tmp_path: pathlib.Path, text: str, name: str = "case.toml") -> pathlib.Path:

@@ -59,7 +59,28 @@ vary = {{ "analysis.dt" = [2e-3, 1e-3], "beam.AB.quadrature&beam.CM.quadrature" 
     assert (tmp_path / "st" / "study_s.png").read_bytes()[:8] == PNG  # a sliding joint: s is compared
 
 
+def test_tolerance_driven_runs_have_curves_of_their_own(run_cli, root, tmp_path):
+    """--adapt: each integrator also runs with error-controlled steps at each tolerance, in
+    curves of their own whose error follows the tolerance (order ~1 along rtol)."""
+    out = run_cli("study", str(root / "runs" / "soft_pendulum.toml"), "--set", "analysis.t_end=0.3",
+                  "--vary", "analysis.dt=8e-3,4e-3", "--vary", "analysis.integrator=energy-momentum,newmark",
+                  "--adapt", "1e-3,1e-4,1e-5", "--reference", "analysis.dt=1e-4", "-j", "2", "--out", "st")
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.DictReader((tmp_path / "st" / "study.csv").open()))
+    adaptive = [r for r in rows if r.get("analysis.adapt")]
+    assert len(rows) == 10 and len(adaptive) == 6
+    assert all(not r["analysis.dt"] for r in adaptive)
+    for r in adaptive:
+        rtol = float(r["analysis.adapt"].strip("{}").partition("=")[2])
+        assert 0.1 * rtol < float(r["error_tip"]) < 10 * rtol, (r["run"], r["error_tip"])
+    md = (tmp_path / "st" / "study.md").read_text()
+    orders = dict(re.findall(r"\| integrator=(\S+), adaptive \| ([0-9.]+) \|", md))
+    assert set(orders) == {"energy-momentum", "newmark"}
+    assert all(0.8 < float(v) < 1.2 for v in orders.values()), orders
+
+
 @pytest.mark.parametrize("args, words", [
+    (["--vary", "analysis.dt=1e-3", "--adapt", "2"], "numbers in (0, 1)"),
     (["--vary", "analysis.dt"], "key=v1,v2"),
     ([], "nothing to vary"),
     (["--vary", "analysis.dt=1e-3", "--reference", "analysis.dt"], "key=value"),

@@ -73,6 +73,9 @@ def _parser() -> argparse.ArgumentParser:
     st.add_argument("--reference", action="append", default=[], metavar="KEY=VALUE",
                     help="the reference run: the scene with these values (repeatable; default: the finest run)")
     st.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override for every run (repeatable)")
+    st.add_argument("--adapt", metavar="RTOL,...", help="also run each combination of the other varied keys with "
+                                                        "error-controlled steps at these tolerances instead of "
+                                                        "analysis.dt (curves of their own)")
     st.add_argument("-j", "--jobs", type=int, default=None, help="runs at once (default 1, or the study file's jobs)")
     st.add_argument("--out", help="output folder (default: out/study_<name>)")
     st.add_argument("-q", "--quiet", action="store_true", help="no progress output")

@@ -17,6 +17,12 @@ where both runs have a state.
 
 Curves: a varied key whose values are all numbers is a refinement axis. The one with the most
 values is the x of the orders; the curves are the combinations of the other varied keys.
+
+Tolerance-driven runs (``adapt = [rtol, ...]`` in the study file, ``--adapt rtol,...``): besides
+the grid, every combination of the other varied keys runs with ``[analysis] adapt = { rtol }``
+instead of the varied ``analysis.dt``; they make curves of their own (``..., adaptive``), whose
+order is the slope of the error against rtol (1: the error follows the tolerance). Their records
+are every step, and their errors are taken at the reference's record times.
 """
 from __future__ import annotations
 
@@ -162,7 +168,7 @@ def read_study_file(path: Path) -> dict[str, Any]:
     study = data.get("study")
     if not isinstance(study, dict):
         raise StudyError(f"{path}: a study file needs a [study] table")
-    allowed = {"scene", "vary", "reference", "set", "jobs", "description", "curve_by"}
+    allowed = {"scene", "vary", "reference", "set", "jobs", "description", "curve_by", "adapt"}
     unknown = set(study) - allowed
     if unknown:
         raise StudyError(f"{path}: unknown key(s) in [study]: {', '.join(sorted(unknown))} "
@@ -181,7 +187,39 @@ def read_study_file(path: Path) -> dict[str, Any]:
         "sets": {k: _toml_text(v) for k, v in study.get("set", {}).items()},
         "jobs": int(study.get("jobs", 1)),
         "curve_by": list(study.get("curve_by", [])),
+        "adapt": parse_tolerances(study.get("adapt", []), f"{path}: adapt"),
     }
+
+
+def parse_tolerances(values: Any, what: str) -> list[float]:
+    """rtols of the tolerance-driven runs: a list of numbers in (0, 1), or 'r1,r2' text."""
+    items = values.split(",") if isinstance(values, str) else values
+    if not isinstance(items, list):
+        raise StudyError(f"{what} must be a list of tolerances, got {values!r}")
+    out = []
+    for v in items:
+        try:
+            r = float(v)
+        except (TypeError, ValueError):
+            raise StudyError(f"{what} must be numbers in (0, 1), got {v!r}") from None
+        if not 0 < r < 1:
+            raise StudyError(f"{what} must be numbers in (0, 1), got {v!r}")
+        out.append(r)
+    return out
+
+
+ADAPT_KEY = "analysis.adapt"
+
+
+def adaptive_variants(varies: list[tuple[list[str], list[str]]], rtols: list[float], first: int) -> list[Variant]:
+    """Every combination of the varied keys other than analysis.dt, at each tolerance."""
+    others = [(keys, values) for keys, values in varies if "analysis.dt" not in keys]
+    out = []
+    for rtol in rtols:
+        for v in grid(others):
+            out.append(Variant(first + len(out), {**v.sets, ADAPT_KEY: f"{{rtol={rtol:g}}}"},
+                               {"output.every": "1"}))
+    return out
 
 
 # -- running ---------------------------------------------------------------------------------
@@ -227,6 +265,9 @@ def errors(run: RunData, ref: RunData) -> dict[str, float]:
     """Largest differences from the reference over the times both reached."""
     if len(run.t) == 0 or len(ref.t) == 0:
         return {"tip": math.nan, "s": math.nan, "energy": math.nan}
+    scale = ref.T.max() if ref.T.max(initial=0.0) > 0 else 1.0
+    if len(run.t) > len(ref.t):  # a run recorded more densely (adaptive steps): at the reference's times
+        run, ref = ref, run
     keep = run.t <= ref.t[-1] * (1 + 1e-12)
     t = run.t[keep]
 
@@ -236,7 +277,6 @@ def errors(run: RunData, ref: RunData) -> dict[str, float]:
     ref_tip = np.column_stack([interp(ref.tip[:, k]) for k in range(3)])
     out = {"tip": float(np.linalg.norm(run.tip[keep] - ref_tip, axis=1).max())}
     out["s"] = float(np.abs(run.s[keep] - interp(ref.s)).max()) if run.s is not None and ref.s is not None else math.nan
-    scale = ref.T.max() if ref.T.max(initial=0.0) > 0 else 1.0
     out["energy"] = float(np.abs(run.H[keep] - interp(ref.H)).max() / scale)
     return out
 
@@ -281,9 +321,10 @@ def common_record_interval(scene: Path, variants: list[Variant], base_sets: dict
     base = load_scene(scene, [f"{k}={v}" for k, v in base_sets.items()])
     if base.analysis.type != "dynamic" or base.analysis.dt is None:
         return
-    dts = [float(v.sets.get("analysis.dt", base.analysis.dt)) for v in variants]
+    fixed = [v for v in variants if ADAPT_KEY not in v.sets]
+    dts = [float(v.sets.get("analysis.dt", base.analysis.dt)) for v in fixed]
     interval = max(dts)
-    for v, dt in zip(variants, dts):
+    for v, dt in zip(fixed, dts):
         ratio = interval / dt
         if "output.every" not in v.sets and abs(ratio - round(ratio)) < 1e-9 * ratio:
             v.extra = {"output.every": str(round(ratio))}
@@ -292,12 +333,14 @@ def common_record_interval(scene: Path, variants: list[Variant], base_sets: dict
 def run_study(scene: Path, varies: list[tuple[list[str], list[str]]], out: Path,
               reference: dict[str, str] | None = None, base_sets: dict[str, str] | None = None,
               jobs: int = 1, petsc_args: list[str] | None = None, progress=print,
-              curve_by: list[str] | None = None) -> dict[str, Any]:
+              curve_by: list[str] | None = None, adapt: list[float] | None = None) -> dict[str, Any]:
     """Run the grid (and the reference), write study.csv, study.md and the diagrams into out.
     curve_by: keys whose values make the diagram's curves (default: every varied key but the
-    refinement key); each curve then joins all its runs in order of cost."""
+    refinement key); each curve then joins all its runs in order of cost. adapt: tolerances of
+    the tolerance-driven runs (see the module comment)."""
     base_sets = base_sets or {}
     variants = grid(varies)
+    variants += adaptive_variants(varies, adapt or [], len(variants))
     out.mkdir(parents=True, exist_ok=True)
     runs_dir = out / "runs"
     runs_dir.mkdir(exist_ok=True)
@@ -354,7 +397,13 @@ def run_study(scene: Path, varies: list[tuple[list[str], list[str]]], out: Path,
 
 
 def _curve_label(row: dict, curve_keys: list[str]) -> str:
-    return ", ".join(f"{k.split('&')[0].split('.')[-1]}={row[k.split('&')[0]]}" for k in curve_keys) or "all"
+    label = ", ".join(f"{k.split('&')[0].split('.')[-1]}={row[k.split('&')[0]]}" for k in curve_keys
+                      if k.split('&')[0] in row) or "all"
+    return label + ", adaptive" if ADAPT_KEY in row else label
+
+
+def _rtol(row: dict) -> float:
+    return float(row[ADAPT_KEY].strip("{}").partition("=")[2])
 
 
 def _orders(rows, varies, x_key, curve_keys, quantities) -> dict[str, dict[str, float]]:
@@ -368,8 +417,8 @@ def _orders(rows, varies, x_key, curve_keys, quantities) -> dict[str, dict[str, 
         groups.setdefault(_curve_label(row, curve_keys), []).append(row)
     for label, members in groups.items():
         members = [m for m in members if not m["is_reference"]]
-        out[label] = {q: observed_order([float(m[first_x]) for m in members], [m[f"error_{q}"] for m in members])
-                      for q in quantities}
+        x = [_rtol(m) if ADAPT_KEY in m else float(m[first_x]) for m in members]
+        out[label] = {q: observed_order(x, [m[f"error_{q}"] for m in members]) for q in quantities}
     return out
 
 
@@ -392,18 +441,19 @@ def _fmt(v: Any) -> str:
 
 
 def _markdown(rows, varies, quantities, orders, ref, x_key) -> str:
-    keys = [k for keys, _ in varies for k in keys[:1]]
+    keys = [k for keys, _ in varies for k in keys[:1]] + ([ADAPT_KEY] if any(ADAPT_KEY in r for r in rows) else [])
     head = keys + [f"error {q}" for q in quantities] + ["energy drift", "wall [s]*", "steps", "Newton its",
                                                        "linear solves", "run"]
     lines = [f"Reference: {ref.variant.label}" + (" (finest run of the grid)" if ref.variant.index < len(rows) else ""),
              "", "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
-        cells = [str(r[k]) for k in keys] + [_fmt(r[f"error_{q}"]) for q in quantities]
+        cells = [str(r.get(k, "")) for k in keys] + [_fmt(r[f"error_{q}"]) for q in quantities]
         cells += [_fmt(r["energy_drift"]), _fmt(float(r["wall_time_s"])), str(r["steps"]), str(r["newton_iterations"]),
                   str(r["linear_solves"]), ("reference" if r["is_reference"] else r["message"])]
         lines.append("| " + " | ".join(cells) + " |")
     if orders:
-        lines += ["", f"Observed orders along {x_key} (least-squares slope of log error):", "",
+        lines += ["", f"Observed orders along {x_key} (least-squares slope of log error; adaptive curves: "
+                      "along rtol):", "",
                   "| curve | " + " | ".join(quantities) + " |", "|---|" + "---|" * len(quantities)]
         for label, qs in orders.items():
             lines.append(f"| {label} | " + " | ".join(_fmt(qs[q]) for q in quantities) + " |")
@@ -475,6 +525,7 @@ def main_study(args, petsc_args: list[str]) -> int:
     sets = parse_assignments(args.set, "--set")
     jobs = args.jobs
     scene = path
+    adapt = parse_tolerances(args.adapt, "--adapt") if args.adapt else []
     curve_by: list[str] | None = None
     if path.is_file() and "[study]" in path.read_text():
         spec = read_study_file(path)
@@ -483,11 +534,12 @@ def main_study(args, petsc_args: list[str]) -> int:
         sets = {**spec["sets"], **sets}
         jobs = args.jobs if args.jobs_given else spec["jobs"]
         curve_by = spec["curve_by"] or None
+        adapt = spec["adapt"] + adapt
     if not scene.is_file():
         raise StudyError(f"scene {scene} does not exist")
     if not varies:
         raise StudyError("nothing to vary: give --vary key=v1,v2,... (or a study file)")
     out = Path(args.out) if args.out else Path("out") / f"study_{path.stem}"
     say = (lambda s: None) if args.quiet else (lambda s: print(s, flush=True))
-    run_study(scene, varies, out, reference or None, sets, jobs, petsc_args, say, curve_by)
+    run_study(scene, varies, out, reference or None, sets, jobs, petsc_args, say, curve_by, adapt)
     return 0

@@ -275,7 +275,7 @@ class Analysis:
     dt_min: float | None
     em_dissipation: float = 0.0  # energy-momentum: xi of the energy-decaying variant (0: conserving)
     start: str = "reference"     # dynamic: 'reference' (the scene's geometry) or 'equilibrium' (static first)
-    adapt: Adapt | None = None   # dynamic: error-controlled steps (dt is then the first step)
+    adapt: Adapt | None = None   # dynamic: error-controlled steps (the run then starts at dt / 100)
 
     @property
     def dt_max_step(self) -> float:

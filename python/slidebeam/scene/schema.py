@@ -47,7 +47,7 @@ ANALYSIS = Table("analysis", "[analysis]", "What is solved: load stepping (stati
                 "dynamic: time integration from t = 0 to t_end", "", '"static"', '"static", "dynamic"'),
     Key("steps", "number of load steps (static)", "", "10", "integer >= 1"),
     Key("t_end", "end time (dynamic); the pseudo-time of the last load step (static)", "s", "1.0", "> 0"),
-    Key("dt", "time step (dynamic); under adapt the first step", "s",
+    Key("dt", "time step (dynamic); under adapt the run starts at 1/100 of it", "s",
         "required when type = \"dynamic\" (adapt: 1e-4 t_end)", "> 0 (adapt: <= adapt.dt_max)"),
     Key("adapt", "error-controlled steps, a sub-table (see [analysis.adapt]); false: fixed steps", "", "fixed steps dt",
         "table; type = \"dynamic\" only"),
@@ -131,7 +131,7 @@ BODY = Table("body", "[[body]]", "A rigid body (a cabin, hook block, platform, b
 
 ADAPT = Table("analysis.adapt", "adapt = { rtol, atol, dt_max }",
               "Steps chosen by their local error so that the error at t_end stays near the tolerance "
-              "(docs/theory.md, \"Adaptive steps\"); dt is the first step.", (
+              "(docs/theory.md, \"Adaptive steps\"); the run starts at 1/100 of dt and grows by the estimate.", (
     Key("rtol", "tolerance on directions (directors, ANCF slopes), and atol's scale", "", REQUIRED, "in (0, 1)"),
     Key("atol", "tolerance on points and sliding coordinates", "m", "rtol x the longest beam's length", "> 0"),
     Key("dt_max", "largest step", "s", "t_end / 10", "> 0"),
