@@ -112,85 +112,90 @@ struct CoreOption {
   PetscReal* real = nullptr;
   PetscBool* given = nullptr;  ///< set when the option is on the command line (or nullptr)
 };
+CoreOption flag(const char* name, const char* help, PetscBool* value, PetscBool* given = nullptr) {
+  return {name, help, value, nullptr, nullptr, given};
+}
+CoreOption integer(const char* name, const char* help, PetscInt* value) { return {name, help, nullptr, value}; }
+CoreOption real(const char* name, const char* help, PetscReal* value) { return {name, help, nullptr, nullptr, value}; }
 
 PetscErrorCode read_core_options(MPI_Comm comm, CoreOptions* o) {
   PetscFunctionBeginUser;
   const CoreOption table[] = {
-      {"-sb_condense_directors",
-       "Newton with director triads condensed to 6 unknowns per control point, updated by "
-       "rotations (false: plain Newton on the full system)",
-       &o->condense_directors, nullptr, nullptr, nullptr},
-      {"-sb_exponential_update",
-       "statics: turn the triads by the rotation exp(w) of the Newton step (false: the closest "
-       "orthonormal frame of d + w x d)",
-       &o->exponential_update, nullptr, nullptr, nullptr},
-      {"-sb_corotate_jacobian",
-       "time steps with -sb_jacobian_reuse: rotate the reused condensed Jacobian with the triads",
-       &o->corotate_jacobian, nullptr, nullptr, nullptr},
-      {"-sb_jacobian_reuse",
-       "time steps: modified Newton, the Jacobian and its LU kept across iterations and steps "
-       "(false: full Newton)",
-       &o->jacobian_reuse, nullptr, nullptr, &o->jacobian_reuse_set},
-      {"-sb_newton_by_cost",
-       "time steps without -sb_jacobian_reuse: modified or full Newton, each measured over a "
-       "stretch of steps and the cheaper one run (iterations + 4 per Jacobian)",
-       &o->newton_by_cost, nullptr, nullptr, nullptr},
-      {"-sb_jacobian_reuse_rate",
-       "modified Newton: a fresh Jacobian once an iteration reduces |F| by less than this factor",
-       nullptr, nullptr, &o->jacobian_reuse_rate, nullptr},
-      {"-sb_backtrack",
-       "time steps, Newton on the director manifold: halve a step that makes |F| grow, up to 6 "
-       "times",
-       &o->backtrack, nullptr, nullptr, nullptr},
-      {"-sb_full_newton_after_rebuild",
-       "modified Newton: finish a step with full Newton once its Jacobian had to be rebuilt",
-       &o->full_newton_after_rebuild, nullptr, nullptr, nullptr},
-      {"-sb_floor_stop",
-       "time steps: stop Newton once |F| is near the roundoff floor measured on earlier steps",
-       &o->floor_stop, nullptr, nullptr, nullptr},
-      {"-sb_project_velocity",
-       "project the initial velocities onto the constraints (false: as given, sliding rates 0)",
-       &o->project_velocity, nullptr, nullptr, nullptr},
-      {"-sb_schwarz",
-       "time steps: GMRES + Schwarz on the model's subdomains (default: on more than one rank "
-       "unless a KSP, PC or factor package is given)",
-       &o->schwarz, nullptr, nullptr, &o->schwarz_set},
-      {"-sb_schwarz_overlap",
-       "Schwarz: 0 block Jacobi, one block per rank; 1 restricted additive Schwarz with overlap",
-       nullptr, &o->schwarz_overlap, nullptr, nullptr},
-      {"-sb_schwarz_exact",
-       "block Jacobi on coupled ranks: one application made exact by the correction on the "
-       "ranks' interface unknowns, where no rank has more than -sb_schwarz_exact_max_interface "
-       "coupled rows (false: GMRES)",
-       &o->schwarz_exact, nullptr, nullptr, nullptr},
-      {"-sb_schwarz_exact_max_interface",
-       "-sb_schwarz_exact: the exact correction only while no rank has more rows coupled to "
-       "another rank (its set-up solves once per interface unknown)",
-       nullptr, &o->schwarz_exact_max_interface, nullptr, nullptr},
-      {"-sb_statics_on_rank_0",
-       "static analyses under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
-       "static analysis there; Simulation.solve_static hands its state to every rank (false: "
-       "on all ranks, MUMPS on the whole system)",
-       &o->statics_on_rank_0, nullptr, nullptr, nullptr},
-      {"-sb_equilibrium_on_rank_0",
-       "the static start of a distributed dynamic run on rank 0 alone by the serial solver, "
-       "bit for bit the serial run's (false: on all ranks, see -sb_equilibrium_blocks)",
-       &o->equilibrium_on_rank_0, nullptr, nullptr, nullptr},
-      {"-sb_equilibrium_blocks",
-       "a distributed static start: its continuation steps on the time steps' block solve "
-       "(condensed exact blocks, the coupling correction), a plain Newton polish where one is "
-       "needed on MUMPS (false: MUMPS throughout)",
-       &o->equilibrium_blocks, nullptr, nullptr, nullptr},
-      {"-sb_serial_below",
-       "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
-       nullptr, &o->partition.serial_below, nullptr, nullptr},
-      {"-sb_serial_above_cut",
-       "a model whose split over ranks leaves a rank more control points next to another "
-       "rank's is owned and solved by rank 0 alone (0: no limit)",
-       nullptr, &o->partition.serial_above_cut, nullptr, nullptr},
-      {"-sb_adapt_monitor",
-       "error-controlled steps ([analysis] adapt): print each step's error estimate and the unknown that set it",
-       &o->adapt_monitor, nullptr, nullptr, nullptr},
+      flag("-sb_condense_directors",
+           "Newton with director triads condensed to 6 unknowns per control point, updated by "
+           "rotations (false: plain Newton on the full system)",
+           &o->condense_directors),
+      flag("-sb_exponential_update",
+           "statics: turn the triads by the rotation exp(w) of the Newton step (false: the closest "
+           "orthonormal frame of d + w x d)",
+           &o->exponential_update),
+      flag("-sb_corotate_jacobian",
+           "time steps with -sb_jacobian_reuse: rotate the reused condensed Jacobian with the triads",
+           &o->corotate_jacobian),
+      flag("-sb_jacobian_reuse",
+           "time steps: modified Newton, the Jacobian and its LU kept across iterations and steps "
+           "(false: full Newton)",
+           &o->jacobian_reuse, &o->jacobian_reuse_set),
+      flag("-sb_newton_by_cost",
+           "time steps without -sb_jacobian_reuse: modified or full Newton, each measured over a "
+           "stretch of steps and the cheaper one run (iterations + 4 per Jacobian)",
+           &o->newton_by_cost),
+      real("-sb_jacobian_reuse_rate",
+           "modified Newton: a fresh Jacobian once an iteration reduces |F| by less than this factor",
+           &o->jacobian_reuse_rate),
+      flag("-sb_backtrack",
+           "time steps, Newton on the director manifold: halve a step that makes |F| grow, up to 6 "
+           "times",
+           &o->backtrack),
+      flag("-sb_full_newton_after_rebuild",
+           "modified Newton: finish a step with full Newton once its Jacobian had to be rebuilt",
+           &o->full_newton_after_rebuild),
+      flag("-sb_floor_stop",
+           "time steps: stop Newton once |F| is near the roundoff floor measured on earlier steps",
+           &o->floor_stop),
+      flag("-sb_project_velocity",
+           "project the initial velocities onto the constraints (false: as given, sliding rates 0)",
+           &o->project_velocity),
+      flag("-sb_schwarz",
+           "time steps: GMRES + Schwarz on the model's subdomains (default: on more than one rank "
+           "unless a KSP, PC or factor package is given)",
+           &o->schwarz, &o->schwarz_set),
+      integer("-sb_schwarz_overlap",
+              "Schwarz: 0 block Jacobi, one block per rank; 1 restricted additive Schwarz with overlap",
+              &o->schwarz_overlap),
+      flag("-sb_schwarz_exact",
+           "block Jacobi on coupled ranks: one application made exact by the correction on the "
+           "ranks' interface unknowns, where no rank has more than -sb_schwarz_exact_max_interface "
+           "coupled rows (false: GMRES)",
+           &o->schwarz_exact),
+      integer("-sb_schwarz_exact_max_interface",
+              "-sb_schwarz_exact: the exact correction only while no rank has more rows coupled to "
+              "another rank (its set-up solves once per interface unknown)",
+              &o->schwarz_exact_max_interface),
+      flag("-sb_statics_on_rank_0",
+           "static analyses under mpirun on rank 0 alone by the serial solver: slidebeam run runs a "
+           "static analysis there; Simulation.solve_static hands its state to every rank (false: "
+           "on all ranks, MUMPS on the whole system)",
+           &o->statics_on_rank_0),
+      flag("-sb_equilibrium_on_rank_0",
+           "the static start of a distributed dynamic run on rank 0 alone by the serial solver, "
+           "bit for bit the serial run's (false: on all ranks, see -sb_equilibrium_blocks)",
+           &o->equilibrium_on_rank_0),
+      flag("-sb_equilibrium_blocks",
+           "a distributed static start: its continuation steps on the time steps' block solve "
+           "(condensed exact blocks, the coupling correction), a plain Newton polish where one is "
+           "needed on MUMPS (false: MUMPS throughout)",
+           &o->equilibrium_blocks),
+      integer("-sb_serial_below",
+              "a model with fewer unknowns is owned and solved by rank 0 alone (0: always distribute)",
+              &o->partition.serial_below),
+      integer("-sb_serial_above_cut",
+              "a model whose split over ranks leaves a rank more control points next to another "
+              "rank's is owned and solved by rank 0 alone (0: no limit)",
+              &o->partition.serial_above_cut),
+      flag("-sb_adapt_monitor",
+           "error-controlled steps ([analysis] adapt): print each step's error estimate and the unknown that set it",
+           &o->adapt_monitor),
   };
   PetscOptionsBegin(comm, nullptr, "slidebeam core options (docs/petsc-options.md)", "slidebeam");
   for (const CoreOption& c : table) {

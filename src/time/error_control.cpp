@@ -68,7 +68,7 @@ double ErrorControl::error(Vec x1, double h) const {
   // x'' = 2 x[t_n+1, t_n, t_n-1] (or the earlier triple's), x''' = 6 x[t_n+1, t_n, t_n-1, t_n-2];
   // the phase error carried to t_end, C h^3 |x'''| T / h, saturates at twice the amplitude
   // |x''|^3 / |x'''|^2 of the oscillation that makes it
-  const double phase = params_.constant * 6.0 * h * h * params_.span;
+  const double phase = params_.constant * h * h * params_.span;  // times |x'''|: C h^2 T |x'''|
   double worst = 0.0;
   limit_ = Limit{};
   PetscInt lo = 0;
@@ -81,11 +81,12 @@ double ErrorControl::error(Vec x1, double h) const {
     if (third == 0.0) continue;
     const double second = 2.0 * std::max(std::abs(s1), std::abs(s0));
     const double amplitude = second * second * second / (third * third);
-    const double bound = std::min(phase * third / 6.0, 2.0 * amplitude) * w[i];
+    const double carried = phase * third * w[i], oscillation = 2.0 * amplitude * w[i];
+    const double bound = std::min(carried, oscillation);
     if (bound > worst) {
       worst = bound;
-      limit_ = {lo + i, where_[static_cast<size_t>(i)].first, where_[static_cast<size_t>(i)].second,
-                phase * third / 6.0 * w[i], 2.0 * amplitude * w[i], bound};
+      const auto [cp, c] = where_[static_cast<size_t>(i)];
+      limit_ = {lo + i, cp, c, carried, oscillation, bound};
     }
   }
   SB_CHECK(VecRestoreArrayRead(x1, &p3));

@@ -89,7 +89,7 @@ def test_core_stubs_are_generated():
 def _core_sb_options() -> set[str]:
     """The -sb_ options the core registers with PetscOptionsBegin (src/solvers/solver_options.cpp)."""
     text = (ROOT / "src" / "solvers" / "solver_options.cpp").read_text()
-    return set(re.findall(r'(?:PetscOptions(?:Bool|Int|Real|String|Enum|EList)\(|\{)"-(sb_\w+)"', text))
+    return set(re.findall(r'(?:PetscOptions(?:Bool|Int|Real|String|Enum|EList)|flag|integer|real)\("-(sb_\w+)"', text))
 
 
 def test_every_core_option_is_read_through_the_help_block():
