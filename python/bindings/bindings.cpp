@@ -10,6 +10,7 @@
 #include "solvers/solver_options.hpp"
 #include "solvers/static_solver.hpp"
 #include "solvers/time_integrator.hpp"
+#include "time/load_stepper.hpp"
 #include "time/stepper.hpp"
 #include "util/cost_log.hpp"
 #include "util/petsc_check.hpp"
@@ -501,6 +502,41 @@ PYBIND11_MODULE(_core, m) {
             return out;
           },
           "(model effect index, indicator index, scale) of every event indicator");
+  py::class_<LoadAdvance>(m, "LoadAdvance", "how one LoadStepper.advance ended")
+      .def_property_readonly("status",
+                             [](const LoadAdvance& a) {
+                               switch (a.status) {
+                                 case LoadAdvance::Status::Accepted: return "accepted";
+                                 case LoadAdvance::Status::Cut: return "cut";
+                                 case LoadAdvance::Status::Failed: return "failed";
+                                 default: return "event";
+                               }
+                             },
+                             "'accepted', 'cut' (the next load step is half as long), 'failed' (failed at the "
+                             "smallest increment) or 'event' (a slider beyond its carrier's end: back at the last step)")
+      .def_readonly("result", &LoadAdvance::result, "the step's solve (iterations over every attempt)")
+      .def_readonly("t", &LoadAdvance::t, "the load time attempted")
+      .def_readonly("continued", &LoadAdvance::continued, "the pseudo-transient continuation was tried")
+      .def_readonly("by_continuation", &LoadAdvance::by_continuation, "the continuation solved it")
+      .def_readonly("event", &LoadAdvance::event, "'event': the model effect whose indicator crossed")
+      .def_readonly("event_index", &LoadAdvance::event_index, "'event': that effect's indicator")
+      .def_readonly("event_value", &LoadAdvance::event_value, "'event': its value at the rejected solution");
+
+  py::class_<LoadStepper>(m, "LoadStepper",
+                          "step control of a static run: load increments, cuts and the continuation "
+                          "(src/time/load_stepper.hpp)")
+      .def(py::init<Model&, StaticSolver&, double, int, int>(), py::arg("model"), py::arg("solver"),
+           py::arg("t_end"), py::arg("steps"), py::arg("max_cuts"), py::keep_alive<1, 2>(), py::keep_alive<1, 3>())
+      .def("advance", &LoadStepper::advance, "take the next load step (collective)")
+      .def_property_readonly("time", &LoadStepper::time, "the load time of the last converged step")
+      .def_property_readonly("done", &LoadStepper::done, "the last converged step is at t_end")
+      .def("set_predictor", &LoadStepper::set_predictor, py::arg("on"),
+           "start each load step from the secant predictor (default true)")
+      .def("set_continuation_bounds", &LoadStepper::set_continuation_bounds, py::arg("rows"), py::arg("lo"),
+           py::arg("hi"), "global unknowns the continuation keeps within [lo, hi]")
+      .def_property_readonly("cuts", &LoadStepper::cuts, "load steps cut so far")
+      .def_property_readonly("continuations", &LoadStepper::continuations,
+                             "load steps that needed the continuation so far");
   py::class_<io::RecordWriter>(m, "RecordWriter",
                                "records of an XDMF time series written into an existing HDF5 file by a "
                                "background thread, one dataset /<field>/<record> per array")

@@ -129,12 +129,12 @@ TimeIntegrator::~TimeIntegrator() {
 StepEval TimeIntegrator::step_eval() const {
   switch (params_.kind) {
     case IntegratorKind::EnergyMomentum:
-      return {StepRule::EnergyMomentum, 0.5 * (t_ + next_time(h_)), 0.5, params_.dissipation, t_, next_time(h_), h_,
+      return {StepRule::EnergyMomentum, 0.5 * (clock_.time() + next_time(h_)), 0.5, params_.dissipation, clock_.time(), next_time(h_), h_,
               StepScheme::EnergyMomentum};
     case IntegratorKind::Midpoint:
-      return {StepRule::Theta, 0.5 * (t_ + next_time(h_)), 0.5, 0.0, t_, next_time(h_), h_, StepScheme::Midpoint};
+      return {StepRule::Theta, 0.5 * (clock_.time() + next_time(h_)), 0.5, 0.0, clock_.time(), next_time(h_), h_, StepScheme::Midpoint};
     default: {
-      StepEval ev{StepRule::Endpoint, next_time(h_), 1.0, 0.0, t_, next_time(h_), h_,
+      StepEval ev{StepRule::Endpoint, next_time(h_), 1.0, 0.0, clock_.time(), next_time(h_), h_,
                   params_.kind == IntegratorKind::HHT ? StepScheme::HHT : StepScheme::Newmark};
       if (params_.kind == IntegratorKind::HHT) ev.rate_weight = 1.0 / (1.0 + params_.alpha);
       return ev;
@@ -143,10 +143,8 @@ StepEval TimeIntegrator::step_eval() const {
 }
 
 void TimeIntegrator::initialize(double t, Vec x, Vec v) {
-  t_ = t;
+  clock_.start(t);
   model_.set_prescribed_time(t);
-  t_seg0_ = t;
-  n_seg_ = 0;
   for (EnergyFlow& f : flows_) f.work = 0.0;
   SB_CHECK(VecCopy(x, x_));
   model_.apply_prescribed(x_);
@@ -233,7 +231,7 @@ void TimeIntegrator::account_energy_flows() {
     SB_CHECK(model_.effect_residual(f.effect, ev, x1_, flow_r_));
     if (scale_ != 1.0) SB_CHECK(VecScale(flow_r_, scale_));
     if (has_history_force_) {  // HHT: (1 + alpha) F(x_n+1) - alpha F(x_n)
-      SB_CHECK(model_.effect_residual(f.effect, StepEval{StepRule::Endpoint, t_, 1.0}, x_, flow_r0_));
+      SB_CHECK(model_.effect_residual(f.effect, StepEval{StepRule::Endpoint, clock_.time(), 1.0}, x_, flow_r0_));
       SB_CHECK(VecAXPY(flow_r_, -params_.alpha, flow_r0_));
     }
     PetscScalar d = 0.0;
@@ -245,7 +243,7 @@ void TimeIntegrator::account_energy_flows() {
     // work its explicit time dependence put in
     std::vector<size_t> which;
     for (size_t i : timed_) which.push_back(flows_[i].effect);
-    if (timed_energy_.empty()) timed_energy_ = model_.effect_energies(t_, x_, which);
+    if (timed_energy_.empty()) timed_energy_ = model_.effect_energies(clock_.time(), x_, which);
     const std::vector<double> e1 = model_.effect_energies(next_time(h_), x1_, which);
     for (size_t j = 0; j < timed_.size(); ++j) flows_[timed_[j]].work += e1[j] - timed_energy_[j];
     timed_energy_ = e1;
@@ -254,7 +252,7 @@ void TimeIntegrator::account_energy_flows() {
 
 KSP TimeIntegrator::constrained_mass_solver() {
   SB_CHECK(model_.set_step_start(x_));
-  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, t_, 0.0}, x_, J_, &coo_, 1.0, 1.0));
+  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, clock_.time(), 0.0}, x_, J_, &coo_, 1.0, 1.0));
   SB_CHECK(model_.set_prescribed_jacobian_rows(J_));
   // Its own pivoting LU: M has no entries on multipliers (and on d1 with the seed's strains).
   KSP ksp = nullptr;
@@ -340,7 +338,7 @@ void TimeIntegrator::consistent_acceleration(KSP ksp) {
   Vec mask = model_.coordinate_mask();
   Vec xz = xt_, f0 = w_, fp = f_hist_, rhs = work_, wv = a_;  // scratch (the step recomputes them)
   SB_CHECK(VecPointwiseMult(xz, x_, state_mask_));   // multipliers 0, sliding coordinates kept
-  const StepEval ev{StepRule::Endpoint, t_, 1.0};
+  const StepEval ev{StepRule::Endpoint, clock_.time(), 1.0};
   SB_CHECK(model_.assemble_effects_residual(ev, xz, f0));
   SB_CHECK(VecPointwiseMult(rhs, f0, mask));
   SB_CHECK(VecScale(rhs, -1.0));
@@ -415,7 +413,7 @@ void TimeIntegrator::prepare_step(double h) {
       // the others, or the joint does work); constraint rows hold at t_{n+1} only
       scale_ = 1.0 + params_.alpha;
       has_history_force_ = true;
-      SB_CHECK(model_.assemble_effects_residual(StepEval{StepRule::Endpoint, t_, 1.0}, x_, f_hist_));
+      SB_CHECK(model_.assemble_effects_residual(StepEval{StepRule::Endpoint, clock_.time(), 1.0}, x_, f_hist_));
       SB_CHECK(VecPointwiseMult(f_hist_, f_hist_, state_mask_));
       SB_CHECK(VecScale(f_hist_, -params_.alpha));
     }
@@ -468,7 +466,7 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
 }
 
 std::vector<std::array<double, 3>> TimeIntegrator::joint_forces(const std::vector<int>& effects) {
-  if (!stepped_) return model_.joint_forces(StepEval{StepRule::Endpoint, t_, 1.0}, x_, effects);
+  if (!stepped_) return model_.joint_forces(StepEval{StepRule::Endpoint, clock_.time(), 1.0}, x_, effects);
   SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
   auto forces = model_.joint_forces(last_eval_, x_, effects);
   SB_CHECK(model_.set_step_start(x_));  // the next step's start again (a prepared step reads it)
@@ -685,12 +683,6 @@ SolveResult TimeIntegrator::step(double h) {
     SB_CHECK(VecCopy(v_, v_prev_));
     last_eval_ = step_eval();  // (before the time segment moves on)
     const double t_next = next_time(h);
-    if (h == h_prev_ && n_seg_ > 0) {
-      ++n_seg_;
-    } else {
-      t_seg0_ = t_;
-      n_seg_ = 1;
-    }
     h_prev_ = h;
     if (is_midpoint_type(params_.kind)) {
       // v_{n+1} = 2 (q_{n+1} - q_n) / h - v_n
@@ -712,7 +704,7 @@ SolveResult TimeIntegrator::step(double h) {
     SB_CHECK(VecCopy(x_, x_start_));
     SB_CHECK(VecCopy(x1_, x_));
     stepped_ = true;
-    t_ = t_next;
+    clock_.advance(h, t_next);
   }
   SB_CHECK(PetscLogEventEnd(ev_step_, 0, 0, 0, 0));
   return r;
@@ -764,11 +756,9 @@ void TimeIntegrator::choose_newton() {
 }
 
 void TimeIntegrator::restore(double t, double h_prev, bool pivoting_lu, double segment_start, long segment_steps) {
-  t_ = t;
+  clock_.restore(t, h_prev, segment_start, segment_steps);
   model_.set_prescribed_time(t);
   h_prev_ = h_prev;
-  t_seg0_ = segment_steps > 0 ? segment_start : t;
-  n_seg_ = segment_steps > 0 ? segment_steps : 0;
   timed_energy_.clear();
   last_failed_ = false;
   stepped_ = false;
@@ -853,7 +843,7 @@ TimeIntegrator::Motion TimeIntegrator::motion() const {
 }
 
 double TimeIntegrator::constraint_residual() const {
-  SB_CHECK(model_.assemble_effects_residual(StepEval{StepRule::Endpoint, t_, 1.0}, x_, work_));
+  SB_CHECK(model_.assemble_effects_residual(StepEval{StepRule::Endpoint, clock_.time(), 1.0}, x_, work_));
   const PetscScalar *f = nullptr, *mk = nullptr;
   PetscInt n = 0;
   SB_CHECK(VecGetLocalSize(work_, &n));

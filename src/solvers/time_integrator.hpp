@@ -34,6 +34,7 @@
 #include "solvers/block_solve_path.hpp"
 #include "solvers/director_condensation.hpp"
 #include "solvers/newton.hpp"
+#include "util/step_clock.hpp"
 
 #include <memory>
 
@@ -86,10 +87,10 @@ class TimeIntegrator {
 
   /// t_n. Within a run of equal steps it is t_0 + n h (from the segment's start), not a sum of
   /// steps, so that t_end and the output times carry no accumulated roundoff.
-  double time() const { return t_; }
+  double time() const { return clock_.time(); }
   /// The current segment of equal steps: its start time and the number of steps taken in it
   /// (with h_prev its step size); a checkpoint keeps it so that a restart has the same times.
-  std::pair<double, long> time_segment() const { return {t_seg0_, n_seg_}; }
+  std::pair<double, long> time_segment() const { return {clock_.run_start(), clock_.run_steps()}; }
   Vec x() const { return x_; }
   Vec v() const { return v_; }
   Vec a() const { return a_; }
@@ -179,7 +180,7 @@ class TimeIntegrator {
                                   SNESConvergedReason* reason, void* ctx);
   StepEval step_eval() const;
   /// t_{n+1} after a step of size h (see time()).
-  double next_time(double h) const { return h == h_prev_ && n_seg_ > 0 ? t_seg0_ + double(n_seg_ + 1) * h : t_ + h; }
+  double next_time(double h) const { return clock_.next(h); }
   /// The step residual before the prescribed rows are replaced: the effects' forces (HHT: scaled,
   /// with the history term) and the inertia c0 M (x1 - x~).
   PetscErrorCode step_forces(Vec x1, Vec F);
@@ -226,13 +227,12 @@ class TimeIntegrator {
   StepEval last_eval_{};  // step_eval() of the last converged step
   bool stepped_ = false;                          // a step since initialize/restore (x_start_ holds its start)
   Vec xt_ = nullptr, w_ = nullptr, f_hist_ = nullptr, work_ = nullptr;
-  double t_ = 0.0, h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
+  StepClock clock_;  // t_n
+  double h_ = 0.0, c0_ = 0.0, scale_ = 1.0;
   std::vector<EnergyFlow> flows_;
   std::vector<size_t> timed_;        // flows_ entries of time-dependent stored effects
   std::vector<double> timed_energy_; // their energies at (t_n, x_n)
   Vec flow_dq_ = nullptr, flow_r_ = nullptr, flow_r0_ = nullptr;
-  double t_seg0_ = 0.0;  // start of the current run of equal steps h_prev_
-  long n_seg_ = 0;       // steps taken in it
   bool has_history_force_ = false;
   // modified Newton bookkeeping
   /// Without -sb_jacobian_reuse, modified and full Newton are chosen by their cost per step,

@@ -159,18 +159,6 @@ class RunOutcome:
     signal: int | None = None     # the signal (SIGINT, SIGTERM) that stopped it
 
 
-def carrier_end(sim: "Simulation", joints: list[JointState]) -> tuple[int, float] | None:
-    """(joint, the end's s) of the first sliding joint whose slider is beyond an end of its
-    carrier, else None."""
-    for k, (j, state) in enumerate(zip(sim.scene.sliding_joints, joints)):
-        length = sim.scene.beams[j.carrier].geometry.length
-        if state.s < -1e-12 * length:
-            return k, 0.0
-        if state.s > length * (1 + 1e-12):
-            return k, length
-    return None
-
-
 def carrier_end_message(sim: "Simulation", joint: int, s: float, when: str) -> str:
     j = sim.scene.sliding_joints[joint]
     slider, carrier = sim.scene.beams[j.slider].name, sim.scene.beams[j.carrier].name

@@ -18,7 +18,7 @@ from petsc4py import PETSc
 
 from .. import _core
 from . import interrupts
-from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end, carrier_end_message,
+from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end_message,
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .options_check import apply_scene_options
@@ -109,10 +109,6 @@ def _options_as(options: dict[str, str | None]) -> Iterator[None]:
 
 # what solve_static leaves on the simulation besides its state
 _STATIC_OUTCOME = ("t", "load_step_cuts", "load_step_continuations", "stopped", "stop_signal", "stop_is_failure")
-# The first pseudo-step (s) of a load step's continuation; switched evolution relaxation grows it
-# by the residual's decrease: from 1e-3 to 1e-1 the slack-rope trolley's first load step takes
-# 39 to 34 Newton iterations.
-_CONTINUATION_PSEUDO_STEP = 0.01
 
 
 @dataclass(frozen=True)
@@ -174,7 +170,6 @@ class Simulation:
         self.stopped: str | None = None  # why the last solve_static ended early without failing
         self.load_step_cuts = 0  # load steps of the last solve_static that failed and were halved
         self.load_step_continuations = 0  # ... that Newton did not solve and the continuation took on
-        self._continuation: _core.EquilibriumSolver | None = None
         self.stop_signal: int | None = None  # the signal that stopped it, if one did
         self.stop_is_failure = False  # a slider left its carrier with at_carrier_end = "fail"
         self.initial_energy = 0.0  # H_0 of the energy balance (the first record of a dynamic run)
@@ -289,14 +284,14 @@ class Simulation:
         solver = _core.EquilibriumSolver(model)
         held = [self.sliding_coordinate_index(k) for k, j in enumerate(self.scene.sliding_joints) if j.static == "held"]
         solver.set_held(held)
-        self._keep_on_carriers(solver, [k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"])
+        solver.set_bounds(*self._carrier_bounds([k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"]))
         return EquilibriumOutcome.of(solver.solve(0.0, self.scene.analysis.dt))
 
-    def _keep_on_carriers(self, solver: "_core.EquilibriumSolver", joints: list[int]) -> None:
-        """Bound the sliding coordinates of the sliding joints `joints` (scene indices) to their
-        carriers, [0, L], in a continuation."""
-        solver.set_bounds([self.sliding_coordinate_index(k) for k in joints], [0.0] * len(joints),
-                          [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in joints])
+    def _carrier_bounds(self, joints: list[int]) -> tuple[list[int], list[float], list[float]]:
+        """(rows, lo, hi): the sliding coordinates of the sliding joints `joints` (scene indices)
+        bound to their carriers, [0, L], for a continuation."""
+        return ([self.sliding_coordinate_index(k) for k in joints], [0.0] * len(joints),
+                [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in joints])
 
     def _distributed_and(self, option: bool) -> bool:
         """True if the model is distributed over several ranks and option (-sb_statics_on_rank_0
@@ -563,46 +558,6 @@ class Simulation:
         self.t = t
         return self._solver.solve(t, attempts)
 
-    def _load_step(self, t: float) -> _core.SolveResult | ContinuedSolve:
-        """One load step to t from the current (predicted) state: Newton on the director
-        manifold; where it fails, the pseudo-transient continuation from the same state; where
-        that fails too, Newton's fall-backs on the whole system. The iterations of all attempts
-        count.
-
-        The continuation comes before the fall-backs because a failed first attempt is mostly a
-        mechanism's (a hanger free to turn about its own axis, a rope slack under a small load):
-        there the tangent is singular, and Newton on the whole system wanders, ending in one
-        equilibrium or another by chance (a trolley hung on a rope ended 10 m from its place
-        after 50 iterations on 2 ranks, where one rank found it after 87); the continuation
-        descends to a stable one. On a large load step of a stiff structure (the roll-up at half
-        a turn per step with the iteration limit cut to 30) it costs a third more iterations than
-        the fall-backs would."""
-        start = self.x.copy()
-        try:
-            first = self.solve_step(t, "first")
-            if first.converged and np.isfinite(first.residual_norm):
-                return first
-            start.copy(self.x)
-            continued = self._continuation_solver().solve(t, _CONTINUATION_PSEUDO_STEP)
-            self.load_step_continuations += 1
-            self.t = t
-            iterations = first.iterations + continued.newton_iterations
-            if continued.converged:
-                return ContinuedSolve(iterations, continued.residual)
-            start.copy(self.x)
-            last = self.solve_step(t, "fallbacks")
-            return ContinuedSolve(iterations + last.iterations, last.residual_norm, last.converged, last.reason_name)
-        finally:
-            start.destroy()
-
-    def _continuation_solver(self) -> _core.EquilibriumSolver:
-        """The static start's continuation on this model, for load steps (built at the first
-        use), with every slider free within its carrier."""
-        if self._continuation is None:
-            self._continuation = _core.EquilibriumSolver(self._model)
-            self._keep_on_carriers(self._continuation, list(range(len(self.scene.sliding_joints))))
-        return self._continuation
-
     def record(self, step: int, result: _core.SolveResult | ContinuedSolve | None) -> StepRecord:
         """The history record of the current state as load step `step` solved with `result`
         (None: the initial state), e.g. to collect the records of a script's own load steps
@@ -625,12 +580,14 @@ class Simulation:
         one :class:`StepRecord` per load step, the initial state first; ``on_step`` is called
         with each as it is taken.
 
-        Each step starts from a secant predictor: the last two converged states extrapolated,
-        linearly but for the director triads, which turn on by their last rotation (scaled to
-        the increment). Newton then stays in its quadratic range for large rotations.
+        The steps are the core's LoadStepper's (src/time/load_stepper.hpp): each starts from a
+        secant predictor (the last two converged states extrapolated, linearly but for the
+        director triads, which turn on by their last rotation), then Newton on the director
+        manifold, the pseudo-transient continuation where that fails, Newton's fall-backs last.
         A step that fails is retried from the last converged state in halves, down to
         1/2**max_cuts of the increment; if that fails too, the state is left at the last
-        converged one and the failed attempt is the last record.
+        converged one and the failed attempt is the last record. A slider solved beyond its
+        carrier's end stops the run at the last load step.
 
         On several ranks (-sb_statics_on_rank_0, the default) rank 0 solves it alone with the
         serial solver, on a simulation of its own, and hands the records and the state to every
@@ -645,65 +602,49 @@ class Simulation:
                 return records
         a = self.scene.analysis
         records = [self.record(0, None)]
-        self.load_step_cuts = 0
-        self.load_step_continuations = 0
-        x_prev = self.x.duplicate()
-        x_last = self.x.copy()
-        t_last, dt_last = 0.0, 0.0
-        dt_nominal = a.t_end / a.steps
-        dt = dt_nominal
+        stepper = _core.LoadStepper(self._model, self._solver, a.t_end, a.steps, max_cuts)
+        stepper.set_predictor(self.use_predictor)
+        joints = list(range(len(self.scene.sliding_joints)))
+        stepper.set_continuation_bounds(*self._carrier_bounds(joints))
         step = 0
-        seg_t0, seg_dt, seg_n = 0.0, dt_nominal, 0  # a run of equal increments: t = seg_t0 + n seg_dt
-        while t_last < a.t_end * (1 - 1e-12):
-            if dt != seg_dt:
-                seg_t0, seg_dt, seg_n = t_last, dt, 0
-            t_new = seg_t0 + (seg_n + 1) * seg_dt
-            if t_new > a.t_end - 1e-9 * dt_nominal:  # land exactly on t_end despite rounding
-                t_new = a.t_end
-            if dt_last > 0 and self.use_predictor:  # secant predictor, directors turned on by their last rotation
-                self._model.extrapolate(self.x, x_last, x_prev, (t_new - t_last) / dt_last)
-            result = self._load_step(t_new)
-            if result.converged and np.isfinite(result.residual_norm):
-                rec = self.record(step + 1, result)
-                ended = carrier_end(self, rec.joints) if rec.joints else None
-                if ended:  # back to the last load step with every slider on its carrier
-                    joint, _ = ended
-                    x_last.copy(self.x)
-                    self.t = t_last
-                    self.stopped = carrier_end_message(self, joint, rec.joints[joint].s,
-                                                       f"in load step {step + 1} (t = {t_new:.6g}); results hold "
-                                                       f"load step {step} (t = {t_last:.6g})")
-                    self.stop_is_failure = self.scene.sliding_joints[joint].at_carrier_end == "fail"
-                    break
+        while not stepper.done:
+            adv = stepper.advance()
+            self.load_step_cuts, self.load_step_continuations = stepper.cuts, stepper.continuations
+            result = ContinuedSolve(adv.result.iterations, adv.result.residual_norm) if adv.by_continuation else (
+                ContinuedSolve(adv.result.iterations, adv.result.residual_norm, adv.result.converged,
+                               adv.result.reason_name)
+                if adv.continued else adv.result)
+            if adv.status == "event":  # back at the last load step, every slider on its carrier
+                self.t = stepper.time
+                joint = self.sliding_joint_effects().index(adv.event)
+                self.stopped = carrier_end_message(
+                    self, joint, adv.event_value if adv.event_index == 0 else
+                    self.scene.beams[self.scene.sliding_joints[joint].carrier].geometry.length - adv.event_value,
+                    f"in load step {step + 1} (t = {adv.t:.6g}); results hold load step {step} (t = {stepper.time:.6g})")
+                self.stop_is_failure = self.scene.sliding_joints[joint].at_carrier_end == "fail"
+                break
+            if adv.status == "accepted":
+                self.t = adv.t
                 step += 1
+                rec = self.record(step, result)
                 records.append(rec)
                 if on_step:
                     on_step(rec)
-                x_last.copy(x_prev)
-                self.x.copy(x_last)
-                t_last, dt_last = t_new, t_new - t_last
-                seg_n += 1
-                dt = min(2 * dt, dt_nominal)  # recover the nominal increment after cuts
                 signum = interrupts.requested()
                 if signum:
                     self.stop_signal = signum
                     self.stopped = (f"interrupted by {interrupts.describe(signum)} after load step {step} "
-                                    f"(t = {t_last:.6g})")
+                                    f"(t = {stepper.time:.6g})")
                     break
                 continue
-            x_last.copy(self.x)  # back to the last converged state
-            if dt < dt_nominal / 2**max_cuts:
-                self.t = t_new
+            if adv.status == "failed":  # the last converged state, recorded at the failed step's time
+                self.t = adv.t
                 fail = self.record(step + 1, result)
-                self.t = t_last
+                self.t = stepper.time
                 records.append(fail)
                 if on_step:
                     on_step(fail)
                 break
-            dt /= 2
-            self.load_step_cuts += 1
-        x_prev.destroy()
-        x_last.destroy()
         return records
 
     def first_control_point(self, beam: int | str) -> int:
