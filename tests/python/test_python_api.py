@@ -52,6 +52,25 @@ def test_scripted_steps_equal_load_stepping():
     assert rec[-1].strain_energy > 0
 
 
+def test_load_stepper_lands_on_the_clock_and_refuses_no_steps():
+    """The core's LoadStepper: 10 steps to t_end = 0.7 at t = n (t_end / 10) exactly (the clock's
+    t_0 + n h, which a running sum of h misses here), the last on t_end; no cuts, no
+    continuation on a clamped beam."""
+    sim = slidebeam.Simulation(small_scene())
+    stepper = slidebeam._core.LoadStepper(sim._model, sim._solver, 0.7, 10, 8)
+    times = []
+    while not stepper.done:
+        adv = stepper.advance()
+        assert adv.status == "accepted" and adv.result.converged and not adv.continued
+        times.append(adv.t)
+    h = 0.7 / 10
+    assert times == [n * h for n in range(1, 10)] + [0.7] and stepper.time == 0.7
+    assert list(np.cumsum([h] * 9)) != times[:9]  # the check can tell a sum from the clock
+    assert stepper.cuts == 0 and stepper.continuations == 0
+    with pytest.raises(ValueError, match="steps >= 1"):
+        slidebeam._core.LoadStepper(sim._model, sim._solver, 1.0, 0, 8)
+
+
 def test_jacobian_matches_finite_differences_through_petsc4py():
     sim = slidebeam.Simulation(small_scene())
     sim.solve_static()
