@@ -457,14 +457,7 @@ PYBIND11_MODULE(_core, m) {
 
   py::class_<StepAdvance>(m, "StepAdvance", "how one Stepper.advance ended")
       .def_property_readonly("status",
-                             [](const StepAdvance& a) {
-                               switch (a.status) {
-                                 case StepAdvance::Status::Accepted: return "accepted";
-                                 case StepAdvance::Status::Cut: return "cut";
-                                 case StepAdvance::Status::Failed: return "failed";
-                                 default: return "event";
-                               }
-                             },
+                             [](const StepAdvance& a) { return to_string(a.status); },
                              "'accepted', 'cut' (Newton failed: the next step is half as long), 'failed' (failed at "
                              "dt_min) or 'event' (an indicator crossed: the step shortened to it is the run's last)")
       .def_readonly("result", &StepAdvance::result, "the accepted step's solve, or the failed attempt's")
@@ -504,14 +497,7 @@ PYBIND11_MODULE(_core, m) {
           "(model effect index, indicator index, scale) of every event indicator");
   py::class_<LoadAdvance>(m, "LoadAdvance", "how one LoadStepper.advance ended")
       .def_property_readonly("status",
-                             [](const LoadAdvance& a) {
-                               switch (a.status) {
-                                 case LoadAdvance::Status::Accepted: return "accepted";
-                                 case LoadAdvance::Status::Cut: return "cut";
-                                 case LoadAdvance::Status::Failed: return "failed";
-                                 default: return "event";
-                               }
-                             },
+                             [](const LoadAdvance& a) { return to_string(a.status); },
                              "'accepted', 'cut' (the next load step is half as long), 'failed' (failed at the "
                              "smallest increment) or 'event' (a slider beyond its carrier's end: back at the last step)")
       .def_readonly("result", &LoadAdvance::result, "the step's solve (iterations over every attempt)")

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "time/load_stepper.hpp"
 
-#include "model/effect_parts.hpp"
 #include "util/petsc_check.hpp"
 
 #include <algorithm>
@@ -11,14 +10,9 @@
 
 namespace slidebeam {
 
-namespace {
-// An indicator below this fraction of its scale has crossed (as in Stepper).
-constexpr double kCrossed = 1e-12;
-}  // namespace
-
 LoadStepper::LoadStepper(Model& model, StaticSolver& solver, double t_end, int steps, int max_cuts)
     : model_(model), solver_(solver), t_end_(t_end), dt_nominal_(t_end / steps), dt_(t_end / steps),
-      max_cuts_(max_cuts) {
+      max_cuts_(max_cuts), events_(model) {
   if (!(t_end > 0) || steps < 1) throw std::invalid_argument("load stepping needs t_end > 0 and steps >= 1");
   clock_.start(0.0);
   for (Vec* v : {&x_last_, &x_prev_, &start_}) SB_CHECK(VecDuplicate(model_.x(), v));
@@ -71,39 +65,14 @@ void LoadStepper::solve(double t, LoadAdvance& adv) {
 }
 
 void LoadStepper::find_crossing(LoadAdvance& adv) const {
-  std::vector<const EventSource*> sources;
-  std::vector<int> owner, index;  // effect of each indicator, its index there
-  std::vector<double> scale;
-  const auto& effects = model_.effects();
-  for (size_t e = 0; e < effects.size(); ++e)
-    if (const auto* s = dynamic_cast<const EventSource*>(effects[e].get())) {
-      sources.push_back(s);
-      for (int i = 0; i < s->n_events(); ++i) {
-        owner.push_back(static_cast<int>(e));
-        index.push_back(i);
-        scale.push_back(s->event_scale(model_, i));
-      }
-    }
-  if (owner.empty()) return;
-  std::vector<double> g(owner.size(), 0.0);
-  PetscInt lo = 0, hi = 0;
-  SB_CHECK(VecGetOwnershipRange(model_.x(), &lo, &hi));
-  const PetscScalar* x = nullptr;
-  SB_CHECK(VecGetArrayRead(model_.x(), &x));
-  size_t k = 0;
-  for (const EventSource* s : sources) {
-    s->event_values(model_, x, lo, hi, g.data() + k);
-    k += static_cast<size_t>(s->n_events());
-  }
-  SB_CHECK(VecRestoreArrayRead(model_.x(), &x));
-  MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, model_.comm());
-  for (size_t i = 0; i < g.size(); ++i)
-    if (g[i] < -kCrossed * scale[i]) {
-      adv.event = owner[i];
-      adv.event_index = index[i];
-      adv.event_value = g[i];
-      return;
-    }
+  if (events_.empty()) return;
+  const std::vector<double> g = events_.values(model_.x());
+  const int k = events_.first_crossed(g);
+  if (k < 0) return;
+  const EventIndicator& crossed = events_.indicators()[static_cast<size_t>(k)];
+  adv.event = crossed.effect;
+  adv.event_index = crossed.index;
+  adv.event_value = g[static_cast<size_t>(k)];
 }
 
 LoadAdvance LoadStepper::advance() {

@@ -23,6 +23,8 @@
 #include "model/model.hpp"
 #include "solvers/equilibrium_solver.hpp"
 #include "solvers/static_solver.hpp"
+#include "time/advance_status.hpp"
+#include "time/event_set.hpp"
 #include "util/step_clock.hpp"
 
 #include <memory>
@@ -31,7 +33,7 @@
 namespace slidebeam {
 
 struct LoadAdvance {
-  enum class Status { Accepted, Cut, Failed, Event };
+  using Status = AdvanceStatus;
   Status status = Status::Accepted;
   SolveResult result;      ///< the step's solve: iterations over every attempt, the last attempt's reason and ||F||
   double t = 0.0;          ///< the load time attempted
@@ -78,6 +80,7 @@ class LoadStepper {
   int max_cuts_;
   bool predictor_ = true;
   StepClock clock_;
+  EventSet events_;
   double dt_last_ = 0.0;  // the last converged increment (0: none yet, no predictor)
   Vec x_last_ = nullptr, x_prev_ = nullptr, start_ = nullptr;
   std::unique_ptr<EquilibriumSolver> continuation_;

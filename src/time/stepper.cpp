@@ -12,8 +12,6 @@
 namespace slidebeam {
 
 namespace {
-// An indicator below this fraction of its scale has crossed (roundoff of s near the end is not).
-constexpr double kCrossed = 1e-12;
 // A shortened step ends on the boundary once its indicator is within [0, this] of its scale.
 constexpr double kArrival = 1e-9;
 // Regula falsi rounds on the step size before the closest inside try is taken.
@@ -21,16 +19,7 @@ constexpr int kArrivalRounds = 16;
 }  // namespace
 
 Stepper::Stepper(Model& model, TimeIntegrator& integrator, double dt, double dt_min)
-    : model_(model), integ_(integrator), dt_nominal_(dt), dt_min_(dt_min), dt_(dt) {
-  const auto& effects = model.effects();
-  for (size_t e = 0; e < effects.size(); ++e) {
-    const auto* source = dynamic_cast<const EventSource*>(effects[e].get());
-    if (!source) continue;
-    for (int i = 0; i < source->n_events(); ++i) {
-      events_.push_back({static_cast<int>(e), i, source->event_scale(model, i)});
-      sources_.push_back(source);
-    }
-  }
+    : model_(model), integ_(integrator), dt_nominal_(dt), dt_min_(dt_min), dt_(dt), events_(model) {
   if (!events_.empty()) allocate_snapshot();
 }
 
@@ -88,23 +77,6 @@ void Stepper::restore() {
   integ_.set_energy_flows(snap_.flows);
 }
 
-std::vector<double> Stepper::indicators() const {
-  std::vector<double> g(events_.size(), 0.0);
-  if (g.empty()) return g;
-  PetscInt lo = 0, hi = 0;
-  SB_CHECK(VecGetOwnershipRange(integ_.x(), &lo, &hi));
-  const PetscScalar* x = nullptr;
-  SB_CHECK(VecGetArrayRead(integ_.x(), &x));
-  for (size_t k = 0; k < events_.size();) {  // one call per effect for all its indicators
-    const EventSource* source = sources_[k];
-    sources_[k]->event_values(model_, x, lo, hi, g.data() + k);
-    k += static_cast<size_t>(source->n_events());
-  }
-  SB_CHECK(VecRestoreArrayRead(integ_.x(), &x));
-  MPI_Allreduce(MPI_IN_PLACE, g.data(), static_cast<int>(g.size()), MPI_DOUBLE, MPI_SUM, model_.comm());
-  return g;
-}
-
 StepAdvance Stepper::advance(double t_end) {
   StepAdvance adv;
   // The step is dt unless less remains; a remainder within roundoff of dt is taken as dt, so
@@ -115,7 +87,7 @@ StepAdvance Stepper::advance(double t_end) {
   if (control_ && remaining > dt_ * (1 + 1e-9) && remaining < 1.5 * dt_) h = remaining / 2;
   std::vector<double> g_in;
   if (snapshots()) take();
-  if (!events_.empty()) g_in = indicators();
+  if (!events_.empty()) g_in = events_.values(integ_.x());
   const auto started = std::chrono::steady_clock::now();
   adv.result = integ_.step(h);
   adv.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -132,12 +104,12 @@ StepAdvance Stepper::advance(double t_end) {
       }
     }
     if (!events_.empty()) {
-      const std::vector<double> g = indicators();
-      for (size_t k = 0; k < events_.size(); ++k)
-        if (g[k] < -kCrossed * events_[k].scale) {
-          arrive(static_cast<int>(k), h, g_in[k], g[k], adv);
-          return adv;
-        }
+      const std::vector<double> g = events_.values(integ_.x());
+      const int k = events_.first_crossed(g);
+      if (k >= 0) {
+        arrive(k, h, g_in[static_cast<size_t>(k)], g[static_cast<size_t>(k)], adv);
+        return adv;
+      }
     }
     if (control_)
       dt_ = control_->accepted(integ_.x(), h, adv.local_error);
@@ -168,7 +140,7 @@ void Stepper::cut(double h, double next, StepAdvance& adv) {
 void Stepper::arrive(int k, double h, double g_in, double g_out, StepAdvance& adv) {
   adv.status = StepAdvance::Status::Event;
   adv.event = k;
-  const double tolerance = kArrival * events_[static_cast<size_t>(k)].scale;
+  const double tolerance = kArrival * events_.indicators()[static_cast<size_t>(k)].scale;
   double h_in = 0.0, h_out = h;
   double best = -1.0;
   int side = 0;
@@ -179,7 +151,7 @@ void Stepper::arrive(int k, double h, double g_in, double g_out, StepAdvance& ad
     const SolveResult r = integ_.step(h_try);
     adv.newton_iterations += r.iterations;
     adv.rejected_attempts += r.converged() ? 0 : 1;
-    const double g = r.converged() ? indicators()[static_cast<size_t>(k)] : -1.0;
+    const double g = r.converged() ? events_.values(integ_.x())[static_cast<size_t>(k)] : -1.0;
     if (g >= 0) {
       best = h_try;
       if (g <= tolerance) {

@@ -20,9 +20,10 @@
 /// The caller records, checkpoints and answers signals between calls (one call per step: the
 /// record cadence and the run's end are the caller's).
 
-#include "model/effect_parts.hpp"
 #include "model/model.hpp"
+#include "time/advance_status.hpp"
 #include "time/error_control.hpp"
+#include "time/event_set.hpp"
 #include "solvers/time_integrator.hpp"
 
 #include <memory>
@@ -31,7 +32,7 @@
 namespace slidebeam {
 
 struct StepAdvance {
-  enum class Status { Accepted, Cut, Failed, Event };
+  using Status = AdvanceStatus;
   Status status = Status::Accepted;
   SolveResult result;            ///< the accepted (or shortened) step's solve, else the failed attempt's
   double h = 0.0;                ///< its size
@@ -45,13 +46,6 @@ struct StepAdvance {
 
 class Stepper {
  public:
-  /// An indicator: the effect (model index) and its indicator's index there.
-  struct Event {
-    int effect = -1;
-    int index = 0;
-    double scale = 1.0;
-  };
-
   /// dt: the nominal step (the step grows back to it after cuts); dt_min: no step below it.
   Stepper(Model& model, TimeIntegrator& integrator, double dt, double dt_min);
   ~Stepper();
@@ -63,7 +57,7 @@ class Stepper {
   /// The step size the next call tries (below dt after cuts; a restart sets it back).
   double dt() const { return dt_; }
   void set_dt(double dt) { dt_ = dt; }
-  const std::vector<Event>& events() const { return events_; }
+  const std::vector<EventIndicator>& events() const { return events_.indicators(); }
   /// Choose the steps by their local error from now on (the estimate starts at the current state).
   void set_error_control(const ErrorControlParams& params);
   /// Begin the estimate afresh at the current state (a checkpoint: the run then goes on as a
@@ -88,8 +82,6 @@ class Stepper {
   void cut(double h, double next, StepAdvance& adv);
   void take();
   void restore();
-  /// Every indicator at the integrator's x (collective).
-  std::vector<double> indicators() const;
   /// Take the step from t_n again, shortened so that event k's indicator lands on its boundary;
   /// g_in >= 0 at t_n, g_out < 0 at the end of the step of size h.
   void arrive(int k, double h, double g_in, double g_out, StepAdvance& adv);
@@ -97,8 +89,7 @@ class Stepper {
   Model& model_;
   TimeIntegrator& integ_;
   double dt_nominal_, dt_min_, dt_;
-  std::vector<Event> events_;
-  std::vector<const EventSource*> sources_;  // per event
+  EventSet events_;
   Snapshot snap_;
   std::unique_ptr<ErrorControl> control_;
   bool monitor_ = false;  // -sb_adapt_monitor: each estimate and what set it, on the console
