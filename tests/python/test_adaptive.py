@@ -148,3 +148,27 @@ def test_a_slack_rope_snaps_taut_without_a_step_of_its_own():
     peak = int(np.argmax(tension))
     assert recs[peak].t > 0.5 and tension[peak] > 1000.0, (recs[peak].t, tension[peak])  # the snap: kN, not 20 N
     assert recs[peak].dt < 0.1 * max(dts)
+
+
+def test_records_by_time_under_adapt():
+    """Without output.every an adaptive run records about 200 times, at the first step that
+    reaches each multiple of t_end / 200 (output.interval); a given interval is kept the same
+    way, and every together with interval is refused."""
+    data = scene.load_scene(PENDULUM, [f"analysis.t_end={T_END}", "analysis.adapt={rtol=1e-4}"]).data
+    data["output"].pop("every")
+    sc = scene.scene_from_dict(data, str(PENDULUM), PENDULUM.parent)
+    assert sc.output.interval == pytest.approx(T_END / 200)
+    for s in (sc, scene.scene_from_dict({**data, "output": {**data["output"], "interval": 0.02}}, str(PENDULUM),
+                                        PENDULUM.parent)):
+        interval = s.output.interval
+        out = slidebeam.Simulation(s, MPI.COMM_SELF).run_dynamic()
+        assert out.complete, out.message
+        t = np.array([r.t for r in out.records])
+        assert t[-1] == pytest.approx(T_END) and out.steps > len(t)  # fewer records than steps
+        due = (np.floor(t[:-2] / interval + 1e-9) + 1) * interval  # the multiple after each record
+        h = np.array([r.dt for r in out.records[1:-1]])
+        assert np.all(t[1:-1] >= due - 1e-12) and np.all(t[1:-1] - h < due - 1e-12), (t, due)  # its first step
+        assert len(t) <= T_END / interval + 2
+    with pytest.raises(scene.SceneError) as info:
+        scene.load_scene(PENDULUM, ["output.interval=0.01"])  # the scene has every = 10
+    assert info.value.key == "interval" and "not both" in str(info.value)

@@ -237,26 +237,31 @@ def _history_row_bytes(scene: Scene) -> int:
     return 25 * values
 
 
+def _record_spacing(scene: Scene) -> str:
+    o = scene.output
+    return f"output.interval (now {o.interval:g} s)" if o.interval > 0 else f"output.every (now {o.every})"
+
+
 def _check_output_size(scene: Scene, out: Path, t0: float, rank: int) -> None:
     """Before the run: refuse a run whose XDMF output cannot fit on the disk, and warn (once,
     on stderr) when the results are estimated larger than output.warn_size_gb. An estimate: the
-    records the run will write, one every output.every steps."""
+    records the run will write, one every output.every steps or output.interval seconds."""
     import shutil
 
     a = scene.analysis
     steps = a.steps if a.type == "static" else a.planned_steps(t0)
-    records = (steps if a.type == "static" else steps // max(1, scene.output.every)) + 2
+    records = (steps if a.type == "static" else int(scene.output.records(steps, a.t_end - t0))) + 2
     need = records * bytes_per_record(scene)
     free = shutil.disk_usage(out).free
     if need > free:
         raise OutputFailure(f"the XDMF output of this run needs about {need / 1e6:.1f} MB, but only "
-                            f"{free / 1e6:.1f} MB are free in {out} (raise output.every or free space)")
+                            f"{free / 1e6:.1f} MB are free in {out} (raise output.every or output.interval, or free space)")
     total = need + records * _history_row_bytes(scene)
     limit = scene.output.warn_size_gb * 1e9
     if limit > 0 and total > limit:
         _say(rank, f"slidebeam: warning: the results of this run will take about {size_text(total)} "
                    f"({records} records of {size_text(total / records)}), more than output.warn_size_gb = "
-                   f"{scene.output.warn_size_gb:g}; raise output.every (now {scene.output.every}) to write fewer",
+                   f"{scene.output.warn_size_gb:g}; raise {_record_spacing(scene)} to write fewer",
              sys.stderr)
 
 
@@ -304,10 +309,11 @@ def _restart_scene(args: argparse.Namespace, restart: Path, rank: int) -> Scene:
                  sys.stderr)
         else:
             _say(rank, f"restart: changed since the checkpoint: {listed}")
-    if "every" not in scene.data.get("output", {}):
-        # the default interval follows t_end: keep the one the checkpoint's run recorded with
-        every = scene_from_dict(data, scene.file, scene.base_dir).output.every
-        scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, every=every))
+    if not {"every", "interval"} & set(scene.data.get("output", {})):
+        # the default spacing follows t_end: keep the one the checkpoint's run recorded with
+        recorded = scene_from_dict(data, scene.file, scene.base_dir).output
+        scene = dataclasses.replace(scene, output=dataclasses.replace(scene.output, every=recorded.every,
+                                                                      interval=recorded.interval))
     return scene
 
 

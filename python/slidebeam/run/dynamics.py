@@ -8,6 +8,8 @@ carrier's end: ``_core.Stepper``) live in the C++ core; this module calls it onc
 """
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable
 
@@ -191,7 +193,8 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
     ``dt_min``; after a success the step grows back (doubling) to ``dt``. If even ``dt_min``
     fails, the run stops with the last good state kept. A slider that passes its carrier's end
     ends the run with a last step shortened to the arrival. Records are taken every
-    ``output.every`` steps and at the end. ``state`` resumes a run (restart; the integrator
+    ``output.every`` steps, or at the first step that reaches each multiple of ``output.interval``,
+    and at the end. ``state`` resumes a run (restart; the integrator
     already holds its vectors); ``on_checkpoint`` is called every ``output.checkpoint_every``
     accepted steps.
     """
@@ -215,11 +218,18 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
     return _step_loop(sim, stepper, st, on_step, on_checkpoint, outcome)
 
 
+def _next_multiple(t: float, interval: float) -> float:
+    """The first multiple of interval after t (a t within roundoff of a multiple is on it)."""
+    return (math.floor(t / interval + 1e-9) + 1) * interval
+
+
 def _step_loop(sim: "Simulation", stepper: "_core.Stepper", st: RunState, on_step, on_checkpoint,
                outcome) -> RunOutcome:
     a = sim.scene.analysis
     integ = sim.integrator
     every = max(1, sim.scene.output.every)
+    interval = sim.scene.output.interval  # > 0: records by time instead of every
+    next_record = _next_multiple(integ.time, interval) if interval > 0 else math.inf
     ckpt_every = sim.scene.output.checkpoint_every
     t_end = a.t_end
     last_accepted: tuple[object, float] | None = None  # (result, h) of the last accepted step, if not recorded
@@ -270,7 +280,10 @@ def _step_loop(sim: "Simulation", stepper: "_core.Stepper", st: RunState, on_ste
             if st.step == 1:
                 sim.count_initial_snap()
             last = t_end - integ.time <= 1e-9 * a.dt
-            if st.step % every == 0 or last:
+            due = integ.time >= next_record - 1e-9 * interval if interval > 0 else st.step % every == 0
+            if due or last:
+                if interval > 0:
+                    next_record = _next_multiple(integ.time, interval)
                 rec = sim.record_dynamic(st.step, result, h, st.rejected_since_record)
                 st.rejected_since_record = 0
                 st.records.append(rec)

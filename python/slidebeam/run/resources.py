@@ -18,7 +18,7 @@ scripts/measure_memory.py):
   holds its own copy.
 - the history kept in memory until the run ends, per record (:data:`BYTES_PER_RECORD` plus
   :data:`BYTES_PER_RECORD_ITEM` per tracked point, sliding joint, support and rigid joint):
-  every load step of a static run, every output.every-th step of a dynamic one. Per rank.
+  every load step of a static run, every output.every-th step (or output.interval) of a dynamic one. Per rank.
 
 Not counted: the processes themselves (Python, PETSc, MPI: about 100 MB each), which already
 run when the estimate is made. The estimate is compared with what the node has available
@@ -84,7 +84,7 @@ def recorded_steps(scene: Scene) -> tuple[int | float, str]:
     if a.type == "static":
         return a.steps + 2, "steps"
     steps = a.planned_steps()
-    return steps / max(1, scene.output.every) + 2, "dt"
+    return scene.output.records(steps, a.t_end) + 2, "dt"
 
 
 def constraint_entries(scene: Scene) -> int:
@@ -207,7 +207,7 @@ def _largest_beam_part(scene: Scene, est: Estimate) -> Part:
 def _too_big(scene: Scene, est: Estimate, avail: tuple[int, str]) -> tuple[str, str, str]:
     part = est.largest
     fix = {"spans": "use fewer spans", "samples_per_span": "lower output.samples_per_span",
-           "steps": "use fewer load steps", "dt": "record less often (raise output.every) or use a larger dt"}[part.key]
+           "steps": "use fewer load steps", "dt": "record less often (raise output.every or output.interval) or use a larger dt"}[part.key]
     ranks = f" on this node ({est.ranks} ranks)" if est.ranks > 1 else ""
     message = (f"{part.what} make the run need about {size_text(est.total)} of memory{ranks}, but this machine "
                f"has {size_text(avail[0])} available ({avail[1]}); {fix}")

@@ -329,6 +329,12 @@ class Output:
     checkpoint_every: int = 0  # steps between checkpoints (0: only when the run ends)
     xdmf: bool = True          # write beams.xdmf/sliders.xdmf/masses.xdmf
     warn_size_gb: float = 1.0  # warn before a run whose output is estimated larger (0: never)
+    interval: float = 0.0      # dynamic: seconds between records, instead of every (0: by steps)
+
+    def records(self, steps: int | float, span: float) -> float:
+        """About how many records a dynamic run of `steps` steps over `span` seconds writes
+        (besides its first and last)."""
+        return span / self.interval if self.interval > 0 else steps / max(1, self.every)
 
 
 @dataclass(frozen=True)
@@ -586,7 +592,7 @@ _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
               "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
 # sub-tables an override may create when absent
-_OUTPUT_KEYS = ("every", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
+_OUTPUT_KEYS = ("every", "interval", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
 _TRACK_KEYS = ("beam", "at", "body")
 _MOTION_KEYS = ("displacement", "rotation", "time_function")  # rotation: clamps and fixed beams only (6 components)
 # every key above is described, with its unit and default, in schema.py (the scene reference;
@@ -893,9 +899,18 @@ def default_every(analysis: Analysis) -> int:
     RECORDS_BY_DEFAULT records (200 to 399) of a dynamic one, so that the output stays small
     next to the solve however many steps the run takes."""
     if analysis.type != "dynamic" or not analysis.dt or analysis.adapt is not None:
-        return 1  # (adapt: the number of steps is not known before the run)
+        return 1  # (adapt: the number of steps is not known before the run: default_interval)
     steps = round(analysis.t_end / analysis.dt)
     return max(1, steps // RECORDS_BY_DEFAULT)
+
+
+def default_interval(analysis: Analysis) -> float:
+    """output.interval when the scene gives neither it nor output.every: under adapt, about
+    RECORDS_BY_DEFAULT records evenly over the run (the steps are not known before it); else 0
+    (records by steps)."""
+    if analysis.type != "dynamic" or analysis.adapt is None:
+        return 0.0
+    return analysis.t_end / RECORDS_BY_DEFAULT
 
 
 def _parse_output(t: _Table, beams: tuple[Beam, ...], analysis: Analysis, bodies: tuple[Body, ...] = ()) -> Output:
@@ -912,8 +927,17 @@ def _parse_output(t: _Table, beams: tuple[Beam, ...], analysis: Analysis, bodies
     else:
         track = tuple(TrackPoint(b.index, b.geometry.length) for b in beams) + tuple(
             TrackPoint(b.index, 0.0) for b in bodies)
+    if t.has("interval"):
+        if t.has("every"):
+            raise t.error("interval", "give every (steps between records) or interval (seconds), not both")
+        if analysis.type != "dynamic":
+            raise t.error("interval", 'applies to type = "dynamic" only (a static run records by load steps: every)')
+        interval = t.number("interval", 0.0, lambda x: x > 0, "a time in s > 0")
+    else:
+        interval = 0.0 if t.has("every") else default_interval(analysis)
     return Output(
         every=t.integer("every", default_every(analysis)),
+        interval=interval,
         track=track,
         samples_per_span=t.integer("samples_per_span", 8),
         checkpoint_every=_non_negative_integer(t, "checkpoint_every"),

@@ -174,7 +174,11 @@ SECTION = Table("beam.section", "section = { ... }",
 
 OUTPUT = Table("output", "[output]", "What a run writes to its output folder (docs/user-guide.md, \"Output files\").", (
     Key("every", "record every this many steps (history.csv, XDMF series); the last step is always recorded",
-        "", "1 (static); max(1, floor(steps / 200)) (dynamic: 200 to 399 records)", "integer >= 1"),
+        "", "1 (static); max(1, floor(steps / 200)) (dynamic: 200 to 399 records); under adapt: see interval",
+        "integer >= 1"),
+    Key("interval", "dynamic runs, instead of every: record the first step that reaches each multiple of this "
+                    "time (the steps are not shortened to land on it); the last step is always recorded", "s",
+        "t_end / 200 under [analysis] adapt without every; else none (records by every)", "> 0"),
     Key("track", "points whose positions go to history.csv, an array of { beam, at } (see [output].track)", "",
         "the end of every beam", "array of tables"),
     Key("samples_per_span", "points per knot span (element) in the XDMF series and final_configuration.csv",
