@@ -227,10 +227,13 @@ PYBIND11_MODULE(_core, m) {
            },
            py::arg("t"), py::arg("x"), py::arg("effects"),
            "force of each given sliding joint on its slider at x, global frame (collective)")
-      .def("effect_outputs", &Model::effect_outputs, py::arg("t"), py::arg("x"),
+      .def("effect_outputs", py::overload_cast<double, Vec>(&Model::effect_outputs, py::const_), py::arg("t"),
+           py::arg("x"),
            "the values of the effects that have outputs (a contact's force and length in contact) at x, "
            "named by output_names() (collective)")
       .def("output_names", &Model::output_names, "(effect index, name) of each effect_outputs() value")
+      .def("output_prefix", &Model::output_prefix, py::arg("effect"),
+           "the history prefix of an effect's outputs ('': its scene label)")
       .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
       .def_property_readonly("cut_points", &Model::cut_points,
                              "the most control points a rank holds next to another rank's in the split over all "
@@ -443,6 +446,8 @@ PYBIND11_MODULE(_core, m) {
       .def("constraint_residual", &TimeIntegrator::constraint_residual)
       .def("reactions", [](TimeIntegrator& s) { return reaction_list(s.reactions()); },
            "[(effect index, force, moment or None)] of supports and joints over the last step (collective)")
+      .def("effect_outputs", &TimeIntegrator::effect_outputs,
+           "Model.effect_outputs over the last step (rates over it), or at t_n before a step (collective)")
       .def("joint_forces", &TimeIntegrator::joint_forces, py::arg("effects"),
            "force of each given sliding joint on its slider over the last step (at t_n before any "
            "step), global frame (collective)")

@@ -165,6 +165,9 @@ class Model:
     def output_names(self) -> list[tuple[int, str]]:
         """(effect index, name) of each effect_outputs() value"""
         ...
+    def output_prefix(self, effect: int) -> str:
+        """the history prefix of an effect's outputs ('': its scene label)"""
+        ...
     @property
     def ghost_count(self) -> int: ...
     @property
@@ -367,6 +370,11 @@ class TimeIntegrator:
     def constraint_residual(self) -> float: ...
     def reactions(self) -> list:
         """[(effect index, force, moment or None)] of supports and joints over the last step
+        (collective)
+        """
+        ...
+    def effect_outputs(self) -> list[float]:
+        """Model.effect_outputs over the last step (rates over it), or at t_n before a step
         (collective)
         """
         ...

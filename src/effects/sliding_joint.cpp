@@ -50,7 +50,7 @@
 namespace slidebeam::effects {
 
 class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoints, public NumberingHints, public JointTarget,
-                           public EventSource {
+                           public EventSource, public OutputSource {
  public:
   SlidingJoint(const Model& m, const EffectParams& p)
       : slider_(static_cast<int>(p.number("slider"))), carrier_(static_cast<int>(p.number("carrier"))) {
@@ -93,6 +93,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
         point_[k] += stencil_.w[j] * S.q_ref()[static_cast<size_t>(S.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
     tolerance_ = p.number("tolerance", 1e-6 * C.length());
     label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + C.name() + "]";
+    prefix_ = S.name() + "_on_" + C.name();
   }
   void closest_point_queries(const Model&, std::vector<ClosestPointQuery>& q) const override {
     ClosestPointQuery query;
@@ -269,6 +270,26 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     }
     for (int k = 0; k < 3; ++k) f[static_cast<size_t>(k)] = force(k);
     return true;
+  }
+
+  /// Outputs (history columns <slider>_on_<carrier>.<name>): s; ds_dt, its mean rate over the
+  /// step (0 outside a step); the force of the carrier on the slider (joint_force: over the step,
+  /// at its force state); the gap, the distance of the slider point from the carrier's centre line
+  /// at the end state (the norm of the constraint rows: c(s) - p, or its components on the
+  /// slider's directors in the frame form).
+  std::vector<std::string> output_names() const override {
+    return {"s", "ds_dt", "reaction.x", "reaction.y", "reaction.z", "gap"};
+  }
+  std::string output_prefix() const override { return prefix_; }
+  void outputs(const EvalContext& ctx, double* v) const override {
+    if (!owned_) return;
+    const double s1 = ctx.x.at(s_index());
+    v[0] += s1;
+    if (ctx.h > 0) v[1] += (s1 - ctx.x_old.at(s_index())) / ctx.h;
+    std::array<double, 3> f{};
+    joint_force(ctx, f);
+    for (int k = 0; k < 3; ++k) v[2 + k] += f[static_cast<size_t>(k)];
+    v[5] += end_gap(ctx).norm();
   }
 
   /// N = |Lambda - (t . Lambda) t|: Lambda the force on the slider (joint_force), t = c'/|c'| the
@@ -616,6 +637,29 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     PetscFunctionReturn(0);
   }
 
+  /// The constraint rows at the end state x, summed in the order residual() sums them.
+  Eigen::Vector3d end_gap(const EvalContext& ctx) const {
+    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
+    const double s1 = ctx.x.at(s_index());
+    const auto range = curve_.touched_blocks(s1, s1);
+    sliding::Weights N1;
+    N1.reset(range[0], range[1] - range[0] + 1);
+    curve_.add_basis(curve_.span_of(s1), s1, 0, 1.0, N1);
+    if (frame_) {
+      Eigen::Matrix3d E1;
+      Eigen::Vector3d p1;
+      slider_frame(ctx.x, ctx.map, S, E1, p1);
+      Eigen::Vector3d gap = -p1;
+      for (int a = range[0]; a <= range[1]; ++a) gap += N1.at(a) * position(ctx.x, ctx.map, C, a);
+      return E1.transpose() * gap;
+    }
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int a = range[0]; a <= range[1]; ++a) g += N1.at(a) * position(ctx.x, ctx.map, C, a);
+    for (int j = 0; j < stencil_.n; ++j)
+      g -= stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, S.first_cp() + stencil_.cp[j]) + stencil_.comp[j]);
+    return g;
+  }
+
   /// Curve block A of the carrier in the state x, and a pointer to its 3 entries in r.
   Eigen::Vector3d position(const LocalValues& x, const DofMap& map, const Beam& C, int A) const {
     return Eigen::Map<const Eigen::Vector3d>(x.cp(map, C.first_cp() + curve_.cp_of_block(A)) + curve_.offset_of_block(A));
@@ -686,6 +730,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   double point_[3] = {0, 0, 0};  ///< the slider point, reference configuration
   double tolerance_ = 0.0;       ///< largest distance from the carrier at the start
   std::string label_;
+  std::string prefix_;  ///< of the history columns: <slider>_on_<carrier>
   bool owned_ = false;
 };
 

@@ -236,6 +236,8 @@ class OutputSource {
  public:
   virtual ~OutputSource() = default;
   virtual std::vector<std::string> output_names() const = 0;
+  /// The history columns' prefix, <prefix>.<name> ("": the effect's scene label).
+  virtual std::string output_prefix() const { return ""; }
   /// values[i] += this rank's share of value i at the evaluation's state x (the model sums
   /// the ranks' shares).
   virtual void outputs(const EvalContext& ctx, double* values) const = 0;

@@ -671,7 +671,16 @@ std::vector<std::pair<int, std::string>> Model::output_names() const {
   return names;
 }
 
+std::string Model::output_prefix(int k) const {
+  const auto* o = part_of<OutputSource>(*effects_.at(static_cast<size_t>(k)));
+  return o ? o->output_prefix() : std::string();
+}
+
 std::vector<double> Model::effect_outputs(double t, Vec x) const {
+  return effect_outputs(StepEval{StepRule::Endpoint, t, 1.0}, x);
+}
+
+std::vector<double> Model::effect_outputs(const StepEval& ev, Vec x) const {
   std::vector<std::pair<const OutputSource*, size_t>> sources;  // and the first value's index
   size_t n = 0;
   for (const auto& e : effects_)
@@ -681,7 +690,7 @@ std::vector<double> Model::effect_outputs(double t, Vec x) const {
     }
   std::vector<double> v(n, 0.0);
   if (n == 0) return v;
-  SB_CHECK(with_context(StepEval{StepRule::Endpoint, t, 1.0}, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+  SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
     for (const auto& [o, first] : sources) o->outputs(ctx, v.data() + first);
     return 0;
   }));

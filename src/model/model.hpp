@@ -140,9 +140,13 @@ class Model {
   std::vector<std::pair<int, Reaction>> static_reactions(double t, Vec x) const;
 
   /// The OutputSource effects' values at x (collective), in effect order and each effect's
-  /// order of names; output_names() says whose (effect index) and which.
+  /// order of names; output_names() says whose (effect index) and which. Static (Endpoint at t);
+  /// under the rule ev, the step start as set_step_start left it, rates over ev's step.
   std::vector<double> effect_outputs(double t, Vec x) const;
+  std::vector<double> effect_outputs(const StepEval& ev, Vec x) const;
   std::vector<std::pair<int, std::string>> output_names() const;
+  /// The history prefix of effect k's outputs (OutputSource::output_prefix; "": its label).
+  std::string output_prefix(int k) const;
   /// JointTarget::joint_force of each of the given effects in the state x under the rule ev (the step
   /// start as set_step_start left it), on every rank (collective).
   std::vector<std::array<double, 3>> joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const;

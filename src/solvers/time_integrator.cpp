@@ -473,6 +473,23 @@ std::vector<std::array<double, 3>> TimeIntegrator::joint_forces(const std::vecto
   return forces;
 }
 
+std::vector<double> TimeIntegrator::effect_outputs() {
+  if (stepped_) {
+    SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
+    auto v = model_.effect_outputs(last_eval_, x_);
+    SB_CHECK(model_.set_step_start(x_));
+    return v;
+  }
+  const double t = clock_.time();
+  SB_CHECK(VecWAXPY(work_, -1.0, sdot_, x_));  // the start of a unit step at the rates sdot_
+  SB_CHECK(model_.set_step_start(work_));
+  StepEval ev{StepRule::Endpoint, t, 1.0};
+  ev.t_start = t - 1.0, ev.t_end = t, ev.h = 1.0;
+  auto v = model_.effect_outputs(ev, x_);
+  SB_CHECK(model_.set_step_start(x_));
+  return v;
+}
+
 PetscErrorCode TimeIntegrator::step_jacobian(Vec x1, Mat J) {
   PetscFunctionBeginUser;
   if (J == J_) {  // fast path: one COO pass with the mass terms

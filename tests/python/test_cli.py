@@ -283,7 +283,7 @@ def test_seed_benchmark_scenes_run_with_every_integrator(run_cli, root, tmp_path
                           "--set", f'analysis.integrator="{integrator}"', "--set", "analysis.t_end=0.02")
             assert out.returncode == 0, (name, out.stderr)
             summary = json.loads((tmp_path / name / "summary.json").read_text())
-            assert summary["complete"] and summary["sliding_joints"]["CM_on_AB"]["final_s"] > 0.4
+            assert summary["complete"] and summary["outputs"]["CM_on_AB"]["s"] > 0.4
 
 
 def test_slider_reaching_the_carrier_end_stops_the_run(run_cli, root, tmp_path):
@@ -299,7 +299,7 @@ def test_slider_reaching_the_carrier_end_stops_the_run(run_cli, root, tmp_path):
     summary = json.loads((tmp_path / "stop" / "summary.json").read_text())
     assert summary["complete"] is False and 0.7 < summary["t_reached"] < 0.9
     assert summary["converged"] is True and "reached the end of carrier 'AB'" in summary["stopped"]
-    assert 2.0 - 2e-9 <= summary["sliding_joints"]["CM_on_AB"]["final_s"] <= 2.0
+    assert 2.0 - 2e-9 <= summary["outputs"]["CM_on_AB"]["s"] <= 2.0
     rows = list(csv.DictReader((tmp_path / "stop" / "history.csv").open()))
     for col in ("CM_on_AB.s", "CM_on_AB.ds_dt", "CM_on_AB.reaction.x", "CM_on_AB.reaction.y", "CM_on_AB.reaction.z"):
         assert col in rows[0]

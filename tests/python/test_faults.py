@@ -198,7 +198,7 @@ def test_a_static_run_stops_when_a_slider_leaves_its_carrier(run_cli, tmp_path):
     summary = json.loads((tmp_path / "stop" / "summary.json").read_text())
     assert summary["complete"] is False and summary["converged"] is True
     assert "reached the end of carrier 'rail'" in summary["stopped"]
-    assert 0.0 <= summary["sliding_joints"]["hanger_on_rail"]["final_s"] <= 4.0
+    assert 0.0 <= summary["outputs"]["hanger_on_rail"]["s"] <= 4.0
     assert all(0.0 <= float(r["hanger_on_rail.s"]) <= 4.0 for r in rows(tmp_path / "stop" / "history.csv"))
     fail = run_cli("run", "rail.toml", "--out", "fail", "-q", "--set", 'sliding_joint.0.at_carrier_end="fail"')
     assert fail.returncode == 1 and "reached the end of carrier 'rail'" in fail.stderr

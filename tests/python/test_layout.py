@@ -101,3 +101,17 @@ def test_rooms_depend_on_the_rooms_below_only():
 
 def test_a_cycle_is_found():
     assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+def test_history_results_and_checkpoints_name_no_effect():
+    """history.csv, summary.json and checkpoints get every effect's values through its outputs
+    (OutputSource): their writers call nothing of the sliding joint's own."""
+    own = {"JointState", "joint_states", "sliding_joints", "sliding_joint_labels", "sliding_joint_effects",
+           "sliding_coordinate_index", "joint_names", "sliding_joint_summary"}
+    for name in ("history.py", "results.py", "checkpoint.py"):
+        tree = ast.parse((PACKAGE / "output" / name).read_text())
+        used = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+        used |= {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
+        used |= {a.name for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) for a in n.names}
+        used |= {n.name for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
+        assert not used & own, (name, used & own)

@@ -32,7 +32,7 @@ def attachments(sim: slidebeam.Simulation) -> list[tuple[int, int]]:
     carrier = sim.scene.beams[0]
     h = carrier.geometry.length / carrier.spans
     pairs = []
-    for joint, state in zip(sim.scene.sliding_joints, sim.joint_states(gaps=False, reactions=False)):
+    for joint, state in zip(sim.scene.sliding_joints, sim.joint_states()):
         nearest = min(carrier.spans + 1, max(0, int(round(state.s / h + 0.5))))
         pairs.append((sim.first_control_point(joint.slider), sim.first_control_point(0) + nearest))
     return pairs

@@ -127,13 +127,14 @@ def test_static_runs_cannot_restart(run_cli, root):
 
 def test_a_checkpoint_keeps_the_records_exactly_and_older_checkpoints_still_read(root, tmp_path):
     """The records come back from a checkpoint bit for bit (joints, reactions, energy flows);
-    a checkpoint of format 1, with its records as JSON, reads to the same records."""
+    a checkpoint of format 1, with its records as JSON, reads to the same records; one whose
+    records lack the sliding joints' outputs (an earlier version's) is refused by name."""
     import dataclasses
 
     import h5py
 
     import slidebeam
-    from slidebeam.output.checkpoint import read_checkpoint, write_checkpoint
+    from slidebeam.output.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
 
     scene = slidebeam.load_scene(root / "runs" / "effects" / "ropeway.toml", ["analysis.t_end=0.02", "output.every=1"])
     sim = slidebeam.Simulation(scene)
@@ -156,6 +157,10 @@ def test_a_checkpoint_keeps_the_records_exactly_and_older_checkpoints_still_read
         g.attrs["records"] = json.dumps(old)
         g.attrs["format"] = 1
     assert read_checkpoint(sim, path).records == outcome.state.records
+    with h5py.File(path, "a") as f:  # an earlier version's: the sliding joints' values not among the outputs
+        f["slidebeam"].attrs["records"] = json.dumps([dict(r, outputs=[]) for r in old])
+    with pytest.raises(CheckpointError, match="earlier version kept the sliding joints'"):
+        read_checkpoint(sim, path)
 
 
 def test_a_checkpoint_is_committed_after_its_before_commit_step(root, tmp_path):

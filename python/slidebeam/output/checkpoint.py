@@ -28,7 +28,9 @@ if TYPE_CHECKING:  # imported lazily: petsc4py must not be initialised before th
     from ..run.dynamics import DynamicRecord, RunState
     from ..run.simulation import Simulation
 
-FORMAT = 2  # 2: the records as a table (slidebeam.output.history); 1: as JSON (still read)
+# 3: the records as a table (slidebeam.output.history), a sliding joint's values among the
+# effects' outputs; 2: the same with them apart; 1: as JSON (2 and 1 still read, without sliding joints)
+FORMAT = 3
 VECTORS = ("x", "v", "a", "v_prev", "sliding_rate")
 
 
@@ -140,13 +142,13 @@ def scene_differences(before: dict, after: dict, prefix: str = "") -> list[tuple
 
 
 def _record(d: dict) -> "DynamicRecord":
-    from ..run.dynamics import DynamicRecord, JointState, Reaction
+    from ..run.dynamics import DynamicRecord, Reaction
 
     d = dict(d)
     d["linear_momentum"] = tuple(d["linear_momentum"])
     d["angular_momentum"] = tuple(d["angular_momentum"])
     d["tracked"] = [tuple(p) for p in d["tracked"]]
-    d["joints"] = [JointState(j["s"], j["ds_dt"], tuple(j["reaction"]), j.get("gap", 0.0)) for j in d["joints"]]
+    d["joints"] = []  # the caller makes them from the outputs
     d["reactions"] = [Reaction(r["effect"], tuple(r["force"]), None if r.get("moment") is None else tuple(r["moment"]))
                       for r in d.get("reactions", [])]
     return DynamicRecord(**d)
@@ -198,12 +200,23 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
         sim.initial_energy = float(meta["initial_energy"])
     from ..run.dynamics import RunState
 
-    if "history" in meta:
-        from . import history
+    try:
+        if "history" in meta:
+            from . import history
 
-        records = history.records(meta["history"], meta["history_reasons"],
-                                  history.Layout.from_dict(json.loads(meta["history_layout"])))
-    else:  # format 1
-        records = [_record(r) for r in json.loads(meta["records"])]
+            records = history.records(meta["history"], meta["history_reasons"],
+                                      history.Layout.from_dict(json.loads(meta["history_layout"])))
+        else:  # format 1
+            records = [_record(r) for r in json.loads(meta["records"])]
+    except ValueError as err:
+        raise CheckpointError(f"checkpoint {path} cannot be resumed by this version of slidebeam: {err}; "
+                              f"run the scene again from its start") from None
+    outputs = len(sim.output_labels())
+    if any(len(r.outputs) != outputs for r in records):
+        raise CheckpointError(f"checkpoint {path} cannot be resumed by this version of slidebeam: its records hold "
+                              f"{len(records[0].outputs)} effect outputs, the scene has {outputs} (an earlier "
+                              f"version kept the sliding joints' apart); run the scene again from its start")
+    for r in records:
+        r.joints = sim.joints_of(r.outputs)
     return RunState(records, float(meta["dt"]), int(meta["step"]), int(meta["rejected"]),
                     int(meta["rejected_since_record"]), int(meta["newton"]))

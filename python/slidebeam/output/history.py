@@ -3,9 +3,8 @@
 checkpoint keeps (as a float64 dataset, exact), built once from the records.
 
 Columns, one row per record: the :meth:`DynamicRecord.header` columns (``reason`` a placeholder:
-the reasons are a list beside the table), then per tracked point x, y, z; per sliding joint s,
-ds_dt, the reaction's x, y, z and the gap; per reaction its force (and moment where it has one);
-the effects' named values (outputs); per counted effect its work (dissipated energy as it is kept: negative). The layout (how many of
+the reasons are a list beside the table), then per tracked point x, y, z; per reaction its force
+(and moment where it has one); the effects' named values (outputs: a sliding joint's among them); per counted effect its work (dissipated energy as it is kept: negative). The layout (how many of
 each, the reactions' effects) comes from the first record; every record of a run has it.
 """
 from __future__ import annotations
@@ -14,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..run.dynamics import DynamicRecord, JointState, Reaction
+from ..run.dynamics import DynamicRecord, Reaction
 
 _BASE_KINDS = "iffcsii" + "f" * 15  # step .. constraint_residual; c: converged, an integer too
 _REASON = 4  # the reason's column
@@ -25,29 +24,30 @@ class Layout:
     """What the columns after the header's hold."""
 
     tracked: int
-    joints: int
     reactions: list[tuple[str, bool]]  # (effect, holds a moment)
     flows: int
     outputs: int = 0
 
     @staticmethod
     def of(record: DynamicRecord, flows: int) -> "Layout":
-        return Layout(len(record.tracked), len(record.joints),
-                      [(r.effect, r.moment is not None) for r in record.reactions], flows, len(record.outputs))
+        return Layout(len(record.tracked), [(r.effect, r.moment is not None) for r in record.reactions], flows, len(record.outputs))
 
     def as_dict(self) -> dict[str, object]:
-        return {"tracked": self.tracked, "joints": self.joints,
-                "reactions": [list(r) for r in self.reactions], "flows": self.flows, "outputs": self.outputs}
+        return {"tracked": self.tracked, "reactions": [list(r) for r in self.reactions], "flows": self.flows, "outputs": self.outputs}
 
     @staticmethod
     def from_dict(d: dict) -> "Layout":
-        return Layout(int(d["tracked"]), int(d["joints"]), [(str(e), bool(m)) for e, m in d["reactions"]],
+        """The layout a checkpoint keeps; ValueError if it has columns this version does not (an
+        earlier one kept the sliding joints' apart from the outputs)."""
+        if int(d.get("joints", 0)):
+            raise ValueError("its history keeps sliding joints apart from the effects' outputs, as slidebeam "
+                             "did before the joints' values became outputs")
+        return Layout(int(d["tracked"]), [(str(e), bool(m)) for e, m in d["reactions"]],
                       int(d["flows"]), int(d.get("outputs", 0)))
 
     @property
     def columns(self) -> int:
-        return (len(_BASE_KINDS) + 3 * self.tracked + 6 * self.joints
-                + sum(6 if m else 3 for _, m in self.reactions) + self.outputs + self.flows)
+        return (len(_BASE_KINDS) + 3 * self.tracked + sum(6 if m else 3 for _, m in self.reactions) + self.outputs + self.flows)
 
     @property
     def kinds(self) -> str:
@@ -64,8 +64,6 @@ def _row(r: DynamicRecord, flows: int) -> list[float]:
            r.energy_balance_error, *r.linear_momentum, *r.angular_momentum, r.constraint_residual]
     for p in r.tracked:
         row += p
-    for j in r.joints:
-        row += (j.s, j.ds_dt, *j.reaction, j.gap)
     for x in r.reactions:
         row += x.force
         if x.moment is not None:
@@ -95,16 +93,13 @@ def table(records: list[DynamicRecord], flows: int) -> tuple[np.ndarray, list[st
 
 
 def records(values: np.ndarray, reasons: list[str], layout: Layout) -> list[DynamicRecord]:
-    """The records of a table (the inverse of :func:`table`)."""
+    """The records of a table (the inverse of :func:`table`; their joints are left empty: the
+    caller that knows whose outputs are whose fills them, Simulation.joints_of)."""
     out = []
     for row, reason in zip(values.tolist(), reasons):
         k = len(_BASE_KINDS)
         tracked = [tuple(row[k + 3 * i:k + 3 * i + 3]) for i in range(layout.tracked)]
         k += 3 * layout.tracked
-        joints = []
-        for _ in range(layout.joints):
-            joints.append(JointState(row[k], row[k + 1], tuple(row[k + 2:k + 5]), row[k + 5]))
-            k += 6
         reactions = []
         for effect, has_moment in layout.reactions:
             moment = tuple(row[k + 3:k + 6]) if has_moment else None
@@ -118,5 +113,5 @@ def records(values: np.ndarray, reasons: list[str], layout: Layout) -> list[Dyna
             kinetic_energy=row[8], strain_energy=row[9], potential_energy=row[10],
             work=row[12], dissipated=row[13], energy_balance_error=row[14],
             linear_momentum=tuple(row[15:18]), angular_momentum=tuple(row[18:21]), constraint_residual=row[21],
-            tracked=tracked, joints=joints, reactions=reactions, outputs=outputs, flows=row[k:k + layout.flows]))
+            tracked=tracked, reactions=reactions, outputs=outputs, flows=row[k:k + layout.flows]))
     return out

@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from ..run.dynamics import DynamicRecord, JointState, RunOutcome
+from ..run.dynamics import DynamicRecord, RunOutcome
 from ..run.parallel import serial_above_cut
 from ..run.simulation import Simulation, StepRecord
 
@@ -40,11 +40,10 @@ def prepare_output_dir(out: Path) -> None:
 
 
 def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]) -> str:
-    """One row per recorded step; then tracked points as <beam>@<s>.x/.y/.z, sliding joints as
-    <slider>_on_<carrier>.s/.ds_dt/.reaction.x/y/z/.gap, and the reactions of supports and rigid
-    joints as <effect>.fx/fy/fz (and .mx/my/mz where they hold a moment), the effects' named values
-    (<effect>.<name>: a contact's force.x/y/z and length), and (dynamic runs) each counted
-    effect's work."""
+    """One row per recorded step; then tracked points as <beam>@<s>.x/.y/.z, the reactions of
+    supports and rigid joints as <effect>.fx/fy/fz (and .mx/my/mz where they hold a moment), the
+    effects' named values (<prefix>.<name>: a sliding joint's s, ds_dt, reaction.x/y/z and gap, a
+    contact's force.x/y/z and length), and (dynamic runs) each counted effect's work."""
     buf = io.StringIO()
     w = csv.writer(buf)
     track_cols = []
@@ -52,8 +51,6 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
         body = sim.scene.body_at(tp.beam)
         name = body.name if body is not None else f"{sim.scene.beams[tp.beam].name}@{tp.at:g}"
         track_cols += [f"{name}.x", f"{name}.y", f"{name}.z"]
-    joint_cols = [f"{name}.{q}" for name in joint_names(sim)
-                  for q in ("s", "ds_dt", "reaction.x", "reaction.y", "reaction.z", "gap")]
     first = records[0].reactions
     reaction_cols = [f"{r.effect}.{c}" for r in first
                      for c in ("fx", "fy", "fz", *(("mx", "my", "mz") if r.moment is not None else ()))]
@@ -62,7 +59,6 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
 
     def tail(r: StepRecord | DynamicRecord) -> list[str]:
         return [*[repr(v) for p in r.tracked for v in p],
-                *[repr(v) for j in r.joints for v in (j.s, j.ds_dt, *j.reaction, j.gap)],
                 *[repr(v) for x in r.reactions for v in (*x.force, *(x.moment or ()))],
                 *[repr(v) for v in r.outputs]]
 
@@ -71,28 +67,17 @@ def history_csv(sim: Simulation, records: list[StepRecord] | list[DynamicRecord]
         from . import history
 
         flow_cols = sim.energy_flow_labels()
-        w.writerow([*DynamicRecord.header(), *track_cols, *joint_cols, *reaction_cols, *output_cols, *flow_cols])
+        w.writerow([*DynamicRecord.header(), *track_cols, *reaction_cols, *output_cols, *flow_cols])
         values, reasons, layout = history.table(records, len(flow_cols))  # type: ignore[arg-type]
         dissipative = [k for k, (_, role, _) in enumerate(sim.integrator.energy_flows) if role == "dissipative"]
         values[:, layout.flow_columns][:, dissipative] *= -1.0  # the dissipated energy, positive
         return buf.getvalue() + _core.csv_rows(values, layout.kinds, reasons)
     w.writerow(["step", "t", "converged", "reason", "newton_iterations", "residual_norm",
-                "strain_energy", "potential_energy", *track_cols, *joint_cols, *reaction_cols, *output_cols])
+                "strain_energy", "potential_energy", *track_cols, *reaction_cols, *output_cols])
     for r in records:
         w.writerow([r.step, repr(r.t), int(r.converged), r.reason, r.newton_iterations, repr(r.residual_norm),
                     repr(r.strain_energy), repr(r.potential_energy), *tail(r)])
     return buf.getvalue()
-
-
-def joint_names(sim: Simulation) -> list[str]:
-    """Column prefix of each sliding joint: <slider>_on_<carrier>, numbered when repeated."""
-    return list(sim.scene.sliding_joint_labels)
-
-
-def sliding_joint_summary(sim: Simulation, joints: list[JointState]) -> dict[str, dict[str, object]]:
-    """summary.json's `sliding_joints`: the final s, ds/dt (statics: 0), reaction and gap per joint."""
-    return {name: {"final_s": j.s, "final_ds_dt": j.ds_dt, "final_reaction": list(j.reaction), "final_gap": j.gap}
-            for name, j in zip(joint_names(sim), joints)}
 
 
 def configuration_csv(sim: Simulation) -> str:
@@ -161,8 +146,8 @@ def _scene_file(sim: Simulation) -> str:
 def static_summary(sim: Simulation, records: list[StepRecord], wall_time: float | None = None,
                    max_cuts: int = 8) -> dict[str, Any]:
     """summary.json of a static run (the records of ``solve_static``): whether it is complete
-    and converged, a message, steps, Newton iterations, final energies, reactions, sliding
-    joints. Collective."""
+    and converged, a message, steps, Newton iterations, final energies, reactions, the effects'
+    outputs (a sliding joint's s, reaction and gap). Collective."""
     scene = sim.scene
     last = records[-1]
     complete = sim.stopped is None and last.converged and last.t >= scene.analysis.t_end * (1 - 1e-12)
@@ -190,8 +175,6 @@ def static_summary(sim: Simulation, records: list[StepRecord], wall_time: float 
         "final_energy": {"strain": good[-1].strain_energy, "potential": good[-1].potential_energy},
         "reactions": [r.as_dict() for r in good[-1].reactions],
     }
-    if scene.sliding_joints:
-        summary["sliding_joints"] = sliding_joint_summary(sim, good[-1].joints)
     if good[-1].outputs:
         summary["outputs"] = output_summary(sim, good[-1].outputs)
     return summary
@@ -213,8 +196,8 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
     """summary.json of a dynamic run (the outcome of ``run_dynamic``): completeness, message,
     steps, rejected steps, Newton iterations, final energies, the largest constraint residual,
     the static start and the initial velocities' projection (``initial_velocity``: not for a
-    restart), sliding joints, reactions and the effects' outputs (their last values, by history
-    column). Collective."""
+    restart), reactions and the effects' outputs (their last values, by history column: a sliding
+    joint's s, ds_dt, reaction and gap). Collective."""
     scene, a = sim.scene, sim.scene.analysis
     recs = outcome.records
     last = recs[-1] if recs[-1].converged or len(recs) == 1 else recs[-2]
@@ -248,8 +231,6 @@ def dynamic_summary(sim: Simulation, outcome: RunOutcome, wall_time: float | Non
             "relative_change": p["change"] / p["size"] if p["size"] > 0 else 0.0,
             "largest_change": p["largest"], "kinetic_energy_given": p["kinetic_before"],
             "kinetic_energy": p["kinetic_after"]}
-    if scene.sliding_joints:
-        summary["sliding_joints"] = sliding_joint_summary(sim, last.joints)
     summary["reactions"] = [r.as_dict() for r in last.reactions]
     if last.outputs:
         summary["outputs"] = output_summary(sim, last.outputs)

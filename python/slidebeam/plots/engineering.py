@@ -232,6 +232,8 @@ def outputs(run: Run) -> dict[str, dict[str, np.ndarray]]:
     h, ok = run.history, _ok(run)
     out: dict[str, dict[str, np.ndarray]] = {}
     for label, names in run.summary.get("outputs", {}).items():
+        if "ds_dt" in names:  # a sliding joint's: the sliders and reactions figures draw them
+            continue
         values: dict[str, np.ndarray] = {}
         for name in names:
             if f"{label}.{name}" not in h:

@@ -261,13 +261,13 @@ def _step_loop(sim: "Simulation", stepper: "_core.Stepper", st: RunState, on_ste
             joint = sim.sliding_joint_effects().index(stepper.events[adv.event][0])
             if adv.event_step_taken:
                 st.step += 1
-                joints = sim.joint_states(gaps=False, reactions=False)
-                st.records.append(sim.record_dynamic(st.step, result, h, st.rejected_since_record, joints))
+                st.records.append(sim.record_dynamic(st.step, result, h, st.rejected_since_record))
                 if on_step:
                     on_step(st.records[-1])
+                joints = st.records[-1].joints
             else:  # no shortened step stayed on the carrier: t_n is the arrival
                 record_last_accepted()
-                joints = sim.joint_states(gaps=False, reactions=False)
+                joints = sim.joint_states()
             st.rejected_since_record = 0
             j = sim.scene.sliding_joints[joint]
             message = carrier_end_message(sim, joint, joints[joint].s,

@@ -6,6 +6,8 @@ handles, no copies): scripts may read or modify them, or drive SNES themselves.
 """
 from __future__ import annotations
 
+import collections
+
 import contextlib
 import dataclasses
 import time
@@ -153,6 +155,7 @@ class Simulation:
         self._equilibrium_on_rank_0_option = equilibrium_on_rank_0()
         self._model, self.effects = build_model(scene, comm)
         self._output_groups: dict[str, list[str]] | None = None
+        self._output_slices: dict[int, slice] = {}  # effect index -> its values in effect_outputs()
         self._solver = _core.StaticSolver(self._model)
         self._t = 0.0
         self.use_predictor = True
@@ -215,7 +218,7 @@ class Simulation:
         """Warn where a slider starts off its carrier (within the joint's tolerance, or the model
         would not have been built): the first step pulls it on, and the work that takes is no
         effect's, so it shows in energy_balance_error. Gaps at roundoff of the coordinates pass."""
-        gaps = self._joint_gaps()
+        gaps = [j.gap for j in self.joints_of(list(self._model.effect_outputs(self.t, self.x)))]
         if not gaps:
             return
         extent = max(float(np.abs(self.control_points(b.name)[:, :3]).max()) for b in self.scene.beams)
@@ -564,6 +567,7 @@ class Simulation:
         for :func:`slidebeam.write_results`."""
         e = self._potential_energies()
         tracked = self.tracked_points()
+        outputs = self.effect_outputs()
         return StepRecord(
             step=step, t=self.t,
             converged=True if result is None else bool(result.converged),
@@ -571,7 +575,7 @@ class Simulation:
             newton_iterations=0 if result is None else result.iterations,
             residual_norm=0.0 if result is None else result.residual_norm,
             strain_energy=e["strain"], potential_energy=e["potential"], tracked=tracked,
-            joints=self.joint_states(), reactions=self.reactions(), outputs=self.effect_outputs(),
+            joints=self.joints_of(outputs), reactions=self.reactions(), outputs=outputs,
         )
 
     def solve_static(self, on_step: Callable[[StepRecord], None] | None = None,
@@ -662,17 +666,36 @@ class Simulation:
         return [f"{label}.{name}" for label, names in self.output_groups().items() for name in names]
 
     def output_groups(self) -> dict[str, list[str]]:
-        """The effects that have outputs, by label (as the history names them: #2 a second entry):
-        the names of their values, in the order of effect_outputs()."""
+        """The effects that have outputs, by the prefix the history gives their columns: the
+        effect's own (OutputSource::output_prefix, a sliding joint's <slider>_on_<carrier>,
+        numbered _1, _2, ... where several share it) or its label (#2 a second entry): the names
+        of their values, in the order of effect_outputs()."""
         if self._output_groups is None:
-            self._output_groups = {}
-            for k, name in self._model.output_names():
-                self._output_groups.setdefault(self.active_effects[k].label, []).append(name)
+            names = list(self._model.output_names())
+            effects = list(dict.fromkeys(k for k, _ in names))
+            prefix = {k: self._model.output_prefix(k) or self.active_effects[k].label for k in effects}
+            shared = collections.Counter(prefix.values())
+            seen: collections.Counter[str] = collections.Counter()
+            for k in effects:
+                if shared[prefix[k]] > 1:
+                    seen[prefix[k]] += 1
+                    prefix[k] = f"{prefix[k]}_{seen[prefix[k]]}"
+            self._output_groups, self._output_slices, first = {}, {}, 0
+            for k in effects:
+                group = [name for e, name in names if e == k]
+                self._output_groups[prefix[k]] = group
+                self._output_slices[k] = slice(first, first + len(group))
+                first += len(group)
         return self._output_groups
 
     def effect_outputs(self) -> list[float]:
-        """The values named by :meth:`output_labels` in the current state (collective)."""
-        return list(self._model.effect_outputs(self.t, self.x)) if self.output_groups() else []
+        """The values named by :meth:`output_labels` in the current state (collective): in a
+        dynamic run over the last step (rates and a joint's force over it), else at the state."""
+        if not self.output_groups():
+            return []
+        if self.integrator is not None:
+            return list(self.integrator.effect_outputs())
+        return list(self._model.effect_outputs(self.t, self.x))
 
     def tracked_points(self) -> list[tuple[float, float, float]]:
         """Positions (x, y, z) of the scene's ``[output] track`` points in the current state."""
@@ -703,44 +726,22 @@ class Simulation:
         multipliers come just before it)."""
         return self._model.extra_offset(self.sliding_joint_effects()[joint]) + 3
 
-    def joint_states(self, gaps: bool = True, reactions: bool = True) -> list[JointState]:
+    def joint_states(self) -> list[JointState]:
         """s, ds/dt, reaction and gap (the slider point's distance from the carrier's centre line,
-        the joint's constraint residual; 0 unless gaps) of every sliding joint in the current
-        state (collective; statics: ds/dt = 0). The reaction is the force of the carrier on the
-        slider in the global frame: over the last time step once one was taken (the step's mean
-        force under the midpoint-type schemes), else at the current state."""
-        x = self.x
-        rate = self.integrator.sliding_rate if self.integrator is not None else None
-        gap = self._joint_gaps() if gaps else [0.0] * len(self.scene.sliding_joints)
-        effects = self.sliding_joint_effects()
-        if not effects:
-            return []
-        forces = self._joint_forces() if reactions else [(0.0, 0.0, 0.0)] * len(effects)
+        the joint's constraint residual) of every sliding joint in the current state, from the
+        joints' outputs (collective; statics: ds/dt = 0). ds/dt is the mean rate over the last
+        time step, the reaction the force of the carrier on the slider in the global frame over
+        it (the step's mean force under the midpoint-type schemes); before a step, at the state."""
+        return self.joints_of(self.effect_outputs())
+
+    def joints_of(self, outputs: list[float]) -> list[JointState]:
+        """The sliding joints' states in a record's outputs (s, ds_dt, reaction.x/y/z, gap)."""
+        self.output_groups()
         states = []
-        for k, g, force in zip(effects, gap, forces):
-            s = self._model.extra_values(k, x)[3]  # multipliers (3), then s
-            sdot = self._model.extra_values(k, rate)[3] if rate is not None else 0.0
-            states.append(JointState(float(s), float(sdot), tuple(float(f) for f in force), g))
+        for k in self.sliding_joint_effects():
+            s, rate, fx, fy, fz, gap = (float(v) for v in outputs[self._output_slices[k]])
+            states.append(JointState(s, rate, (fx, fy, fz), gap))
         return states
-
-    def _joint_forces(self) -> list[tuple[float, float, float]]:
-        """The reaction of every sliding joint (see joint_states; collective)."""
-        effects = self.sliding_joint_effects()
-        forces = (self.integrator.joint_forces(effects) if self.integrator is not None
-                  else self._model.joint_forces(self.t, self.x, effects))
-        return [tuple(float(f) for f in force) for force in forces]
-
-    def _joint_gaps(self) -> list[float]:
-        """Distance of each sliding joint's slider point from the carrier's centre line: the norm
-        of its constraint rows (spatial form: c(s) - p; frame form: the components of c(s) - p on
-        the slider's directors, the same norm while they stay orthonormal)."""
-        if not self.scene.sliding_joints:
-            return []
-        F = self.x.duplicate()
-        self._model.assemble_residual(self.t, self.x, F)
-        gaps = [float(np.linalg.norm(self._model.extra_values(k, F)[:3])) for k in self.sliding_joint_effects()]
-        F.destroy()
-        return gaps
 
     def reactions(self, over_last_step: bool = False) -> list[Reaction]:
         """What every support and rigid joint exerts on the structure (collective): in
@@ -753,9 +754,9 @@ class Simulation:
         return [Reaction(self.active_effects[k].label, tuple(f), None if m is None else tuple(m)) for k, f, m in raw]
 
     def record_dynamic(self, step: int, result: _core.SolveResult | None, dt: float,
-                       rejected: int, joints: list[JointState] | None = None) -> DynamicRecord:
-        """Energies, momenta, constraint residual, tracked points and sliding joints (`joints`:
-        their s and ds/dt if the caller has them already) of the current state."""
+                       rejected: int) -> DynamicRecord:
+        """Energies, momenta, constraint residual, tracked points, sliding joints and the effects'
+        outputs of the current state."""
         assert self.integrator is not None
         e = self._potential_energies()
         kinetic, lin, ang = self.integrator.motion()
@@ -764,6 +765,7 @@ class Simulation:
         total = kinetic + e["strain"] + e["potential"]
         if step == 0 and result is None:
             self.initial_energy = total
+        outputs = self.effect_outputs()
         return DynamicRecord(
             step=step, t=self.t, dt=dt,
             converged=True if result is None else bool(result.converged),
@@ -773,11 +775,9 @@ class Simulation:
             kinetic_energy=kinetic, strain_energy=e["strain"],
             potential_energy=e["potential"], linear_momentum=tuple(lin), angular_momentum=tuple(ang),
             constraint_residual=self.integrator.constraint_residual(), rejected_steps=rejected,
-            tracked=self.tracked_points(),
-            joints=self.joint_states() if joints is None else
-            [dataclasses.replace(j, gap=g, reaction=f) for j, g, f in zip(joints, self._joint_gaps(), self._joint_forces())],
+            tracked=self.tracked_points(), joints=self.joints_of(outputs),
             reactions=self.reactions(over_last_step=result is not None and bool(result.converged)),
-            outputs=self.effect_outputs(), work=work, dissipated=dissipated,
+            outputs=outputs, work=work, dissipated=dissipated,
             energy_balance_error=abs(total - self.initial_energy - work + dissipated),
             flows=[w for _, _, w in flows],
         )
