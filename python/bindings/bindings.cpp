@@ -232,6 +232,11 @@ PYBIND11_MODULE(_core, m) {
            "the values of the effects that have outputs (a contact's force and length in contact) at x, "
            "named by output_names() (collective)")
       .def("output_names", &Model::output_names, "(effect index, name) of each effect_outputs() value")
+      .def("event_message", &Model::event_message, py::arg("effect"), py::arg("index"), py::arg("value"),
+           py::arg("when"), "the run's message for an event: what happened (the indicator's value at the end "
+           "state), `when`, and what the run does")
+      .def("event_fails_run", &Model::event_fails_run, py::arg("effect"), py::arg("index"),
+           "whether the event ends the run as failed (else stopped)")
       .def("output_prefix", &Model::output_prefix, py::arg("effect"),
            "the history prefix of an effect's outputs ('': its scene label)")
       .def_property_readonly("ghost_count", &Model::ghost_count, "unknowns ghosted on this rank (owned included)")
@@ -471,6 +476,7 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("newton_iterations", &StepAdvance::newton_iterations, "over every attempt")
       .def_readonly("wall_time", &StepAdvance::wall_time, "seconds in the step's first attempt")
       .def_readonly("event", &StepAdvance::event, "'event': index into Stepper.events")
+      .def_readonly("event_value", &StepAdvance::event_value, "'event': the indicator at the state it ends in")
       .def_readonly("event_step_taken", &StepAdvance::event_step_taken,
                     "'event': a shortened step was taken (else the state is at t_n)")
       .def_readonly("local_error", &StepAdvance::local_error,

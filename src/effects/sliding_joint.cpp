@@ -43,6 +43,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -92,6 +93,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
       for (int k = 0; k < 3; ++k)
         point_[k] += stencil_.w[j] * S.q_ref()[static_cast<size_t>(S.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
     tolerance_ = p.number("tolerance", 1e-6 * C.length());
+    fail_at_end_ = p.string("at_carrier_end", "stop") == "fail";
     label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + C.name() + "]";
     prefix_ = S.name() + "_on_" + C.name();
   }
@@ -682,6 +684,15 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     g[1] = m.beam(carrier_).length() - x[row - lo];
   }
   double event_scale(const Model& m, int) const override { return m.beam(carrier_).length(); }
+  Action event_action(int) const override { return fail_at_end_ ? Action::Fail : Action::Stop; }
+  std::string event_message(const Model& m, int i, double g, const std::string& when) const override {
+    const double s = i == 0 ? g : m.beam(carrier_).length() - g;
+    char value[32];
+    std::snprintf(value, sizeof value, "%.9g", s);
+    return "the slider of beam '" + m.beam(slider_).name() + "' reached the " + (s <= 0 ? "start" : "end") +
+           " of carrier '" + m.beam(carrier_).name() + "' (s = " + value + ") " + when +
+           "; run stopped (at_carrier_end = '" + (fail_at_end_ ? "fail" : "stop") + "')";
+  }
 
   /// Global index of the slider stencil's control point (node) j.
   PetscInt slider_cp(const Model& m, int j) const { return m.beam(slider_).first_cp() + stencil_.cp[j]; }
@@ -729,6 +740,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   double s0_ = 0.0;
   double point_[3] = {0, 0, 0};  ///< the slider point, reference configuration
   double tolerance_ = 0.0;       ///< largest distance from the carrier at the start
+  bool fail_at_end_ = false;     ///< at_carrier_end = "fail": the slider leaving ends the run as failed
   std::string label_;
   std::string prefix_;  ///< of the history columns: <slider>_on_<carrier>
   bool owned_ = false;

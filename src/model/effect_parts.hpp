@@ -196,6 +196,13 @@ class EventSource {
   /// The length that scales g_i: an indicator below -1e-12 of it has crossed, and a shortened
   /// step ends on the boundary once g_i is within [0, 1e-9] of it.
   virtual double event_scale(const Model& model, int i) const = 0;
+  /// What a crossing of g_i does to the run: ends it as stopped (its results complete up to
+  /// there) or as failed.
+  enum class Action { Stop, Fail };
+  virtual Action event_action(int) const { return Action::Stop; }
+  /// The run's message for indicator i crossed with the value g at the state the run ends in:
+  /// what happened, then `when` (the caller's "at t = ..."), then the action.
+  virtual std::string event_message(const Model& model, int i, double g, const std::string& when) const = 0;
 };
 
 /// A joint other effects act through: a sliding joint, whose slider's coordinate s friction

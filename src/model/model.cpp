@@ -676,6 +676,20 @@ std::string Model::output_prefix(int k) const {
   return o ? o->output_prefix() : std::string();
 }
 
+static const EventSource& event_source(const std::vector<std::unique_ptr<Effect>>& effects, int k) {
+  const auto* e = dynamic_cast<const EventSource*>(effects.at(static_cast<size_t>(k)).get());
+  if (!e) throw std::invalid_argument("effect " + std::to_string(k) + " has no events");
+  return *e;
+}
+
+std::string Model::event_message(int k, int i, double g, const std::string& when) const {
+  return event_source(effects_, k).event_message(*this, i, g, when);
+}
+
+bool Model::event_fails_run(int k, int i) const {
+  return event_source(effects_, k).event_action(i) == EventSource::Action::Fail;
+}
+
 std::vector<double> Model::effect_outputs(double t, Vec x) const {
   return effect_outputs(StepEval{StepRule::Endpoint, t, 1.0}, x);
 }

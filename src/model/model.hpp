@@ -147,6 +147,9 @@ class Model {
   std::vector<std::pair<int, std::string>> output_names() const;
   /// The history prefix of effect k's outputs (OutputSource::output_prefix; "": its label).
   std::string output_prefix(int k) const;
+  /// EventSource::event_message and event_action of effect k's indicator i.
+  std::string event_message(int k, int i, double g, const std::string& when) const;
+  bool event_fails_run(int k, int i) const;
   /// JointTarget::joint_force of each of the given effects in the state x under the rule ev (the step
   /// start as set_step_start left it), on every rank (collective).
   std::vector<std::array<double, 3>> joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const;

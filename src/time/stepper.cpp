@@ -138,6 +138,11 @@ void Stepper::cut(double h, double next, StepAdvance& adv) {
 }
 
 void Stepper::arrive(int k, double h, double g_in, double g_out, StepAdvance& adv) {
+  locate(k, h, g_in, g_out, adv);
+  adv.event_value = events_.values(integ_.x())[static_cast<size_t>(k)];
+}
+
+void Stepper::locate(int k, double h, double g_in, double g_out, StepAdvance& adv) {
   adv.status = StepAdvance::Status::Event;
   adv.event = k;
   const double tolerance = kArrival * events_.indicators()[static_cast<size_t>(k)].scale;

@@ -40,6 +40,7 @@ struct StepAdvance {
   int newton_iterations = 0;     ///< over every attempt of this call
   double wall_time = 0.0;        ///< seconds in the step's first attempt (the event's tries not counted)
   int event = -1;                ///< Event: index into Stepper::events()
+  double event_value = 0.0;      ///< Event: the indicator at the state the call ends in
   bool event_step_taken = false; ///< Event: a shortened step was taken (else the state is at t_n)
   double local_error = -1.0;     ///< error control: err of the step (<= 1 accepted; -1: none)
 };
@@ -85,6 +86,7 @@ class Stepper {
   /// Take the step from t_n again, shortened so that event k's indicator lands on its boundary;
   /// g_in >= 0 at t_n, g_out < 0 at the end of the step of size h.
   void arrive(int k, double h, double g_in, double g_out, StepAdvance& adv);
+  void locate(int k, double h, double g_in, double g_out, StepAdvance& adv);
 
   Model& model_;
   TimeIntegrator& integ_;

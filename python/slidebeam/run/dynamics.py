@@ -161,14 +161,6 @@ class RunOutcome:
     signal: int | None = None     # the signal (SIGINT, SIGTERM) that stopped it
 
 
-def carrier_end_message(sim: "Simulation", joint: int, s: float, when: str) -> str:
-    j = sim.scene.sliding_joints[joint]
-    slider, carrier = sim.scene.beams[j.slider].name, sim.scene.beams[j.carrier].name
-    end = "start" if s <= 0 else "end"
-    return (f"the slider of beam '{slider}' reached the {end} of carrier '{carrier}' (s = {s:.9g}) {when}; "
-            f"run stopped (at_carrier_end = '{j.at_carrier_end}')")
-
-
 def error_control_args(sim: "Simulation") -> dict[str, float]:
     """Stepper.set_error_control's arguments for the scene's [analysis] adapt: atol defaults to
     rtol times the longest beam's length; the scheme's error constant C is 1/12 for
@@ -192,7 +184,8 @@ def run_dynamic(sim: "Simulation", on_step: Callable[[DynamicRecord], None] | No
     (or produces NaN/Inf) is retried from the last good state with half the step, down to
     ``dt_min``; after a success the step grows back (doubling) to ``dt``. If even ``dt_min``
     fails, the run stops with the last good state kept. A slider that passes its carrier's end
-    ends the run with a last step shortened to the arrival. Records are taken every
+    ends the run with a last step shortened to the arrival (an event: the effect says what happened
+    and whether the run stops or fails). Records are taken every
     ``output.every`` steps, or at the first step that reaches each multiple of ``output.interval``,
     and at the end. ``state`` resumes a run (restart; the integrator
     already holds its vectors); ``on_checkpoint`` is called every ``output.checkpoint_every``
@@ -257,22 +250,19 @@ def _step_loop(sim: "Simulation", stepper: "_core.Stepper", st: RunState, on_ste
         st.rejected += adv.rejected_attempts
         st.dt = stepper.dt
         result, h = adv.result, adv.h
-        if adv.status == "event":  # a slider passed its carrier's end: the run ends there
-            joint = sim.sliding_joint_effects().index(stepper.events[adv.event][0])
+        if adv.status == "event":  # an indicator crossed (a slider passed its carrier's end): the run ends there
+            effect, index, _ = stepper.events[adv.event]
             if adv.event_step_taken:
                 st.step += 1
                 st.records.append(sim.record_dynamic(st.step, result, h, st.rejected_since_record))
                 if on_step:
                     on_step(st.records[-1])
-                joints = st.records[-1].joints
-            else:  # no shortened step stayed on the carrier: t_n is the arrival
+            else:  # no shortened step stayed inside: t_n is the arrival
                 record_last_accepted()
-                joints = sim.joint_states()
             st.rejected_since_record = 0
-            j = sim.scene.sliding_joints[joint]
-            message = carrier_end_message(sim, joint, joints[joint].s,
-                                          f"at t = {integ.time:.9g} (step {st.step}, a shortened last step)")
-            res = outcome(False, message, failed=j.at_carrier_end == "fail")
+            message = sim._model.event_message(effect, index, adv.event_value,
+                                               f"at t = {integ.time:.9g} (step {st.step}, a shortened last step)")
+            res = outcome(False, message, failed=sim._model.event_fails_run(effect, index))
             res.stopped = message
             return res
         if adv.status == "accepted":

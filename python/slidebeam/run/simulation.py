@@ -20,7 +20,7 @@ from petsc4py import PETSc
 
 from .. import _core
 from . import interrupts
-from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState, carrier_end_message,
+from .dynamics import (DynamicRecord, JointState, Reaction, RunOutcome, RunState,
                        initial_velocity, run_dynamic)
 from .model import EffectInfo, build_model
 from .options_check import apply_scene_options
@@ -618,14 +618,12 @@ class Simulation:
                 ContinuedSolve(adv.result.iterations, adv.result.residual_norm, adv.result.converged,
                                adv.result.reason_name)
                 if adv.continued else adv.result)
-            if adv.status == "event":  # back at the last load step, every slider on its carrier
+            if adv.status == "event":  # back at the last load step, inside every indicator
                 self.t = stepper.time
-                joint = self.sliding_joint_effects().index(adv.event)
-                self.stopped = carrier_end_message(
-                    self, joint, adv.event_value if adv.event_index == 0 else
-                    self.scene.beams[self.scene.sliding_joints[joint].carrier].geometry.length - adv.event_value,
+                self.stopped = self._model.event_message(
+                    adv.event, adv.event_index, adv.event_value,
                     f"in load step {step + 1} (t = {adv.t:.6g}); results hold load step {step} (t = {stepper.time:.6g})")
-                self.stop_is_failure = self.scene.sliding_joints[joint].at_carrier_end == "fail"
+                self.stop_is_failure = self._model.event_fails_run(adv.event, adv.event_index)
                 break
             if adv.status == "accepted":
                 self.t = adv.t
