@@ -232,6 +232,11 @@ PYBIND11_MODULE(_core, m) {
            "the values of the effects that have outputs (a contact's force and length in contact) at x, "
            "named by output_names() (collective)")
       .def("output_names", &Model::output_names, "(effect index, name) of each effect_outputs() value")
+      .def("unknown_bounds", &Model::unknown_bounds, py::arg("except_rows") = std::vector<PetscInt>{},
+           "(rows, lo, hi): the extra unknowns a continuation keeps within bounds (sliders on their carriers), "
+           "but the rows given")
+      .def("held_at_start", &Model::held_at_start,
+           "rows the equilibrium start of a dynamic run holds where they are (held sliders)")
       .def("event_message", &Model::event_message, py::arg("effect"), py::arg("index"), py::arg("value"),
            py::arg("when"), "the run's message for an event: what happened (the indicator's value at the end "
            "state), `when`, and what the run does")

@@ -165,6 +165,14 @@ class Model:
     def output_names(self) -> list[tuple[int, str]]:
         """(effect index, name) of each effect_outputs() value"""
         ...
+    def unknown_bounds(self, except_rows: list[int] = []) -> tuple[list[int], list[float], list[float]]:
+        """(rows, lo, hi): the extra unknowns a continuation keeps within bounds (sliders on their
+        carriers), but the rows given
+        """
+        ...
+    def held_at_start(self) -> list[int]:
+        """rows the equilibrium start of a dynamic run holds where they are (held sliders)"""
+        ...
     def event_message(self, effect: int, index: int, value: float, when: str) -> str:
         """the run's message for an event: what happened (the indicator's value at the end state),
         `when`, and what the run does

@@ -94,6 +94,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
         point_[k] += stencil_.w[j] * S.q_ref()[static_cast<size_t>(S.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
     tolerance_ = p.number("tolerance", 1e-6 * C.length());
     fail_at_end_ = p.string("at_carrier_end", "stop") == "fail";
+    held_at_start_ = p.string("static", "held") == "held";
     label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + C.name() + "]";
     prefix_ = S.name() + "_on_" + C.name();
   }
@@ -124,6 +125,14 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   void initial_values(const Model&, std::vector<PetscInt>& rows, std::vector<PetscScalar>& vals) const override {
     rows.push_back(s_index());
     vals.push_back(s0_);
+  }
+  void bounds(const Model& m, std::vector<PetscInt>& rows, std::vector<double>& lo, std::vector<double>& hi) const override {
+    rows.push_back(s_index());
+    lo.push_back(0.0);
+    hi.push_back(m.beam(carrier_).length());
+  }
+  void held_at_start(std::vector<PetscInt>& rows) const override {
+    if (held_at_start_) rows.push_back(s_index());
   }
 
   PetscInt elimination_anchor(const Model& m) const override { return slider_cp(m, stencil_.n - 1); }
@@ -741,6 +750,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   double point_[3] = {0, 0, 0};  ///< the slider point, reference configuration
   double tolerance_ = 0.0;       ///< largest distance from the carrier at the start
   bool fail_at_end_ = false;     ///< at_carrier_end = "fail": the slider leaving ends the run as failed
+  bool held_at_start_ = true;    ///< static = "held": the equilibrium start keeps s
   std::string label_;
   std::string prefix_;  ///< of the history columns: <slider>_on_<carrier>
   bool owned_ = false;

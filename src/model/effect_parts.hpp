@@ -57,6 +57,12 @@ class ExtraUnknowns {
   virtual bool extra_is_state(PetscInt) const { return false; }
   /// Values of the extras in the initial state (a sliding coordinate from a projection).
   virtual void initial_values(const Model&, std::vector<PetscInt>&, std::vector<PetscScalar>&) const {}
+  /// Extras a continuation (the load steps', the equilibrium start's) keeps within [lo, hi]: a
+  /// slider on its carrier. Global rows, on every rank.
+  virtual void bounds(const Model&, std::vector<PetscInt>&, std::vector<double>&, std::vector<double>&) const {}
+  /// Extras the equilibrium start of a dynamic run holds where they are (a slider the scene
+  /// holds there). Global rows, on every rank.
+  virtual void held_at_start(std::vector<PetscInt>&) const {}
   /// The control point whose slot holds the extras (DofMap), right after its block (-1: after
   /// all slots, on the last rank): they are then owned with that point and eliminated after it.
   /// Choose a point the extras couple to, so that the multipliers find their pivot in the

@@ -682,6 +682,28 @@ static const EventSource& event_source(const std::vector<std::unique_ptr<Effect>
   return *e;
 }
 
+std::tuple<std::vector<PetscInt>, std::vector<double>, std::vector<double>> Model::unknown_bounds(
+    const std::vector<PetscInt>& except) const {
+  std::vector<PetscInt> rows, kept;
+  std::vector<double> lo, hi, kept_lo, kept_hi;
+  for (const auto& e : effects_)
+    if (const auto* x = part_of<ExtraUnknowns>(*e)) x->bounds(*this, rows, lo, hi);
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (std::find(except.begin(), except.end(), rows[i]) == except.end()) {
+      kept.push_back(rows[i]);
+      kept_lo.push_back(lo[i]);
+      kept_hi.push_back(hi[i]);
+    }
+  return {kept, kept_lo, kept_hi};
+}
+
+std::vector<PetscInt> Model::held_at_start() const {
+  std::vector<PetscInt> rows;
+  for (const auto& e : effects_)
+    if (const auto* x = part_of<ExtraUnknowns>(*e)) x->held_at_start(rows);
+  return rows;
+}
+
 std::string Model::event_message(int k, int i, double g, const std::string& when) const {
   return event_source(effects_, k).event_message(*this, i, g, when);
 }

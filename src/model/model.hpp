@@ -14,6 +14,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace slidebeam {
@@ -147,6 +148,11 @@ class Model {
   std::vector<std::pair<int, std::string>> output_names() const;
   /// The history prefix of effect k's outputs (OutputSource::output_prefix; "": its label).
   std::string output_prefix(int k) const;
+  /// ExtraUnknowns::bounds of every effect (rows, lo, hi), leaving out the rows in `except`.
+  std::tuple<std::vector<PetscInt>, std::vector<double>, std::vector<double>> unknown_bounds(
+      const std::vector<PetscInt>& except = {}) const;
+  /// ExtraUnknowns::held_at_start of every effect.
+  std::vector<PetscInt> held_at_start() const;
   /// EventSource::event_message and event_action of effect k's indicator i.
   std::string event_message(int k, int i, double g, const std::string& when) const;
   bool event_fails_run(int k, int i) const;

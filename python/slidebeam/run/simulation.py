@@ -285,16 +285,10 @@ class Simulation:
     def _settle_with(self, model: "_core.Model") -> EquilibriumOutcome:
         """The static start on a model (this simulation's, or rank 0's serial copy of it)."""
         solver = _core.EquilibriumSolver(model)
-        held = [self.sliding_coordinate_index(k) for k, j in enumerate(self.scene.sliding_joints) if j.static == "held"]
+        held = list(model.held_at_start())  # the effects say which unknowns stay and which stay bounded
         solver.set_held(held)
-        solver.set_bounds(*self._carrier_bounds([k for k, j in enumerate(self.scene.sliding_joints) if j.static != "held"]))
+        solver.set_bounds(*model.unknown_bounds(held))
         return EquilibriumOutcome.of(solver.solve(0.0, self.scene.analysis.dt))
-
-    def _carrier_bounds(self, joints: list[int]) -> tuple[list[int], list[float], list[float]]:
-        """(rows, lo, hi): the sliding coordinates of the sliding joints `joints` (scene indices)
-        bound to their carriers, [0, L], for a continuation."""
-        return ([self.sliding_coordinate_index(k) for k in joints], [0.0] * len(joints),
-                [self.scene.beams[self.scene.sliding_joints[k].carrier].geometry.length for k in joints])
 
     def _distributed_and(self, option: bool) -> bool:
         """True if the model is distributed over several ranks and option (-sb_statics_on_rank_0
@@ -608,8 +602,7 @@ class Simulation:
         records = [self.record(0, None)]
         stepper = _core.LoadStepper(self._model, self._solver, a.t_end, a.steps, max_cuts)
         stepper.set_predictor(self.use_predictor)
-        joints = list(range(len(self.scene.sliding_joints)))
-        stepper.set_continuation_bounds(*self._carrier_bounds(joints))
+        stepper.set_continuation_bounds(*self._model.unknown_bounds())
         step = 0
         while not stepper.done:
             adv = stepper.advance()
