@@ -221,12 +221,6 @@ PYBIND11_MODULE(_core, m) {
       .def("static_reactions",
            [](const Model& s, double t, Vec x) { return reaction_list(s.static_reactions(t, x)); }, py::arg("t"), py::arg("x"),
            "[(effect index, force, moment or None)] of supports and joints in equilibrium at x (collective)")
-      .def("joint_forces",
-           [](const Model& s, double t, Vec x, const std::vector<int>& effects) {
-             return s.joint_forces(StepEval{StepRule::Endpoint, t, 1.0}, x, effects);
-           },
-           py::arg("t"), py::arg("x"), py::arg("effects"),
-           "force of each given sliding joint on its slider at x, global frame (collective)")
       .def("effect_outputs", py::overload_cast<double, Vec>(&Model::effect_outputs, py::const_), py::arg("t"),
            py::arg("x"),
            "the values of the effects that have outputs (a contact's force and length in contact) at x, "
@@ -458,9 +452,6 @@ PYBIND11_MODULE(_core, m) {
            "[(effect index, force, moment or None)] of supports and joints over the last step (collective)")
       .def("effect_outputs", &TimeIntegrator::effect_outputs,
            "Model.effect_outputs over the last step (rates over it), or at t_n before a step (collective)")
-      .def("joint_forces", &TimeIntegrator::joint_forces, py::arg("effects"),
-           "force of each given sliding joint on its slider over the last step (at t_n before any "
-           "step), global frame (collective)")
       .def("prepare_step", &TimeIntegrator::prepare_step, py::arg("h"))
       .def("step_residual", [](TimeIntegrator& s, Vec x, Vec F) { SB_CHECK(s.step_residual(x, F)); },
            py::arg("x"), py::arg("F"), "F = the residual of the prepared step (prepare_step) at x")

@@ -154,9 +154,6 @@ class Model:
         (collective)
         """
         ...
-    def joint_forces(self, t: float, x: PETSc.Vec, effects: list[int]) -> list[list[float]]:
-        """force of each given sliding joint on its slider at x, global frame (collective)"""
-        ...
     def effect_outputs(self, t: float, x: PETSc.Vec) -> list[float]:
         """the values of the effects that have outputs (a contact's force and length in contact) at
         x, named by output_names() (collective)
@@ -394,11 +391,6 @@ class TimeIntegrator:
     def effect_outputs(self) -> list[float]:
         """Model.effect_outputs over the last step (rates over it), or at t_n before a step
         (collective)
-        """
-        ...
-    def joint_forces(self, effects: list[int]) -> list[list[float]]:
-        """force of each given sliding joint on its slider over the last step (at t_n before any
-        step), global frame (collective)
         """
         ...
     def prepare_step(self, h: float) -> None: ...

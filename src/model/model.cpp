@@ -677,7 +677,7 @@ std::string Model::output_prefix(int k) const {
 }
 
 static const EventSource& event_source(const std::vector<std::unique_ptr<Effect>>& effects, int k) {
-  const auto* e = dynamic_cast<const EventSource*>(effects.at(static_cast<size_t>(k)).get());
+  const auto* e = part_of<EventSource>(*effects.at(static_cast<size_t>(k)));
   if (!e) throw std::invalid_argument("effect " + std::to_string(k) + " has no events");
   return *e;
 }
@@ -732,17 +732,6 @@ std::vector<double> Model::effect_outputs(const StepEval& ev, Vec x) const {
   }));
   MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm_);
   return v;
-}
-
-std::vector<std::array<double, 3>> Model::joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const {
-  std::vector<std::array<double, 3>> f(effects.size(), std::array<double, 3>{});
-  SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
-    for (size_t k = 0; k < effects.size(); ++k)
-      if (const auto* joint = part_of<JointTarget>(*effects_.at(static_cast<size_t>(effects[k])))) joint->joint_force(ctx, f[k]);
-    return 0;
-  }));
-  if (!f.empty()) MPI_Allreduce(MPI_IN_PLACE, f.data()->data(), static_cast<int>(3 * f.size()), MPI_DOUBLE, MPI_SUM, comm_);
-  return f;
 }
 
 std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x, Vec F_raw, double scale) const {

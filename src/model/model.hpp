@@ -156,9 +156,6 @@ class Model {
   /// EventSource::event_message and event_action of effect k's indicator i.
   std::string event_message(int k, int i, double g, const std::string& when) const;
   bool event_fails_run(int k, int i) const;
-  /// JointTarget::joint_force of each of the given effects in the state x under the rule ev (the step
-  /// start as set_step_start left it), on every rank (collective).
-  std::vector<std::array<double, 3>> joint_forces(const StepEval& ev, Vec x, const std::vector<int>& effects) const;
 
   /// Coordinates (n_cp x coordinates_per_cp, row-major) of a beam's control points at x, on every
   /// rank (collective).

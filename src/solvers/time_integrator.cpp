@@ -465,14 +465,6 @@ std::vector<std::pair<int, Reaction>> TimeIntegrator::reactions() {
   return r;
 }
 
-std::vector<std::array<double, 3>> TimeIntegrator::joint_forces(const std::vector<int>& effects) {
-  if (!stepped_) return model_.joint_forces(StepEval{StepRule::Endpoint, clock_.time(), 1.0}, x_, effects);
-  SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()
-  auto forces = model_.joint_forces(last_eval_, x_, effects);
-  SB_CHECK(model_.set_step_start(x_));  // the next step's start again (a prepared step reads it)
-  return forces;
-}
-
 std::vector<double> TimeIntegrator::effect_outputs() {
   if (stepped_) {
     SB_CHECK(model_.set_step_start(x_start_));  // as in reactions()

@@ -169,9 +169,6 @@ class TimeIntegrator {
   /// its history term.
   std::vector<std::pair<int, Reaction>> reactions();
   PetscErrorCode step_jacobian(Vec x1, Mat J);
-  /// Model::joint_forces of the given effects: over the last step (its rule, from its start
-  /// state) once a step has been taken since initialize or restore, else at t_n (Endpoint).
-  std::vector<std::array<double, 3>> joint_forces(const std::vector<int>& effects);
   /// Model::effect_outputs over the last step (its rule, from its start state), rates over it;
   /// before a step since initialize or restore, at t_n with the sliding coordinates' rates
   /// sliding_rate() (the outputs then see one step of unit length ending at t_n).

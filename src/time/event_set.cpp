@@ -8,7 +8,7 @@ namespace slidebeam {
 EventSet::EventSet(const Model& model) : model_(model) {
   const auto& effects = model.effects();
   for (size_t e = 0; e < effects.size(); ++e) {
-    const auto* source = dynamic_cast<const EventSource*>(effects[e].get());
+    const auto* source = part_of<EventSource>(*effects[e]);
     if (!source || source->n_events() == 0) continue;
     sources_.push_back({source, indicators_.size()});
     for (int i = 0; i < source->n_events(); ++i)

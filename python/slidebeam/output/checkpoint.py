@@ -200,17 +200,13 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
         sim.initial_energy = float(meta["initial_energy"])
     from ..run.dynamics import RunState
 
-    try:
-        if "history" in meta:
-            from . import history
+    if "history" in meta:
+        from . import history
 
-            records = history.records(meta["history"], meta["history_reasons"],
-                                      history.Layout.from_dict(json.loads(meta["history_layout"])))
-        else:  # format 1
-            records = [_record(r) for r in json.loads(meta["records"])]
-    except ValueError as err:
-        raise CheckpointError(f"checkpoint {path} cannot be resumed by this version of slidebeam: {err}; "
-                              f"run the scene again from its start") from None
+        records = history.records(meta["history"], meta["history_reasons"],
+                                  history.Layout.from_dict(json.loads(meta["history_layout"])))
+    else:  # format 1
+        records = [_record(r) for r in json.loads(meta["records"])]
     outputs = len(sim.output_labels())
     if any(len(r.outputs) != outputs for r in records):
         raise CheckpointError(f"checkpoint {path} cannot be resumed by this version of slidebeam: its records hold "

@@ -37,11 +37,8 @@ class Layout:
 
     @staticmethod
     def from_dict(d: dict) -> "Layout":
-        """The layout a checkpoint keeps; ValueError if it has columns this version does not (an
-        earlier one kept the sliding joints' apart from the outputs)."""
-        if int(d.get("joints", 0)):
-            raise ValueError("its history keeps sliding joints apart from the effects' outputs, as slidebeam "
-                             "did before the joints' values became outputs")
+        """The layout a checkpoint keeps (an earlier version's "joints" columns are not read:
+        read_checkpoint refuses its records, whose outputs lack them)."""
         return Layout(int(d["tracked"]), [(str(e), bool(m)) for e, m in d["reactions"]],
                       int(d["flows"]), int(d.get("outputs", 0)))
 
