@@ -112,6 +112,8 @@ def _allowed(p: ParamSpec) -> str:
         return "a [`motion`](#motion) table" + (" (displacement and rotation)" if p.size == 6 else " (displacement)")
     if k == "time_function":
         return "a [`time_function`](#time_function) table"
+    if k == "name":
+        return "letters, digits, '_' and '-'"
     return k
 
 

@@ -102,7 +102,17 @@ void scatter_stencil(const LocalValues& r, const DofMap& map, const Beam& b, con
   for (int j = 0; j < st.n; ++j) Eigen::Map<Eigen::Vector3d>(r.cp(map, b.first_cp() + st.cp[j]) + st.comp[j]) += st.w[j] * f;
 }
 
+SlidingJointLink::SlidingJointLink(const Model& m, const EffectParams& p, const char* type)
+    : guide_(p.string("guide", "")), type_(type) {
+  if (guide_.empty() && !p.num.count("beam"))
+    throw ParamError("beam", "give the slider's `beam` (a [[sliding_joint]]'s slider) or a `guide` by its name");
+  if (guide_.empty()) slider_ = beam_param(m, p);
+  else if (p.num.count("beam")) throw ParamError("guide", "give the slider's `beam` or a `guide`, not both");
+}
+
 void SlidingJointLink::link(const Model& m, const JointTarget* joint) {
+  if (!joint && !guide_.empty())
+    throw std::invalid_argument(std::string(type_) + ": no [[guide]] named '" + guide_ + "' before it");
   if (!joint)
     throw std::invalid_argument(std::string(type_) + ": beam '" + m.beam(slider_).name() +
                                 "' is not the slider of a sliding_joint");
@@ -110,7 +120,7 @@ void SlidingJointLink::link(const Model& m, const JointTarget* joint) {
 }
 
 std::string SlidingJointLink::link_label(const Model& m) const {
-  return std::string(type_) + "[" + m.beam(slider_).name() + "]";
+  return std::string(type_) + "[" + (guide_.empty() ? m.beam(slider_).name() : guide_) + "]";
 }
 
 int end_cp(const Beam& b, double s) {

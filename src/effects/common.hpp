@@ -99,13 +99,15 @@ class MassOnlyEffect : public Base, public MassSource {
   PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
 };
 
-/// The JointLink of an effect acting on a sliding joint's s (friction, a slider drive): linked
-/// to the joint made before it on the same slider beam.
+/// The JointLink of an effect acting on a sliding joint's or a guide's s (friction, a slider
+/// drive): linked to the joint made before it on the same slider beam (params `beam`), or to the
+/// guide named (`guide`).
 class SlidingJointLink : public JointLink {
  public:
   /// type: the effect's type, for the error when the beam is no slider.
-  SlidingJointLink(int slider, const char* type) : slider_(slider), type_(type) {}
+  SlidingJointLink(const Model& m, const EffectParams& p, const char* type);
   int linked_slider() const override { return slider_; }
+  std::string linked_name() const override { return guide_; }
   void link(const Model& m, const JointTarget* joint) override;
 
  protected:
@@ -116,7 +118,8 @@ class SlidingJointLink : public JointLink {
   /// "<type>[<slider beam>]"
   std::string link_label(const Model& m) const;
 
-  int slider_;
+  int slider_ = -1;
+  std::string guide_;  ///< the guide's name ("": a sliding joint's slider beam)
   const JointTarget* joint_ = nullptr;
 
  private:

@@ -47,7 +47,7 @@ namespace slidebeam::effects {
 class JointFriction final : public Effect, public ExtraUnknowns, public SlidingJointLink {
  public:
   JointFriction(const Model& m, const EffectParams& p)
-      : SlidingJointLink(beam_param(m, p), "friction"), mu_(p.number("mu")) {
+      : SlidingJointLink(m, p, "friction"), mu_(p.number("mu")) {
     if (!(mu_ >= 0.0)) throw ParamError("mu", "friction: mu must be >= 0");
   }
   std::string type() const override { return "friction"; }
@@ -154,7 +154,7 @@ class JointFriction final : public Effect, public ExtraUnknowns, public SlidingJ
       if (std::abs(ds) > 64 * std::numeric_limits<double>::epsilon() * (std::abs(s0) + std::abs(s1)))
         law.sign = ds > 0.0 ? -1.0 : 1.0;
     } else {
-      double m = ctx.model.beam_mass(slider_);
+      double m = joint_->sliding_mass(ctx.model);
       if (!(m > 0.0))  // a massless slider beam: the model's mass sets the scale
         for (size_t b = 0; b < ctx.model.beams().size(); ++b) m += ctx.model.beam_mass(static_cast<int>(b));
       law.r = kDelassusShare * std::max(m, std::numeric_limits<double>::min()) / ctx.h;
@@ -199,9 +199,10 @@ void register_friction_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
   const EffectSpec s = table_effect_spec(
       "friction", "friction", "", EnergyRole::Dissipative,
-      "Coulomb friction on a sliding joint, from its normal force: the slider sticks while the tangential load is "
-      "below mu N",
-      {{"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""},
+      "Coulomb friction on a sliding joint or a guide, from its normal force: the slider (the rope at a guide) "
+      "sticks while the tangential load is below mu N",
+      {optional_param({"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""}),
+       optional_param({"guide", K::Name, "", "or: the [[guide]] it acts at, by its name", ""}),
        {"mu", K::Number, "", "Coulomb friction coefficient", "", 0.0}});
   r.add(s, [](const Model& m, const EffectParams& p) { return std::make_unique<JointFriction>(m, p); });
 }

@@ -38,7 +38,7 @@ double trapezoid_travel(double t, double v, double start, double stop, double a)
 class SliderDrive final : public Effect, public ExtraUnknowns, public PrescribedMotion, public SlidingJointLink {
  public:
   SliderDrive(const Model& m, const EffectParams& p)
-      : SlidingJointLink(beam_param(m, p), "slider_drive"),
+      : SlidingJointLink(m, p, "slider_drive"),
         start_(p.number("start", 0.0)),
         stop_(p.number("stop", std::numeric_limits<double>::infinity())),
         ramp_(p.number("ramp", 0.0)),
@@ -141,7 +141,11 @@ void register_slider_drive_effects(EffectRegistry& r) {
       "times a time function";
   s.role = EnergyRole::Driving;
   s.params = {
-      {"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""},
+      optional_param({"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""}),
+      optional_param({"guide", K::Name, "",
+                      "or: the [[guide]] whose rope it drives (a winch paying out, s growing, or reeling in), by "
+                      "its name",
+                      ""}),
       optional_param({"speed", K::Number, "m/s", "travel speed along the carrier (negative: toward its start)", ""}),
       optional_param({"distance", K::Number, "m",
                       "or: the travel along the carrier at f = 1 (negative: toward its start), s = s0 + distance "

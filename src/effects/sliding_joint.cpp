@@ -30,6 +30,12 @@
 /// D = N'(s_f), pi_iA = e_i,f . x_A,f. The force state's derivative with respect to the end state
 /// is b = theta (1/2 under energy-momentum).
 ///
+/// A guide ([[guide]]: a ring, fairlead, saddle or small sheave the rope runs through) is the
+/// same joint with the carrier the rope and the slider a point fixed in space (no unknowns of its
+/// own: p constant) or a point of a rigid body (p = phi + X_i d_i, a stencil over the body's
+/// coordinates), in the spatial form. Energy-momentum keeps its energy exactly; the rope's
+/// moment about the guide over a step is the spatial form's -1/4 (sum_A dN_A dx_A) x mu.
+///
 /// Carrier and slider may be director beams or ANCF cables. The carrier's centre line is a
 /// sliding::Curve over coordinate 3-blocks ("curve blocks"): the phi of each control point of a
 /// director beam (quadratic B-spline), or r and r' of each node of a cable (cubic Hermite,
@@ -53,6 +59,34 @@ namespace slidebeam::effects {
 class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoints, public NumberingHints, public JointTarget,
                            public EventSource, public OutputSource {
  public:
+  struct GuideTag {};
+  /// A [[guide]]: the rope `rope` runs through `point`, fixed, or drawn on the [[body]] `body`.
+  SlidingJoint(const Model& m, const EffectParams& p, GuideTag)
+      : slider_(p.num.count("body") ? static_cast<int>(p.number("body")) : -1),
+        carrier_(static_cast<int>(p.number("rope"))) {
+    const int nb = static_cast<int>(m.beams().size());
+    if (carrier_ < 0 || carrier_ >= nb) throw std::invalid_argument("guide: no beam with index " + std::to_string(carrier_));
+    const Beam& C = m.beam(carrier_);
+    if (C.is_rigid()) throw ParamError("rope", "'" + C.name() + "' is a [[body]]: a guide takes a rope (a beam)");
+    curve_ = {C.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, C.n_spans(), C.length()};
+    const std::vector<double>& at = p.vector("point", 3);
+    std::copy(at.begin(), at.end(), point_);
+    if (slider_ >= 0) {
+      if (slider_ >= nb || !m.beam(slider_).is_rigid())
+        throw ParamError("body", "the guide's carrier must be a [[body]]");
+      stencil_ = m.beam(slider_).body_point_drawn({at[0], at[1], at[2]});
+    } else {
+      offset_ = Eigen::Vector3d(at[0], at[1], at[2]);
+    }
+    // a drawn corner at the guide is cut by the spline by about a quarter span: half a span by
+    // default, a gap that the equilibrium start closes (a start from the drawing steps onto it)
+    tolerance_ = p.number("tolerance", 0.5 * C.length() / C.n_spans());
+    fail_at_end_ = p.string("at_rope_end", "stop") == "fail";
+    held_at_start_ = p.string("static", "free") == "held";
+    name_ = p.string("name");
+    label_ = "guide[" + C.name() + " on " + name_ + "]";
+    prefix_ = C.name() + "_at_" + name_;
+  }
   SlidingJoint(const Model& m, const EffectParams& p)
       : slider_(static_cast<int>(p.number("slider"))), carrier_(static_cast<int>(p.number("carrier"))) {
     const int nb = static_cast<int>(m.beams().size());
@@ -108,13 +142,20 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     s0_ = found[0].s;
     if (found[0].distance > tolerance_) {
       std::ostringstream msg;
-      msg << "sliding_joint: the slider point of beam '" << m.beam(slider_).name() << "' (" << point_[0] << ", "
-          << point_[1] << ", " << point_[2] << ") is " << found[0].distance << " from carrier '"
-          << m.beam(carrier_).name() << "' (closest at s = " << s0_ << "); tolerance " << tolerance_;
+      if (is_guide())
+        msg << "guide: guide '" << name_ << "' at (" << point_[0] << ", " << point_[1] << ", " << point_[2] << ") is "
+            << found[0].distance << " from rope '" << m.beam(carrier_).name() << "' (closest at s = " << s0_
+            << "); tolerance " << tolerance_;
+      else
+        msg << "sliding_joint: the slider point of beam '" << m.beam(slider_).name() << "' (" << point_[0] << ", "
+            << point_[1] << ", " << point_[2] << ") is " << found[0].distance << " from carrier '"
+            << m.beam(carrier_).name() << "' (closest at s = " << s0_ << "); tolerance " << tolerance_;
       throw std::invalid_argument(msg.str());
     }
   }
-  std::string type() const override { return "sliding_joint"; }
+  std::string type() const override { return is_guide() ? "guide" : "sliding_joint"; }
+  std::string joint_name() const override { return name_; }
+  double sliding_mass(const Model& m) const override { return m.beam_mass(is_guide() ? carrier_ : slider_); }
   std::string label() const override { return label_; }
   // mu (3), then s: the natural-order LU of serial steps then meets s after the multipliers,
   // whose elimination gives its pivot (s first: a zero pivot while mu = 0)
@@ -135,30 +176,21 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (held_at_start_) rows.push_back(s_index());
   }
 
-  PetscInt elimination_anchor(const Model& m) const override { return slider_cp(m, stencil_.n - 1); }
+  /// The slider's last stencil point; a fixed guide's: the rope's point nearest it.
+  PetscInt elimination_anchor(const Model& m) const override {
+    return stencil_.n > 0 ? slider_cp(m, stencil_.n - 1) : m.beam(carrier_).first_cp() + nearest_carrier_cp(m);
+  }
   void anchor_points(const Model& m, std::vector<PetscInt>& cps) const override {
     for (int j = 0; j < stencil_.n; ++j) cps.push_back(slider_cp(m, j));
   }
   void elimination_precedence(std::vector<std::pair<int, int>>& pairs) const override {
-    pairs.emplace_back(slider_, carrier_);
+    if (slider_ >= 0) pairs.emplace_back(slider_, carrier_);
   }
   void reference_couplings(const Model& m, std::vector<std::pair<PetscInt, PetscInt>>& pairs) const override {
-    // the carrier control point nearest the slider point in the reference configuration (the
-    // parallel search runs after numbering; a scan of one beam's points is cheap here)
-    const Beam& C = m.beam(carrier_);
-    const int nq = C.coordinates_per_cp();
-    int nearest = 0;
-    double best = std::numeric_limits<double>::infinity();
-    for (int c = 0; c < C.n_cp(); ++c) {
-      const double* x = C.q_ref().data() + static_cast<size_t>(nq) * static_cast<size_t>(c);
-      const double d = (x[0] - point_[0]) * (x[0] - point_[0]) + (x[1] - point_[1]) * (x[1] - point_[1]) +
-                       (x[2] - point_[2]) * (x[2] - point_[2]);
-      if (d < best) best = d, nearest = c;
-    }
-    pairs.emplace_back(slider_cp(m, stencil_.n - 1), C.first_cp() + nearest);
+    if (stencil_.n > 0) pairs.emplace_back(slider_cp(m, stencil_.n - 1), m.beam(carrier_).first_cp() + nearest_carrier_cp(m));
   }
   void distribute(const Model& m) override {
-    owned_ = m.dof_map().owns_cp(slider_cp(m, 0));
+    owned_ = m.dof_map().owns_cp(elimination_anchor(m));
     const auto r = curve_.touched_blocks(s0_, s0_);
     move_window(r[0], r[1]);
     set_ghost_window(s0_, s0_);
@@ -168,7 +200,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   /// carrier points a joint reads come from whichever rank owns them, O(1) per joint.
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
-    add_cp_blocks(m.dof_map(), slider_cp(m, 0), stencil_.cp[stencil_.n - 1] - stencil_.cp[0] + 1, dofs);
+    if (stencil_.n > 0) add_cp_blocks(m.dof_map(), slider_cp(m, 0), stencil_.cp[stencil_.n - 1] - stencil_.cp[0] + 1, dofs);
     add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp() + ghost_lo_, ghost_hi_ - ghost_lo_ + 1, dofs);
     for (int k = 0; k < 4; ++k) dofs.push_back(extra_offset() + k);
   }
@@ -214,10 +246,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
       Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, C, A)) += t.Wq.at(A) * mu;
       g += t.N1.at(A) * position(ctx.x, ctx.map, C, A);
     }
-    const Beam& S = ctx.model.beam(slider_);
-    scatter_stencil(r, ctx.map, S, stencil_, -mu);
-    for (int j = 0; j < stencil_.n; ++j)  // one block at a time (the director beam's rounding as before)
-      g -= stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, S.first_cp() + stencil_.cp[j]) + stencil_.comp[j]);
+    subtract_slider_point(g, ctx.x, ctx.map, ctx.model);
+    if (stencil_.n > 0) scatter_stencil(r, ctx.map, ctx.model.beam(slider_), stencil_, -mu);
     r.at(s_index()) += t.Gs.dot(mu);
     for (int k = 0; k < 3; ++k) r.at(extra_offset() + k) += g(k);
     PetscFunctionReturn(0);
@@ -310,7 +340,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   bool normal_force(const EvalContext& ctx, double& N, std::vector<PetscInt>& dofs, std::vector<double>& dN) const override {
     if (!owned_) return false;
     const DofMap& map = ctx.map;
-    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
+    const Beam& C = ctx.model.beam(carrier_);
     const double th = ctx.theta, sf = ctx.xf.at(s_index());
     const auto range = curve_.touched_blocks(sf, sf);
     sliding::Weights d1, d2;
@@ -331,7 +361,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     Eigen::Matrix3d E = Eigen::Matrix3d::Identity();
     if (frame_) {
       Eigen::Vector3d p;
-      slider_frame(ctx.xf, map, S, E, p);
+      slider_frame(ctx.xf, map, ctx.model.beam(slider_), E, p);
     }
     const Eigen::Vector3d Lambda = E * lam, Nvec = Lambda - t.dot(Lambda) * t;
     N = Nvec.norm();
@@ -357,7 +387,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
       for (int j = 0; j < frame_st_.n; ++j)
         for (int i = 0; i < 3; ++i)
           for (int k = 0; k < 3; ++k) {
-            dofs.push_back(map.q(S.first_cp() + frame_st_.cp[j], 3 + 3 * i + k));
+            dofs.push_back(map.q(ctx.model.beam(slider_).first_cp() + frame_st_.cp[j], 3 + 3 * i + k));
             dN.push_back(th * frame_st_.w[j] * lam(i) * gL(k));
           }
     return true;
@@ -650,7 +680,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
 
   /// The constraint rows at the end state x, summed in the order residual() sums them.
   Eigen::Vector3d end_gap(const EvalContext& ctx) const {
-    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
+    const Beam& C = ctx.model.beam(carrier_);
     const double s1 = ctx.x.at(s_index());
     const auto range = curve_.touched_blocks(s1, s1);
     sliding::Weights N1;
@@ -659,16 +689,42 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (frame_) {
       Eigen::Matrix3d E1;
       Eigen::Vector3d p1;
-      slider_frame(ctx.x, ctx.map, S, E1, p1);
+      slider_frame(ctx.x, ctx.map, ctx.model.beam(slider_), E1, p1);
       Eigen::Vector3d gap = -p1;
       for (int a = range[0]; a <= range[1]; ++a) gap += N1.at(a) * position(ctx.x, ctx.map, C, a);
       return E1.transpose() * gap;
     }
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (int a = range[0]; a <= range[1]; ++a) g += N1.at(a) * position(ctx.x, ctx.map, C, a);
-    for (int j = 0; j < stencil_.n; ++j)
-      g -= stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(ctx.x.cp(ctx.map, S.first_cp() + stencil_.cp[j]) + stencil_.comp[j]);
+    subtract_slider_point(g, ctx.x, ctx.map, ctx.model);
     return g;
+  }
+
+  /// g -= the slider point p at the state x (spatial form): the stencil over the slider's
+  /// coordinates, one block at a time, or a fixed guide's point.
+  void subtract_slider_point(Eigen::Vector3d& g, const LocalValues& x, const DofMap& map, const Model& m) const {
+    if (stencil_.n == 0) {
+      g -= offset_;
+      return;
+    }
+    const PetscInt first = m.beam(slider_).first_cp();
+    for (int j = 0; j < stencil_.n; ++j)
+      g -= stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(x.cp(map, first + stencil_.cp[j]) + stencil_.comp[j]);
+  }
+  bool is_guide() const { return !name_.empty(); }
+  /// The carrier control point nearest the slider point as drawn (a scan of one beam's points).
+  int nearest_carrier_cp(const Model& m) const {
+    const Beam& C = m.beam(carrier_);
+    const int nq = C.coordinates_per_cp();
+    int nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < C.n_cp(); ++c) {
+      const double* x = C.q_ref().data() + static_cast<size_t>(nq) * static_cast<size_t>(c);
+      const double d = (x[0] - point_[0]) * (x[0] - point_[0]) + (x[1] - point_[1]) * (x[1] - point_[1]) +
+                       (x[2] - point_[2]) * (x[2] - point_[2]);
+      if (d < best) best = d, nearest = c;
+    }
+    return nearest;
   }
 
   /// Curve block A of the carrier in the state x, and a pointer to its 3 entries in r.
@@ -698,6 +754,10 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     const double s = i == 0 ? g : m.beam(carrier_).length() - g;
     char value[32];
     std::snprintf(value, sizeof value, "%.9g", s);
+    if (is_guide())
+      return "the " + std::string(s <= 0 ? "start" : "end") + " of rope '" + m.beam(carrier_).name() +
+             "' reached guide '" + name_ + "' (s = " + value + ") " + when + "; run stopped (at_rope_end = '" +
+             (fail_at_end_ ? "fail" : "stop") + "')";
     return "the slider of beam '" + m.beam(slider_).name() + "' reached the " + (s <= 0 ? "start" : "end") +
            " of carrier '" + m.beam(carrier_).name() + "' (s = " + value + ") " + when +
            "; run stopped (at_carrier_end = '" + (fail_at_end_ ? "fail" : "stop") + "')";
@@ -708,7 +768,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   /// Slider stencil blocks (3 each), carrier curve blocks [c0, c1) (3 each), s, mu.
   std::vector<PetscInt> dofs(const Model& m, int c0, int c1) const {
     const DofMap& map = m.dof_map();
-    std::vector<PetscInt> d = stencil_dofs(map, m.beam(slider_), stencil_);
+    std::vector<PetscInt> d = stencil_.n > 0 ? stencil_dofs(map, m.beam(slider_), stencil_) : std::vector<PetscInt>{};
     d.reserve(static_cast<size_t>(3 * stencil_.n + 3 * (c1 - c0) + 4));
     const PetscInt first = m.beam(carrier_).first_cp();
     for (int a = c0; a < c1; ++a)
@@ -748,6 +808,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   bool frame_ = false;  ///< the frame-projected form (director sliders)
   double s0_ = 0.0;
   double point_[3] = {0, 0, 0};  ///< the slider point, reference configuration
+  Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();  ///< a fixed guide's point (no slider unknowns)
+  std::string name_;             ///< a guide's name ("": a sliding joint)
   double tolerance_ = 0.0;       ///< largest distance from the carrier at the start
   bool fail_at_end_ = false;     ///< at_carrier_end = "fail": the slider leaving ends the run as failed
   bool held_at_start_ = true;    ///< static = "held": the equilibrium start keeps s
@@ -786,6 +848,27 @@ void register_sliding_effects(EffectRegistry& r) {
               "in the equilibrium start: \"held\" keeps s, \"free\" lets the slider slide to equilibrium",
               "\"held\"", -kInf, kInf, false, 0, {"held", "free"}}}),
         [](const Model& m, const EffectParams& p) { return std::make_unique<SlidingJoint>(m, p); });
+  r.add(table_effect_spec(
+            "guide", "guide", "", EnergyRole::Constraint,
+            "a point the rope runs through (a ring, fairlead, saddle or small sheave), fixed in space or on a rigid "
+            "body: the rope's arc length there is free, the rope turns freely",
+            {{"rope", K::Beam, "", "the rope (a director beam or an ANCF cable)", ""},
+             {"point", K::Vector, "m", "where the rope passes, as drawn (a point of the rope)", "", -kInf, kInf, false, 3},
+             optional_param({"body", K::Beam, "", "the [[body]] that carries the guide (fixed in space without it)", ""}),
+             {"name", K::Name, "", "the guide's name: history columns <rope>_at_<name>.*, and how [[friction]] and "
+                                   "[[slider_drive]] name it", "guide<k>, k its place among the [[guide]] entries"},
+             {"at_rope_end", K::Choice, "",
+              "when an end of the rope reaches the guide: \"stop\" the run (exit 0) or \"fail\" (exit 1)", "\"stop\"",
+              -kInf, kInf, false, 0, {"stop", "fail"}},
+             optional_param({"tolerance", K::Number, "m",
+                             "largest guide-rope distance allowed at the start (default: half a span of the rope: a corner drawn at "
+                             "the guide is cut by about a quarter span; the equilibrium start closes the gap, a start "
+                             "from the drawing steps onto it)", "",
+                             0.0, kInf, true}),
+             {"static", K::Choice, "",
+              "in the equilibrium start: \"free\" lets the rope run through to equilibrium, \"held\" keeps it",
+              "\"free\"", -kInf, kInf, false, 0, {"free", "held"}}}),
+        [](const Model& m, const EffectParams& p) { return std::make_unique<SlidingJoint>(m, p, SlidingJoint::GuideTag{}); });
 }
 
 }  // namespace slidebeam::effects

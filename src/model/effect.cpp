@@ -218,6 +218,7 @@ const char* kind_name(ParamSpec::Kind k) {
     case ParamSpec::Kind::Ends: return "ends";
     case ParamSpec::Kind::Points: return "points";
     case ParamSpec::Kind::TimeFunction: return "time_function";
+    case ParamSpec::Kind::Name: return "name";
   }
   return "number";
 }

@@ -140,6 +140,9 @@ struct ParamSpec {
     Points,        ///< as Ends, or an arc length in [0, L], per beam of the Beams parameter
     TimeFunction,  ///< a [time_function] table (num/str: tf_*); fallback "load": a ramp over
                    ///< the load steps in statics, constant in dynamics
+    Name,          ///< a name (str) of letters, digits, '_' and '-': the entry's own (by
+                   ///< default <table><k>, k its number in the table from 1), or, optional, the
+                   ///< name of another entry it acts on
   };
   std::string key;
   Kind kind = Kind::Number;

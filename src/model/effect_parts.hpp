@@ -211,13 +211,18 @@ class EventSource {
   virtual std::string event_message(const Model& model, int i, double g, const std::string& when) const = 0;
 };
 
-/// A joint other effects act through: a sliding joint, whose slider's coordinate s friction
+/// A joint other effects act through: a sliding joint or a guide, whose coordinate s friction
 /// and a drive act on (they take the JointLink part).
 class JointTarget {
  public:
   virtual ~JointTarget() = default;
-  /// The beam whose point slides.
+  /// The beam whose point slides (-1: none, a guide fixed in space).
   virtual int slider_beam() const = 0;
+  /// A guide's name ("": a sliding joint, found by its slider beam).
+  virtual std::string joint_name() const { return ""; }
+  /// The mass that moves along s, the scale of friction's stick test: the slider beam's, or a
+  /// guide's rope's.
+  virtual double sliding_mass(const Model& m) const = 0;
   /// The joint's force on its slider in the global frame under the evaluation's rule (the
   /// step's force under the midpoint-type rules), on the rank that evaluates the joint (true);
   /// false elsewhere.
@@ -231,14 +236,17 @@ class JointTarget {
   virtual const ExtraUnknowns& joint_unknowns() const = 0;
 };
 
-/// An effect acting through a joint (friction on a sliding joint, a drive of its slider): it
-/// names the joint's slider beam, and the model links it to that beam's joint, the last one
-/// before it in scene order, before the numbering (Model::finalize).
+/// An effect acting through a joint (friction on a sliding joint or a guide, a drive of its
+/// slider or a winch at a guide): it names the joint's slider beam or the guide, and the model
+/// links it to that joint, the last one before it in scene order, before the numbering
+/// (Model::finalize).
 class JointLink {
  public:
   virtual ~JointLink() = default;
-  /// The slider beam of the joint it acts through.
+  /// The slider beam of the joint it acts through (-1: a guide, by its name).
   virtual int linked_slider() const = 0;
+  /// The guide it acts through ("": a sliding joint, by its slider beam).
+  virtual std::string linked_name() const { return ""; }
   /// The joint found (nullptr: none; the effect throws std::invalid_argument naming its table).
   virtual void link(const Model& m, const JointTarget* joint) = 0;
 };

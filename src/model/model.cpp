@@ -820,7 +820,11 @@ void Model::link_effects() {
     const JointTarget* joint = nullptr;  // the last one before it (constraints come first: model.py)
     for (size_t j = 0; j < k; ++j) {
       const auto* target = part_of<JointTarget>(*effects_[j]);
-      if (target && target->slider_beam() == link->linked_slider()) joint = target;
+      if (!target) continue;
+      const std::string name = link->linked_name();
+      if (name.empty() ? target->joint_name().empty() && target->slider_beam() == link->linked_slider()
+                       : target->joint_name() == name)
+        joint = target;
     }
     link->link(*this, joint);
   }

@@ -86,6 +86,11 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
 def _placement_error(scene: Scene, message: str) -> Exception:
     """The core's parallel closest-point search found a slider off its carrier: name the
     [[sliding_joint]] (the message names the slider and carrier beams)."""
+    guide = re.match(r"guide: guide '(.*?)' ", message)
+    if guide:
+        for e in scene.effects:
+            if e.type == "guide" and e.text.get("name") == guide.group(1):
+                return SceneError(message.removeprefix("guide: "), scene.file, e.place, "point")
     match = re.match(r"sliding_joint: the slider point of beam '(.*?)' .* from carrier '(.*?)'", message)
     if not match:
         return ValueError(message)

@@ -19,6 +19,7 @@ import difflib
 import functools
 import math
 import os
+import re
 import tomllib
 import copy
 import dataclasses
@@ -1619,6 +1620,10 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
             continue
         if not t.has(p.key) and not p.default and p.kind != "time_function":
             raise t.error(p.key, f"missing required key ({p.meaning})")
+        if p.kind == "name":
+            text[p.key] = _entry_name(t, p.key, spec.table, index)
+            label_parts.setdefault(p.key, text[p.key])
+            continue
         value = t.raw(p.key) if t.has(p.key) else (_spec_default(p) if p.default and p.default != "load" else None)
         body = _named_body(t, p, spec, bodies)
         if body is not None:  # a [[support]] or [[load]] on a body
@@ -1718,6 +1723,20 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
     where = " on ".join(label_parts.values())
     return EffectEntry(spec.type, f"{spec.type}[{where}]" if where else spec.type, spec.table, index, spec.variant,
                        t.label, num, vec, text)
+
+
+_NAME = re.compile(r"[A-Za-z0-9_-]+")
+
+
+def _entry_name(t: _Table, key: str, table: str, index: int) -> str:
+    """A name: the entry's own (default <table><k>, k its number in the table from 1), or the
+    name of another entry it refers to (a [[friction]]'s guide)."""
+    if not t.has(key):
+        return f"{table}{index + 1}"
+    value = t.raw(key)
+    if not isinstance(value, str) or not _NAME.fullmatch(value):
+        raise t.error(key, f"must be a name of letters, digits, '_' and '-', got {_show(value)}")
+    return value
 
 
 def _bounded_number(t: _Table, p: ParamSpec, value: Any) -> float:
