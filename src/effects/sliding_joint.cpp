@@ -313,12 +313,13 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     return true;
   }
 
-  /// Outputs (history columns <slider>_on_<carrier>.<name>): s; ds_dt, its mean rate over the
-  /// step (0 outside a step); the force of the carrier on the slider (joint_force: over the step,
-  /// at its force state); the gap, the distance of the slider point from the carrier's centre line
-  /// at the end state (the norm of the constraint rows: c(s) - p, or its components on the
-  /// slider's directors in the frame form).
+  /// Outputs (history columns <slider>_on_<carrier>.<name>, a guide's <rope>_at_<name>): s;
+  /// ds_dt, its mean rate over the step (0 outside a step); the force of the carrier on the
+  /// slider (joint_force: over the step, at its force state); the gap, the distance of the slider
+  /// point from the carrier's centre line at the end state (the norm of the constraint rows:
+  /// c(s) - p, or its components on the slider's directors in the frame form); a guide's point.
   std::vector<std::string> output_names() const override {
+    if (is_guide()) return {"s", "ds_dt", "reaction.x", "reaction.y", "reaction.z", "gap", "point.x", "point.y", "point.z"};
     return {"s", "ds_dt", "reaction.x", "reaction.y", "reaction.z", "gap"};
   }
   std::string output_prefix() const override { return prefix_; }
@@ -331,6 +332,11 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     joint_force(ctx, f);
     for (int k = 0; k < 3; ++k) v[2 + k] += f[static_cast<size_t>(k)];
     v[5] += end_gap(ctx).norm();
+    if (is_guide()) {  // where the guide is at the end state (it moves with its body)
+      Eigen::Vector3d p = Eigen::Vector3d::Zero();
+      subtract_slider_point(p, ctx.x, ctx.map, ctx.model);
+      for (int k = 0; k < 3; ++k) v[6 + k] -= p(k);
+    }
   }
 
   /// N = |Lambda - (t . Lambda) t|: Lambda the force on the slider (joint_force), t = c'/|c'| the

@@ -47,10 +47,10 @@ def view_script(config: ViewConfig) -> str:
     """The text of view.py for a run."""
     r = config.tube_radius
     values = (f"SCENE = {config.scene!r}\n"
-              f"SERIES = {tuple(config.series)!r}  # the series the run writes, of beams, sliders, masses\n"
+              f"SERIES = {tuple(config.series)!r}  # the series the run writes, of beams, sliders, guides, masses, bodies\n"
               f"TUBE_RADIUS = {r!r}  # m: max(section half size, 0.004 x the structure's extent)\n"
-              f"SPHERE_DIAMETER = {{'sliders': {4 * r!r}, 'masses': {6 * r!r}, 'bodies': {10 * r!r}}}"
-              f"  # m: 4, 6 and 10 tube radii\n"
+              f"SPHERE_DIAMETER = {{'sliders': {4 * r!r}, 'guides': {5 * r!r}, 'masses': {6 * r!r}, "
+              f"'bodies': {10 * r!r}}}  # m: 4, 5, 6 and 10 tube radii\n"
               f"UP = {tuple(float(u) for u in config.up)!r}  # against gravity: the picture's up\n"
               f"WRITTEN_IN = {config.folder!r}  # the folder the run wrote this script into (if neither __file__ "
               f"nor --script tells)\n")

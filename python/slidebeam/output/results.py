@@ -379,7 +379,7 @@ class ResultWriter:
         """``on_step`` of ``solve_static`` and ``run_dynamic``: the state of every converged
         record goes into the XDMF series."""
         if record.converged:
-            self._series.write(record.t, record.joints)
+            self._series.write(record.t, record.joints, record.outputs)
 
     def close(self) -> None:
         """Write what the series holds and close its files (also done by finish)."""

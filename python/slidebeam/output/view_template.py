@@ -24,14 +24,15 @@ from pathlib import Path
 SCENE = "scene"
 SERIES = ("beams",)  # the series the run writes, of beams, sliders, masses
 TUBE_RADIUS = 0.01  # m
-SPHERE_DIAMETER = {"sliders": 0.04, "masses": 0.06, "bodies": 0.1}  # m
+SPHERE_DIAMETER = {"sliders": 0.04, "guides": 0.05, "masses": 0.06, "bodies": 0.1}  # m
 UP = (0.0, 0.0, 1.0)  # against gravity: the picture's up
 WRITTEN_IN = "."  # the folder the run wrote this script into (if neither __file__ nor --script tells)
 # </run>
 
 RANGE_RECORDS = 200  # records read for the colour scale and the camera: spread over the run
 SIZE = (1280, 720)
-SPHERE_COLOUR = {"sliders": (0.95, 0.55, 0.1), "masses": (0.25, 0.25, 0.3), "bodies": (0.2, 0.45, 0.75)}
+SPHERE_COLOUR = {"sliders": (0.95, 0.55, 0.1), "guides": (0.55, 0.2, 0.6), "masses": (0.25, 0.25, 0.3),
+                 "bodies": (0.2, 0.45, 0.75)}
 AXIS_COLOUR = {"d1": (0.85, 0.15, 0.15), "d2": (0.15, 0.65, 0.2), "d3": (0.15, 0.3, 0.85)}  # a body's axes
 
 

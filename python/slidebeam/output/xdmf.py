@@ -13,6 +13,10 @@ Files in the output folder (names are stable):
   times the half extent of the section along them, sqrt(3 EI3/EA) and sqrt(3 EI2/EA): exact for
   a rectangle, from which a Ribbon or Tube filter draws the section), ``s`` (arc length) and
   ``beam_id``. ``/mesh`` has the attribute ``beam_names`` (in ``beam_id`` order).
+- ``guides.xdmf`` + ``guides.h5`` (scenes with guides): one vertex per guide at its drawn point,
+  with ``displacement`` (a guide on a body moves), ``s`` and ``ds_dt`` (the rope's arc length at
+  the guide, its rate), ``reaction`` (the force of the rope on the guide) and ``guide_id``;
+  ``/mesh`` has the attribute ``guide_names``.
 - ``sliders.xdmf`` + ``sliders.h5`` (scenes with sliding joints): one vertex per joint at the
   slider's start position, with ``displacement``, ``s``, ``ds_dt``, ``reaction`` (force of the
   carrier on the slider) and ``joint_id``; ``/mesh`` has the attribute ``joint_names`` (the
@@ -64,6 +68,7 @@ if TYPE_CHECKING:
 
 BEAMS = "beams"
 SLIDERS = "sliders"
+GUIDES = "guides"
 MASSES = "masses"
 BODIES = "bodies"
 FLOATS_PER_BODY = 15  # displacement, velocity, d1, d2, d3
@@ -393,6 +398,7 @@ class NoOutput:
 # HDF5 object of each field (header and link), and the step's XDMF text
 FLOATS_PER_SAMPLE = 34  # displacement, velocity, d1-d3, strain (6), force, moment, tension, section_d2/d3
 FLOATS_PER_SLIDER = 8  # displacement, s, ds_dt, reaction
+FLOATS_PER_GUIDE = 8  # displacement, s, ds_dt, reaction
 FLOATS_PER_MASS = 6  # displacement, velocity
 BYTES_PER_DATASET = 500
 XDMF_BYTES_PER_FIELD = 150
@@ -408,6 +414,9 @@ def bytes_per_record(scene) -> int:
     if scene.sliding_joints:
         size += 8 * FLOATS_PER_SLIDER * len(scene.sliding_joints) + 4 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD)
         size += XDMF_BYTES_PER_STEP
+    guides = len(scene.entries("guide"))
+    if guides:
+        size += 8 * FLOATS_PER_GUIDE * guides + 4 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD) + XDMF_BYTES_PER_STEP
     masses = len(scene.entries("point_mass"))
     if masses:
         size += 8 * FLOATS_PER_MASS * masses + 2 * (BYTES_PER_DATASET + XDMF_BYTES_PER_FIELD) + XDMF_BYTES_PER_STEP
@@ -456,6 +465,11 @@ class XdmfOutput:
         self._slider_points = [(j.slider, j.at) for j in sim.scene.sliding_joints]
         self._slider_rows = self._end_rows(self._slider_points)
         self._slider_ref = self._positions(self._slider_points, self._slider_rows, ref, self._ref_x)
+        # guides: their outputs (s, ds_dt, reaction, gap, point) in the effects' outputs
+        self._guides = [k for k, e in enumerate(sim.active_effects) if e.type == "guide"]
+        if self._guides:
+            sim.output_groups()
+        self._guide_ref = np.array([e.vec["point"] for e in sim.scene.effects if e.type == "guide"]).reshape(-1, 3)
         self._masses = point_masses(sim)
         self._mass_points = [(m.beam, m.s) for m in self._masses]
         self._mass_rows = self._end_rows(self._mass_points)
@@ -488,6 +502,12 @@ class XdmfOutput:
             self._series[SLIDERS] = Series(out / f"{SLIDERS}.xdmf", self._slider_ref, _vertices(n), "Polyvertex",
                                            {"joint_id": np.arange(n, dtype=np.int32)}, resume_after,
                                            names={"joint_names": list(self.sim.scene.sliding_joint_labels)})
+        if self._guides:
+            n = len(self._guides)
+            names = [e.text["name"] for e in self.sim.scene.effects if e.type == "guide"]
+            self._series[GUIDES] = Series(out / f"{GUIDES}.xdmf", self._guide_ref, _vertices(n), "Polyvertex",
+                                          {"guide_id": np.arange(n, dtype=np.int32)}, resume_after,
+                                          names={"guide_names": names})
         if self._masses:
             n = len(self._masses)
             constants = {"mass": np.array([m.mass for m in self._masses]), "mass_id": np.arange(n, dtype=np.int32)}
@@ -594,6 +614,15 @@ class XdmfOutput:
         return {"displacement": current - self._slider_ref, "s": state[:, 0], "ds_dt": state[:, 1],
                 "reaction": state[:, 2:]}
 
+    def guide_fields(self, outputs: list[float] | None = None) -> dict[str, np.ndarray]:
+        """The guides' point data from the effects' outputs (a record's, else computed: collective):
+        the guide's point (it moves with its body), the rope's s there, its rate, and the force of
+        the rope on the guide (the history's reaction columns)."""
+        values = np.asarray(self.sim.effect_outputs() if outputs is None else outputs, dtype=float)
+        state = np.array([values[self.sim._output_slices[k]] for k in self._guides]).reshape(-1, 9)
+        return {"displacement": state[:, 6:9] - self._guide_ref, "s": state[:, 0], "ds_dt": state[:, 1],
+                "reaction": state[:, 2:5]}
+
     def mass_fields(self, position: np.ndarray) -> dict[str, np.ndarray]:
         """The point masses' point data (collective); ``position``: the sample points' positions."""
         current = self._positions(self._mass_points, self._mass_rows, position)
@@ -607,14 +636,15 @@ class XdmfOutput:
                 "d3": q[:, 9:12]}
 
     # -- writing ---------------------------------------------------------------------------
-    def write(self, t: float, joints: list[JointState] | None = None) -> None:
-        """Append the current state at time t (collective); ``joints`` as for slider_fields."""
+    def write(self, t: float, joints: list[JointState] | None = None, outputs: list[float] | None = None) -> None:
+        """Append the current state at time t (collective); ``joints`` as for slider_fields,
+        ``outputs`` (the effects' outputs of the record) as for guide_fields."""
         from ..run.costs import output_phase
 
         with output_phase():
-            self._write(t, joints)
+            self._write(t, joints, outputs)
 
-    def _write(self, t: float, joints: list[JointState] | None) -> None:
+    def _write(self, t: float, joints: list[JointState] | None, outputs: list[float] | None) -> None:
         beams = self._series.get(BEAMS)
         if self.writes == 0:  # every rank holds the same arrays: the same flush points everywhere
             data, position = self.fields()
@@ -623,6 +653,7 @@ class XdmfOutput:
             position = self._sampler.record(self.sim._model, self.sim.x, self.sim.v,
                                             None if beams is None else beams.writer, -1 if beams is None else beams.next_record)
         points = {SLIDERS: self.slider_fields(position, joints) if self._slider_points else {},
+                  GUIDES: self.guide_fields(outputs) if self._guides else {},
                   MASSES: self.mass_fields(position) if self._masses else {},
                   BODIES: self.body_fields() if self._bodies else {}}
         if data is not None:
