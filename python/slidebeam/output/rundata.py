@@ -118,6 +118,7 @@ class Run:
     sliders: Series | None
     masses: Series | None
     bodies: Series | None = None
+    guides: Series | None = None
 
     @property
     def label(self) -> str:
@@ -132,7 +133,7 @@ class Run:
         return [k for k in self.history if k.endswith(suffix)]
 
     def close(self) -> None:
-        for s in (self.beams, self.sliders, self.masses, self.bodies):
+        for s in (self.beams, self.sliders, self.masses, self.bodies, self.guides):
             if s is not None:
                 s.close()
 
@@ -168,7 +169,7 @@ def open_run(folder: str | Path) -> Run:
 
     run = Run(folder, summary, history, series("beams", "beam_id", "beam_names"),
               series("sliders", "joint_id", "joint_names"), series("masses", "mass_id", "mass_names"),
-              series("bodies", "body_id", "body_names"))
+              series("bodies", "body_id", "body_names"), series("guides", "guide_id", "guide_names"))
     beam_names = list(summary.get("final_end_positions", {}))  # in beam order; for series without names
     if run.beams is not None and run.beams.names[:1] == ["beam 0"] and len(beam_names) == len(run.beams.names):
         run.beams.names = beam_names

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Pictures and animations of a run's deformed structure without a display (matplotlib's Agg
 canvas): beams as lines coloured by a field, point masses as squares (rigid bodies too, with their
-axes as red, green and blue segments), sliders as circles, from a
+axes as red, green and blue segments), sliders and guides as circles, from a
 camera fixed by the structure's extent over the whole run, so frames and pictures at several
 times line up.
 
@@ -114,8 +114,8 @@ class Renderer:
         # bodies are drawn at their centres of mass, as point masses are, with their axes
         centres = self._at(self.run.bodies, t)
         masses = np.concatenate([self._at(self.run.masses, t), centres])
-        return Frame(t, x[self.cells], self._values(record), masses, self._at(self.run.sliders, t),
-                     self._body_axes(t, centres))
+        sliders = np.concatenate([self._at(self.run.sliders, t), self._at(self.run.guides, t)])  # guides alike
+        return Frame(t, x[self.cells], self._values(record), masses, sliders, self._body_axes(t, centres))
 
     def _body_axes(self, t: float, centres: np.ndarray) -> np.ndarray:
         axes = np.zeros((3, len(centres), 2, 3))
