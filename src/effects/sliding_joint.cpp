@@ -761,10 +761,10 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     char value[32];
     std::snprintf(value, sizeof value, "%.9g", s);
     if (is_guide())
-      return "the " + std::string(s <= 0 ? "start" : "end") + " of rope '" + m.beam(carrier_).name() +
+      return "the " + std::string(i == 0 ? "start" : "end") + " of rope '" + m.beam(carrier_).name() +
              "' reached guide '" + name_ + "' (s = " + value + ") " + when + "; run stopped (at_rope_end = '" +
              (fail_at_end_ ? "fail" : "stop") + "')";
-    return "the slider of beam '" + m.beam(slider_).name() + "' reached the " + (s <= 0 ? "start" : "end") +
+    return "the slider of beam '" + m.beam(slider_).name() + "' reached the " + (i == 0 ? "start" : "end") +
            " of carrier '" + m.beam(carrier_).name() + "' (s = " + value + ") " + when +
            "; run stopped (at_carrier_end = '" + (fail_at_end_ ? "fail" : "stop") + "')";
   }

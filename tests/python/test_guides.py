@@ -182,3 +182,19 @@ def test_the_towers_ropeway_on_all_ranks_equals_one_rank():
                                  ["analysis.t_end=0.3", "output.every=5"])
     for a, b in distributed_and_serial_records(scene):
         assert np.abs(np.array(a.outputs) - np.array(b.outputs)).max() <= 1e-8 * max(1.0, np.abs(b.outputs).max())
+
+
+@pytest.mark.parametrize("at_end,failed", [("stop", False), ("fail", True)])
+def test_the_rope_reaching_its_end_at_the_guide_ends_the_run(tmp_path, at_end, failed):
+    """A winch reels the rope in through the guide until its start arrives there: the run ends at
+    that step, located in time, saying so and as at_rope_end asks."""
+    extra = ('[[slider_drive]]\nguide = "ring"\ndistance = -1.5\n'
+             'time_function = { type = "smooth_ramp", t0 = 0.0, t1 = 1.0 }\n')
+    path = rope_scene(tmp_path, extra=extra)
+    path.write_text(path.read_text().replace('name = "ring"\nrope', f'name = "ring"\nat_rope_end = "{at_end}"\nrope'))
+    sim = slidebeam.Simulation(slidebeam.load_scene(path, ["analysis.t_end=1.0", "analysis.dt=0.005"]))
+    run = sim.run_dynamic()
+    assert not run.complete and run.failed == failed
+    assert "the start of rope 'rope' reached guide 'ring'" in run.message and f"at_rope_end = '{at_end}'" in run.message
+    s = float(np.asarray(run.records[-1].outputs)[sim._output_slices[guide_effect(sim)]][0])
+    assert abs(s) < 0.02 and run.records[-1].t < 1.0
