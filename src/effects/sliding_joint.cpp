@@ -73,7 +73,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     std::copy(at.begin(), at.end(), point_);
     if (slider_ >= 0) {
       if (slider_ >= nb || !m.beam(slider_).is_rigid())
-        throw ParamError("body", "the guide's carrier must be a [[body]]");
+        throw ParamError("body", "'" + (slider_ < nb ? m.beam(slider_).name() : std::to_string(slider_)) +
+                                     "' is not a [[body]]: a guide is fixed in space or carried by a body");
       stencil_ = m.beam(slider_).body_point_drawn({at[0], at[1], at[2]});
     } else {
       offset_ = Eigen::Vector3d(at[0], at[1], at[2]);
@@ -190,7 +191,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (stencil_.n > 0) pairs.emplace_back(slider_cp(m, stencil_.n - 1), m.beam(carrier_).first_cp() + nearest_carrier_cp(m));
   }
   void distribute(const Model& m) override {
-    owned_ = m.dof_map().owns_cp(elimination_anchor(m));
+    owned_ = m.dof_map().owns_cp(stencil_.n > 0 ? slider_cp(m, 0) : elimination_anchor(m));
     const auto r = curve_.touched_blocks(s0_, s0_);
     move_window(r[0], r[1]);
     set_ghost_window(s0_, s0_);

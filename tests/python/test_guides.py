@@ -198,3 +198,12 @@ def test_the_rope_reaching_its_end_at_the_guide_ends_the_run(tmp_path, at_end, f
     assert "the start of rope 'rope' reached guide 'ring'" in run.message and f"at_rope_end = '{at_end}'" in run.message
     s = float(np.asarray(run.records[-1].outputs)[sim._output_slices[guide_effect(sim)]][0])
     assert abs(s) < 0.02 and run.records[-1].t < 1.0
+
+
+def test_a_guide_carried_by_a_beam_is_refused(tmp_path):
+    post = ('\n[[beam]]\nname = "post"\nstart = [1.0, 0.0, 0.0]\nend = [1.0, 0.0, 1.0]\nspans = 2\n'
+            'section = { EA = 1.0e4, kGA = 4.0e3, GJ = 0.5, EI2 = 1.0, EI3 = 1.0, rhoA = 0.1, rhoI2 = 1e-4, rhoI3 = 1e-4 }\n')
+    path = rope_scene(tmp_path, extra=post)
+    path.write_text(path.read_text().replace('point = [1.0, 0.0, 0.0]\n', 'point = [1.0, 0.0, 0.0]\nbody = "post"\n', 1))
+    with pytest.raises(slidebeam.SceneError, match=r"'post' is not a \[\[body\]\]"):
+        slidebeam.Simulation(slidebeam.load_scene(path))
