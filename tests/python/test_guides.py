@@ -25,10 +25,8 @@ def rope_scene(tmp_path: Path, formulation: str = "director", on_body: bool = Fa
     body = ('[[body]]\nname = "ring"\nmass = 2.0\ninertia = [0.1, 0.2, 0.3]\nposition = [1.0, 0.0, 0.1]\n'
             if on_body else "")
     text = f"""
-[analysis]
-type = "dynamic"
-t_end = 0.1
-dt = 0.01
+analysis = {{ type = "dynamic", t_end = 0.1, dt = 0.01 }}
+gravity = {{ g = [0.0, 0.0, -9.81] }}
 
 [[beam]]
 name = "rope"
@@ -53,9 +51,6 @@ name = "ring"
 rope = "rope"
 point = [1.0, 0.0, 0.0]
 {'body = "ring"' if on_body else ''}
-
-[gravity]
-g = [0.0, 0.0, -9.81]
 {extra}
 """
     path = tmp_path / "guide.toml"
