@@ -202,7 +202,8 @@ def reactions_figure(runs: list[Run]):
 
 # -- sliders -------------------------------------------------------------------------------------
 def sliders_figure(runs: list[Run]):
-    """Every sliding joint's position s on its carrier and its speed ds/dt over time."""
+    """Every sliding joint's position s on its carrier and its speed ds/dt over time, and every
+    guide's s on its rope (the rope running through it)."""
     fig, (pos, speed) = new_figure(2, 1, figsize=(11, 7), sharex=True)
     colour = 0
     for k, run in enumerate(runs):
@@ -214,10 +215,10 @@ def sliders_figure(runs: list[Run]):
             colour += 1
             pos.plot(h["t"][ok], h[f"{name}.s"][ok], _style(k), color=c, label=label)
             speed.plot(h["t"][ok], h[col][ok], _style(k), color=c, label=label)
-    pos.set_ylabel("s on the carrier [m]")
+    pos.set_ylabel("s on the carrier (rope) [m]")
     speed.set_ylabel("ds/dt [m/s]")
     speed.set_xlabel(_time_label(runs[0]))
-    pos.set_title("sliding joints")
+    pos.set_title("sliding joints and guides" if any(run.columns(".point.x") for run in runs) else "sliding joints")
     pos.legend(fontsize=8)
     finish([pos, speed])
     fig.tight_layout()
