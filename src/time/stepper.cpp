@@ -16,6 +16,10 @@ namespace {
 constexpr double kArrival = 1e-9;
 // Regula falsi rounds on the step size before the closest inside try is taken.
 constexpr int kArrivalRounds = 16;
+/// An indicator found crossed while the best state inside the step is still this share of its
+/// scale away (a slider more than 5 % of its carrier's length from the end) did not arrive: it
+/// jumped, Newton having found a state beyond the end (the end span's polynomial extends there).
+constexpr double kJump = 0.05;
 }  // namespace
 
 Stepper::Stepper(Model& model, TimeIntegrator& integrator, double dt, double dt_min)
@@ -140,6 +144,20 @@ void Stepper::cut(double h, double next, StepAdvance& adv) {
 void Stepper::arrive(int k, double h, double g_in, double g_out, StepAdvance& adv) {
   locate(k, h, g_in, g_out, adv);
   adv.event_value = events_.values(integ_.x())[static_cast<size_t>(k)];
+  if (adv.event_value <= kJump * events_.indicators()[static_cast<size_t>(k)].scale) return;
+  // not an arrival: the step failed, and is cut like a step whose Newton failed
+  restore();
+  adv.event = -1;
+  adv.event_step_taken = false;
+  adv.event_value = 0.0;
+  adv.result.reason = SNES_DIVERGED_FUNCTION_DOMAIN;  // its state left the carrier
+  if (control_) {
+    cut(h, control_->rejected(h, 0.0), adv);
+    return;
+  }
+  adv.rejected_attempts += 1;
+  adv.status = h / 2 < dt_min_ * (1 - 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
+  dt_ = h / 2;
 }
 
 void Stepper::locate(int k, double h, double g_in, double g_out, StepAdvance& adv) {
