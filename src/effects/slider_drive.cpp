@@ -137,14 +137,14 @@ void register_slider_drive_effects(EffectRegistry& r) {
   s.type = "slider_drive";
   s.table = "slider_drive";
   s.meaning =
-      "a driven slider: its sliding coordinate follows a speed profile with start and stop ramps, or a distance "
-      "times a time function";
+      "a driven slider, or a rope driven through a guide (a winch): its sliding coordinate follows a speed profile "
+      "with start and stop ramps, or a distance times a time function";
   s.role = EnergyRole::Driving;
   s.params = {
       optional_param({"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""}),
       optional_param({"guide", K::Name, "",
-                      "or: the [[guide]] whose rope it drives (a winch paying out, s growing, or reeling in), by "
-                      "its name",
+                      "or: the [[guide]] whose rope it drives through, by its name (a winch: s, the rope's arc "
+                      "length at the guide, growing pays rope out on the side of the rope's start)",
                       ""}),
       optional_param({"speed", K::Number, "m/s", "travel speed along the carrier (negative: toward its start)", ""}),
       optional_param({"distance", K::Number, "m",
