@@ -334,9 +334,9 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     for (int k = 0; k < 3; ++k) v[2 + k] += f[static_cast<size_t>(k)];
     v[5] += end_gap(ctx).norm();
     if (is_guide()) {  // where the guide is at the end state (it moves with its body)
-      Eigen::Vector3d p = Eigen::Vector3d::Zero();
-      subtract_slider_point(p, ctx.x, ctx.map, ctx.model);
-      for (int k = 0; k < 3; ++k) v[6 + k] -= p(k);
+      Eigen::Vector3d minus_point = Eigen::Vector3d::Zero();
+      subtract_slider_point(minus_point, ctx.x, ctx.map, ctx.model);
+      for (int k = 0; k < 3; ++k) v[6 + k] -= minus_point(k);
     }
   }
 

@@ -121,22 +121,26 @@ StepAdvance Stepper::advance(double t_end) {
       dt_ = std::min(2 * dt_, dt_nominal_);
     return adv;
   }
-  if (control_) {
-    cut(h, control_->rejected(h, 0.0), adv);
-    return adv;
-  }
-  adv.rejected_attempts = 1;
-  if (h / 2 < dt_min_ * (1 - 1e-12)) {
-    adv.status = StepAdvance::Status::Failed;
-    return adv;
-  }
-  adv.status = StepAdvance::Status::Cut;
-  dt_ = h / 2;
+  reject(h, adv);
   return adv;
 }
 
+void Stepper::reject(double h, StepAdvance& adv) {
+  if (control_) {
+    cut(h, control_->rejected(h, 0.0), adv);
+    return;
+  }
+  adv.rejected_attempts += 1;
+  if (h / 2 < dt_min_ * (1 - 1e-12)) {
+    adv.status = StepAdvance::Status::Failed;
+    return;
+  }
+  adv.status = StepAdvance::Status::Cut;
+  dt_ = h / 2;
+}
+
 void Stepper::cut(double h, double next, StepAdvance& adv) {
-  adv.rejected_attempts = 1;
+  adv.rejected_attempts += 1;
   adv.status = h <= dt_min_ * (1 + 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
   dt_ = std::max(next, dt_min_);
 }
@@ -151,13 +155,7 @@ void Stepper::arrive(int k, double h, double g_in, double g_out, StepAdvance& ad
   adv.event_step_taken = false;
   adv.event_value = 0.0;
   adv.result.reason = SNES_DIVERGED_FUNCTION_DOMAIN;  // its state left the carrier
-  if (control_) {
-    cut(h, control_->rejected(h, 0.0), adv);
-    return;
-  }
-  adv.rejected_attempts += 1;
-  adv.status = h / 2 < dt_min_ * (1 - 1e-12) ? StepAdvance::Status::Failed : StepAdvance::Status::Cut;
-  dt_ = h / 2;
+  reject(h, adv);
 }
 
 void Stepper::locate(int k, double h, double g_in, double g_out, StepAdvance& adv) {

@@ -86,6 +86,8 @@ class Stepper {
   /// Take the step from t_n again, shortened so that event k's indicator lands on its boundary;
   /// g_in >= 0 at t_n, g_out < 0 at the end of the step of size h.
   void arrive(int k, double h, double g_in, double g_out, StepAdvance& adv);
+  /// The step of size h failed (its Newton, or an indicator that jumped): cut it, or fail at dt_min.
+  void reject(double h, StepAdvance& adv);
   void locate(int k, double h, double g_in, double g_out, StepAdvance& adv);
 
   Model& model_;

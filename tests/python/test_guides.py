@@ -80,7 +80,7 @@ def test_guide_step_jacobian_matches_finite_differences(tmp_path, integrator, fo
     rows = guide_unknowns(sim)
     lo, hi = x1.getOwnershipRange()
     assert sim.output_groups()["rope_at_ring"][0] == "s"
-    s0 = float(sim.effect_outputs()[sim._output_slices[guide_effect(sim)]][0])
+    s0 = float(sim.effect_outputs()[sim.output_slice(guide_effect(sim))][0])
     if lo <= rows[3] < hi:
         x1.setValue(rows[3], s0 + ds)
     x1.assemble()
@@ -102,8 +102,8 @@ def test_a_rope_through_a_guide_keeps_its_energy(tmp_path):
     H = np.array([r.total_energy for r in run.records])
     K = max(r.kinetic_energy for r in run.records)
     k = guide_effect(sim)
-    s = np.array([float(np.asarray(r.outputs)[sim._output_slices[k]][0]) for r in run.records])
-    gap = max(float(np.asarray(r.outputs)[sim._output_slices[k]][5]) for r in run.records)
+    s = np.array([float(np.asarray(r.outputs)[sim.output_slice(k)][0]) for r in run.records])
+    gap = max(float(np.asarray(r.outputs)[sim.output_slice(k)][5]) for r in run.records)
     assert s.max() - s.min() > 0.5, f"the rope ran only {s.max() - s.min():.3g} m through the guide"
     assert np.abs(H - H[0]).max() <= 10 * 1e-10 * K
     assert gap < 1e-9
@@ -131,7 +131,7 @@ def guide_run(tmp_path: Path, extra: str):
     run = sim.run_dynamic()
     assert run.complete, run.message
     k = guide_effect(sim)
-    s = np.array([float(np.asarray(r.outputs)[sim._output_slices[k]][0]) for r in run.records])
+    s = np.array([float(np.asarray(r.outputs)[sim.output_slice(k)][0]) for r in run.records])
     return run, s
 
 
@@ -191,7 +191,7 @@ def test_the_rope_reaching_its_end_at_the_guide_ends_the_run(tmp_path, at_end, f
     run = sim.run_dynamic()
     assert not run.complete and run.failed == failed
     assert "the start of rope 'rope' reached guide 'ring'" in run.message and f"at_rope_end = '{at_end}'" in run.message
-    s = float(np.asarray(run.records[-1].outputs)[sim._output_slices[guide_effect(sim)]][0])
+    s = float(np.asarray(run.records[-1].outputs)[sim.output_slice(guide_effect(sim))][0])
     assert abs(s) < 0.02 and run.records[-1].t < 1.0
 
 

@@ -466,10 +466,10 @@ class XdmfOutput:
         self._slider_rows = self._end_rows(self._slider_points)
         self._slider_ref = self._positions(self._slider_points, self._slider_rows, ref, self._ref_x)
         # guides: their outputs (s, ds_dt, reaction, gap, point) in the effects' outputs
-        self._guides = [k for k, e in enumerate(sim.active_effects) if e.type == "guide"]
-        if self._guides:
-            sim.output_groups()
-        self._guide_ref = np.array([e.vec["point"] for e in sim.scene.effects if e.type == "guide"]).reshape(-1, 3)
+        self._guide_slices = [sim.output_slice(k) for k, e in enumerate(sim.active_effects) if e.type == "guide"]
+        guides = [e for e in sim.scene.effects if e.type == "guide"]
+        self._guide_names = [e.text["name"] for e in guides]
+        self._guide_ref = np.array([e.vec["point"] for e in guides]).reshape(-1, 3)
         self._masses = point_masses(sim)
         self._mass_points = [(m.beam, m.s) for m in self._masses]
         self._mass_rows = self._end_rows(self._mass_points)
@@ -502,12 +502,11 @@ class XdmfOutput:
             self._series[SLIDERS] = Series(out / f"{SLIDERS}.xdmf", self._slider_ref, _vertices(n), "Polyvertex",
                                            {"joint_id": np.arange(n, dtype=np.int32)}, resume_after,
                                            names={"joint_names": list(self.sim.scene.sliding_joint_labels)})
-        if self._guides:
-            n = len(self._guides)
-            names = [e.text["name"] for e in self.sim.scene.effects if e.type == "guide"]
+        if self._guide_slices:
+            n = len(self._guide_slices)
             self._series[GUIDES] = Series(out / f"{GUIDES}.xdmf", self._guide_ref, _vertices(n), "Polyvertex",
                                           {"guide_id": np.arange(n, dtype=np.int32)}, resume_after,
-                                          names={"guide_names": names})
+                                          names={"guide_names": self._guide_names})
         if self._masses:
             n = len(self._masses)
             constants = {"mass": np.array([m.mass for m in self._masses]), "mass_id": np.arange(n, dtype=np.int32)}
@@ -619,7 +618,7 @@ class XdmfOutput:
         the guide's point (it moves with its body), the rope's s there, its rate, and the force of
         the rope on the guide (the history's reaction columns)."""
         values = np.asarray(self.sim.effect_outputs() if outputs is None else outputs, dtype=float)
-        state = np.array([values[self.sim._output_slices[k]] for k in self._guides]).reshape(-1, 9)
+        state = np.array([values[where] for where in self._guide_slices]).reshape(-1, 9)
         return {"displacement": state[:, 6:9] - self._guide_ref, "s": state[:, 0], "ds_dt": state[:, 1],
                 "reaction": state[:, 2:5]}
 
@@ -653,7 +652,7 @@ class XdmfOutput:
             position = self._sampler.record(self.sim._model, self.sim.x, self.sim.v,
                                             None if beams is None else beams.writer, -1 if beams is None else beams.next_record)
         points = {SLIDERS: self.slider_fields(position, joints) if self._slider_points else {},
-                  GUIDES: self.guide_fields(outputs) if self._guides else {},
+                  GUIDES: self.guide_fields(outputs) if self._guide_slices else {},
                   MASSES: self.mass_fields(position) if self._masses else {},
                   BODIES: self.body_fields() if self._bodies else {}}
         if data is not None:

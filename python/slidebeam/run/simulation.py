@@ -679,6 +679,12 @@ class Simulation:
                 first += len(group)
         return self._output_groups
 
+    def output_slice(self, effect: int) -> slice:
+        """Where the values of effect number ``effect`` (in active_effects) lie in
+        effect_outputs() and in a record's ``outputs``."""
+        self.output_groups()
+        return self._output_slices[effect]
+
     def effect_outputs(self) -> list[float]:
         """The values named by :meth:`output_labels` in the current state (collective): in a
         dynamic run over the last step (rates and a joint's force over it), else at the state."""
