@@ -226,6 +226,11 @@ PYBIND11_MODULE(_core, m) {
            "the values of the effects that have outputs (a contact's force and length in contact) at x, "
            "named by output_names() (collective)")
       .def("output_names", &Model::output_names, "(effect index, name) of each effect_outputs() value")
+      .def("effect_history", &Model::gathered_effect_history,
+           "what effects keep from step to step besides the unknowns (friction's anchors on a contact), every "
+           "entry from the rank that owns it (collective): what a checkpoint keeps")
+      .def("set_effect_history", &Model::set_effect_history, py::arg("values"),
+           "replace the effects' history (from effect_history)")
       .def("unknown_bounds", &Model::unknown_bounds, py::arg("except_rows") = std::vector<PetscInt>{},
            "(rows, lo, hi): the extra unknowns a continuation keeps within bounds (sliders on their carriers), "
            "but the rows given")

@@ -162,6 +162,14 @@ class Model:
     def output_names(self) -> list[tuple[int, str]]:
         """(effect index, name) of each effect_outputs() value"""
         ...
+    def effect_history(self) -> list[float]:
+        """what effects keep from step to step besides the unknowns (friction's anchors on a
+        contact), every entry from the rank that owns it (collective): what a checkpoint keeps
+        """
+        ...
+    def set_effect_history(self, values: list[float]) -> None:
+        """replace the effects' history (from effect_history)"""
+        ...
     def unknown_bounds(self, except_rows: list[int] = []) -> tuple[list[int], list[float], list[float]]:
         """(rows, lo, hi): the extra unknowns a continuation keeps within bounds (sliders on their
         carriers), but the rows given

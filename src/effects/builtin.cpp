@@ -14,6 +14,8 @@ void register_slider_drive_effects(EffectRegistry& r);
 void register_drag_effects(EffectRegistry& r);
 void register_friction_effects(EffectRegistry& r);
 void register_contact_effects(EffectRegistry& r);
+void register_contact_friction_effects(EffectRegistry& r);
+void register_contact_damping_effects(EffectRegistry& r);
 void register_buoyancy_effects(EffectRegistry& r);
 void register_body_effects(EffectRegistry& r);
 }  // namespace effects
@@ -31,6 +33,8 @@ void register_builtin_effects(EffectRegistry& registry) {
   effects::register_drag_effects(registry);
   effects::register_friction_effects(registry);
   effects::register_contact_effects(registry);
+  effects::register_contact_friction_effects(registry);
+  effects::register_contact_damping_effects(registry);
   effects::register_buoyancy_effects(registry);
 }
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file Contact of a beam with a fixed rigid shape (scene table [[contact]]): a plane (the ground,
 /// a seabed, a slope; type = "plane"), a cylinder (a drum, a sheave, a pipe, a bollard) or a
-/// sphere (a boulder, a ball), touched from outside, frictionless.
+/// sphere (a boulder, a ball), touched from outside. Its friction (`mu` > 0) is an effect of its
+/// own beside it (contact_friction.cpp).
 ///
 /// A penalty potential per unit length of the beam, checked at the mass quadrature points (3 per
 /// span, 5 per ANCF element):
@@ -21,7 +22,7 @@
 /// the force on the beam's point then goes back onto the body, and energy-momentum keeps the
 /// linear and angular momentum of beam and body exactly too.
 
-#include "effects/gap_potential.hpp"
+#include "effects/contact_shapes.hpp"
 
 #include <Eigen/Dense>
 #include <unsupported/Eigen/AutoDiff>
@@ -35,39 +36,6 @@
 namespace slidebeam::effects {
 
 namespace {
-/// The bed: V = 1/2 k <-g>^2.
-struct Penalty {
-  static constexpr int kBreakpoints = 1;
-  double k = 0.0;
-  std::array<double, 1> breakpoints() const { return {0.0}; }
-  double V(double g) const { return g < 0.0 ? 0.5 * k * g * g : 0.0; }
-  double dV(double g) const { return g < 0.0 ? k * g : 0.0; }
-  // at g = 0 the contact branch: a beam drawn on the bed starts with the bed's stiffness in its
-  // tangent (else the first Newton step lets it fall through as if nothing held it)
-  double ddV(double g) const { return g <= 0.0 ? k : 0.0; }
-};
-
-Penalty bed(const EffectParams& p) {
-  Penalty law;
-  law.k = p.number("stiffness");
-  if (!(law.k > 0.0)) throw ParamError("stiffness", "the bed's stiffness must be > 0");
-  return law;
-}
-
-double radius(const EffectParams& p) {
-  const double R = p.number("radius");
-  if (!(R > 0.0)) throw ParamError("radius", "the radius must be > 0");
-  return R;
-}
-
-PlaneGap plane(const EffectParams& p) { return {unit_vector_param(p, "normal", "the plane's normal"), vector3_param(p, "point")}; }
-
-RoundGap cylinder(const EffectParams& p) {
-  const Eigen::Vector3d a = unit_vector_param(p, "axis", "the cylinder's axis");
-  return {vector3_param(p, "point"), Eigen::Matrix3d::Identity() - a * a.transpose(), radius(p)};
-}
-
-RoundGap sphere(const EffectParams& p) { return {vector3_param(p, "center"), Eigen::Matrix3d::Identity(), radius(p)}; }
 
 /// Contact of one beam with a shape.
 template <int W, class Shape>
@@ -395,13 +363,13 @@ bool on_body(const EffectParams& p, const char* fixed_key) {
 }
 
 std::unique_ptr<Effect> make_sphere_contact(const Model& m, const EffectParams& p) {
-  if (!on_body(p, "center")) return make_contact(m, p, "sphere_contact", &sphere);
-  SphereOnBody k{{Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), radius(p)}};
+  if (!on_body(p, "center")) return make_contact(m, p, "sphere_contact", &sphere_shape);
+  SphereOnBody k{{Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), contact_radius(p)}};
   return make_body_contact(m, p, carrier_body(m, p, "sphere"), k);
 }
 
 std::unique_ptr<Effect> make_cylinder_contact(const Model& m, const EffectParams& p) {
-  if (!on_body(p, "point")) return make_contact(m, p, "cylinder_contact", &cylinder);
+  if (!on_body(p, "point")) return make_contact(m, p, "cylinder_contact", &cylinder_shape);
   const int body = carrier_body(m, p, "cylinder");
   // the axis drawn in space, in the body's components
   const Beam& B = m.beam(body);
@@ -411,7 +379,7 @@ std::unique_ptr<Effect> make_cylinder_contact(const Model& m, const EffectParams
   const auto [across, across_too] = perpendicular_pair(axis);
   CylinderOnBody k;
   k.u = {across, across_too};
-  k.R = radius(p);
+  k.R = contact_radius(p);
   return make_body_contact(m, p, body, k);
 }
 
@@ -427,6 +395,20 @@ void register_contact_effects(EffectRegistry& r) {
                             "", 0.0, inf, true};
   const ParamSpec radius{"radius", K::Number, "m",
                          "R, where the centre line touches: the shape's radius plus the rope's", "", 0.0, inf, true};
+  const ParamSpec mu{"mu", K::Number, "",
+                     "Coulomb friction coefficient between beam and shape (0: frictionless; a fixed shape only): "
+                     "a point sticks while its tangential load is below mu N",
+                     "0", 0.0, inf};
+  const ParamSpec damping{"damping", K::Number, "N s/m^2",
+                          "c, the bed's damping of the beam's normal motion in contact, per unit length (0: none; a "
+                          "fixed shape only): c = 2 zeta sqrt(k rho A) damps the beam's bounce on the bed by the ratio "
+                          "zeta",
+                          "0", 0.0, inf};
+  const ParamSpec tangential_stiffness = optional_param(
+      {"tangential_stiffness", K::Number, "N/m^2",
+       "k_t, the stiffness that holds a sticking point to its anchor, per unit length (default: the bed's "
+       "stiffness): a point sticks within mu N / k_t of where it stuck",
+       "", 0.0, inf, true});
   const auto spec = [](const char* type, const char* variant, const char* meaning, std::vector<ParamSpec> params) {
     return table_effect_spec(type, "contact", variant, EnergyRole::Stored, meaning, std::move(params), "potential");
   };
@@ -439,11 +421,11 @@ void register_contact_effects(EffectRegistry& r) {
                       {"normal", K::Vector, "",
                        "the plane's normal, towards the side the beam is on (e.g. [0, 0, 1] for the ground)", "",
                        -inf, inf, false, 3},
-                      stiffness}),
-        [](const Model& m, const EffectParams& p) { return make_contact(m, p, "plane_contact", &plane); });
+                      stiffness, mu, tangential_stiffness, damping}),
+        [](const Model& m, const EffectParams& p) { return make_contact(m, p, "plane_contact", &plane_shape); });
   r.add(spec("cylinder_contact", "cylinder",
                      "contact of a beam with a fixed rigid cylinder from outside (a drum, a sheave, a pipe, a "
-                     "bollard; frictionless): a penalty as for the plane",
+                     "bollard): a penalty as for the plane",
                      {beam,
                       optional_param({"point", K::Vector, "m", "a point of the cylinder's axis, fixed (or give `body`)",
                                       "", -inf, inf, false, 3}),
@@ -453,10 +435,10 @@ void register_contact_effects(EffectRegistry& r) {
                                       ""}),
                       {"axis", K::Vector, "", "the axis' direction as drawn (the cylinder is endless)", "", -inf, inf,
                        false, 3},
-                      radius, stiffness}),
+                      radius, stiffness, mu, tangential_stiffness, damping}),
         [](const Model& m, const EffectParams& p) { return make_cylinder_contact(m, p); });
   r.add(spec("sphere_contact", "sphere",
-                     "contact of a beam with a rigid sphere from outside (frictionless), fixed or carried by a body: "
+                     "contact of a beam with a rigid sphere from outside, fixed or carried by a body: "
                      "a penalty as for the plane",
                      {beam,
                       optional_param({"center", K::Vector, "m", "the sphere's centre, fixed (or give `body`)", "",
@@ -465,7 +447,7 @@ void register_contact_effects(EffectRegistry& r) {
                                       "the [[body]] that carries the sphere, centred on its centre of mass (or give "
                                       "`center`)",
                                       ""}),
-                      radius, stiffness}),
+                      radius, stiffness, mu, tangential_stiffness, damping}),
         [](const Model& m, const EffectParams& p) { return make_sphere_contact(m, p); });
 }
 

@@ -264,4 +264,21 @@ class OutputSource {
   virtual void outputs(const EvalContext& ctx, double* values) const = 0;
 };
 
+/// State an effect keeps from one time step to the next besides the unknowns (friction's stuck
+/// points on a contact: where each point is held). It changes only when a step is accepted
+/// (commit), so a rejected or shortened step leaves it as it was; the stepper's snapshots and
+/// the checkpoints hold it (Model::effect_history).
+class StepHistory {
+ public:
+  virtual ~StepHistory() = default;
+  /// The values, the same length on every rank; this rank's own entries are those it commits.
+  virtual const std::vector<double>& history() const = 0;
+  /// Whether entry i is this rank's (the ranks' own entries make up the whole history).
+  virtual bool owns_history(size_t i) const = 0;
+  /// Replace the values (a snapshot's, a checkpoint's: the whole history on every rank).
+  virtual void set_history(const std::vector<double>& values) = 0;
+  /// The step from ctx.x_old to ctx.x was accepted: update this rank's entries from it.
+  virtual void commit(const EvalContext& ctx) = 0;
+};
+
 }  // namespace slidebeam

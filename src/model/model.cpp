@@ -223,6 +223,9 @@ void Model::finalize(const PartitionPolicy& partition) {
   SB_CHECK(VecAssemblyBegin(s_mask_));
   SB_CHECK(VecAssemblyEnd(s_mask_));
   has_inertia_ = std::any_of(mass_of_.begin(), mass_of_.end(), [](const MassSource* m) { return m != nullptr; });
+  history_.clear();
+  for (const auto& e : effects_)
+    if (auto* h = part_of<StepHistory>(*e)) history_.push_back(h);
   rate_force_.clear();
   for (const auto& e : effects_) {
     rate_force_.push_back(EffectRegistry::instance().spec(e->type()).rate_force ? 1 : 0);
@@ -732,6 +735,49 @@ std::vector<double> Model::effect_outputs(const StepEval& ev, Vec x) const {
   }));
   MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(n), MPI_DOUBLE, MPI_SUM, comm_);
   return v;
+}
+
+std::vector<double> Model::effect_history() const {
+  std::vector<double> v;
+  for (const StepHistory* h : history_) v.insert(v.end(), h->history().begin(), h->history().end());
+  return v;
+}
+
+std::vector<double> Model::gathered_effect_history() const {
+  std::vector<double> v;
+  for (const StepHistory* h : history_) {
+    const std::vector<double>& own = h->history();
+    for (size_t i = 0; i < own.size(); ++i) v.push_back(h->owns_history(i) ? own[i] : 0.0);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  return v;
+}
+
+void Model::set_effect_history(const std::vector<double>& values) {
+  size_t n = 0;
+  for (const StepHistory* h : history_) n += h->history().size();
+  if (values.size() != n)
+    throw std::invalid_argument("effect history: " + std::to_string(values.size()) + " values for " +
+                                std::to_string(n));
+  size_t first = 0;
+  for (StepHistory* h : history_) {
+    const size_t k = h->history().size();
+    h->set_history(std::vector<double>(values.begin() + static_cast<std::ptrdiff_t>(first),
+                                       values.begin() + static_cast<std::ptrdiff_t>(first + k)));
+    first += k;
+  }
+}
+
+void Model::clear_effect_history() {
+  for (StepHistory* h : history_) h->set_history(std::vector<double>(h->history().size(), 0.0));
+}
+
+void Model::commit_effect_history(const StepEval& ev, Vec x) const {
+  if (history_.empty()) return;
+  SB_CHECK(with_context(ev, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+    for (StepHistory* h : history_) h->commit(ctx);
+    return 0;
+  }));
 }
 
 std::vector<std::pair<int, Reaction>> Model::reactions(const StepEval& ev, Vec x, Vec F_raw, double scale) const {

@@ -146,6 +146,22 @@ class Model {
   std::vector<double> effect_outputs(double t, Vec x) const;
   std::vector<double> effect_outputs(const StepEval& ev, Vec x) const;
   std::vector<std::pair<int, std::string>> output_names() const;
+
+  /// True when some effect keeps a history besides the unknowns (StepHistory).
+  bool has_effect_history() const { return !history_.empty(); }
+  /// The StepHistory effects' values, concatenated in effect order, as this rank holds them
+  /// (its own entries current): what a snapshot keeps.
+  std::vector<double> effect_history() const;
+  /// The same with every entry from the rank that owns it, on every rank (collective): what a
+  /// checkpoint keeps.
+  std::vector<double> gathered_effect_history() const;
+  /// Replace the values (from effect_history or gathered_effect_history).
+  void set_effect_history(const std::vector<double>& values);
+  /// Every StepHistory effect's values 0: nothing kept (a run's start).
+  void clear_effect_history();
+  /// The step under ev from the step start (set_step_start) to x was accepted: every
+  /// StepHistory effect commits it (collective).
+  void commit_effect_history(const StepEval& ev, Vec x) const;
   /// The history prefix of effect k's outputs (OutputSource::output_prefix; "": its label).
   std::string output_prefix(int k) const;
   /// ExtraUnknowns::bounds of every effect (rows, lo, hi), leaving out the rows in `except`.
@@ -255,6 +271,7 @@ class Model {
   std::vector<PetscInt> elimination_order_;  // elimination_order(), set by finalize
   Vec q_mask_ = nullptr, s_mask_ = nullptr;
   bool has_sliding_state_ = false;
+  std::vector<StepHistory*> history_;  // the effects' StepHistory parts, in effect order
   std::vector<PetscInt> init_rows_;  // initial values of extras (owned rows)
   std::vector<PetscScalar> init_values_;
   bool has_inertia_ = false;

@@ -47,7 +47,10 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
     EnergyRole role = spec.role;
     const auto* motion = part_of<PrescribedMotion>(e);
     if (role == EnergyRole::Constraint && motion && motion->drives()) role = EnergyRole::Driving;
-    const bool timed = role == EnergyRole::Stored && e.time_dependent();
+    // a dissipative effect that also stores energy (friction's stuck points on a contact): what
+    // it dissipates is its work minus its energy's change
+    const bool timed = (role == EnergyRole::Stored && e.time_dependent()) ||
+                       (role == EnergyRole::Dissipative && !spec.stored.empty());
     const bool decaying_strain = decaying && role == EnergyRole::Stored && spec.stored == "strain";
     if (role == EnergyRole::External || role == EnergyRole::Dissipative || role == EnergyRole::Driving || timed ||
         decaying_strain) {
@@ -146,6 +149,7 @@ void TimeIntegrator::initialize(double t, Vec x, Vec v) {
   clock_.start(t);
   model_.set_prescribed_time(t);
   for (EnergyFlow& f : flows_) f.work = 0.0;
+  model_.clear_effect_history();
   SB_CHECK(VecCopy(x, x_));
   model_.apply_prescribed(x_);
   SB_CHECK(VecPointwiseMult(v_, v, model_.coordinate_mask()));
@@ -241,13 +245,20 @@ void TimeIntegrator::account_energy_flows() {
   if (!timed_.empty()) {
     // a time-dependent potential: its change over the step minus the work of its force is the
     // work its explicit time dependence put in
+    remember_start_energies();
     std::vector<size_t> which;
     for (size_t i : timed_) which.push_back(flows_[i].effect);
-    if (timed_energy_.empty()) timed_energy_ = model_.effect_energies(clock_.time(), x_, which);
     const std::vector<double> e1 = model_.effect_energies(next_time(h_), x1_, which);
     for (size_t j = 0; j < timed_.size(); ++j) flows_[timed_[j]].work += e1[j] - timed_energy_[j];
     timed_energy_ = e1;
   }
+}
+
+void TimeIntegrator::remember_start_energies() {
+  if (timed_.empty() || !timed_energy_.empty()) return;
+  std::vector<size_t> which;
+  for (size_t i : timed_) which.push_back(flows_[i].effect);
+  timed_energy_ = model_.effect_energies(clock_.time(), x_, which);
 }
 
 KSP TimeIntegrator::constrained_mass_solver() {
@@ -687,6 +698,12 @@ SolveResult TimeIntegrator::step(double h) {
     floor_age_ = 0;
   }
   if (r.converged()) {
+    // The effects' history (friction's anchors) moves to the step's end, which the energies
+    // there read; the energies of the step's start read the history as it was.
+    if (model_.has_effect_history()) {
+      remember_start_energies();
+      model_.commit_effect_history(step_eval(), x1_);
+    }
     account_energy_flows();
     Vec mask = model_.coordinate_mask();
     SB_CHECK(VecCopy(v_, v_prev_));

@@ -69,6 +69,7 @@ void Stepper::take() {
   std::tie(snap_.segment_start, snap_.segment_steps) = integ_.time_segment();
   snap_.flows.clear();
   for (const auto& f : integ_.energy_flows()) snap_.flows.push_back(f.work);
+  if (model_.has_effect_history()) snap_.history = model_.effect_history();
 }
 
 void Stepper::restore() {
@@ -78,6 +79,7 @@ void Stepper::restore() {
   SB_CHECK(VecCopy(snap_.v_prev, integ_.v_prev()));
   SB_CHECK(VecCopy(snap_.sdot, integ_.sliding_rate()));
   integ_.restore(snap_.t, snap_.h_prev, snap_.pivoting, snap_.segment_start, snap_.segment_steps);
+  if (model_.has_effect_history()) model_.set_effect_history(snap_.history);
   integ_.set_energy_flows(snap_.flows);
 }
 

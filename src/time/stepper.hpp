@@ -75,6 +75,7 @@ class Stepper {
     long segment_steps = 0;
     bool pivoting = false;
     std::vector<double> flows;
+    std::vector<double> history;  ///< the effects' (Model::effect_history)
   };
   void allocate_snapshot();
   /// snap_'s vectors exist (there are events or error control).

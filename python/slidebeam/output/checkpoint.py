@@ -61,6 +61,7 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path,
             gathered[name] = whole.getArray(readonly=True).copy()
         scatter.destroy()
         whole.destroy()
+    effect_history = sim.effect_history()  # collective
     if comm.Get_rank() == 0:
         import h5py
         import numpy as np
@@ -70,6 +71,7 @@ def write_checkpoint(sim: "Simulation", state: "RunState", path: Path,
         with h5py.File(tmp, "w") as f:
             for name, values in gathered.items():
                 f.create_dataset(name, data=values)
+            f.create_dataset("effect_history", data=np.asarray(effect_history, dtype=float))
             g = f.create_group("slidebeam")
             meta = {
                 "format": FORMAT, "scene": sim.scene.name, "unknowns": sim.x.getSize(),
@@ -171,6 +173,8 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
                 if "slidebeam" not in f or any(v not in f for v in VECTORS):
                     raise CheckpointError(f"{path} is not a slidebeam checkpoint")
                 meta = {k: (v.item() if hasattr(v, "item") else v) for k, v in f["slidebeam"].attrs.items()}
+                if "effect_history" in f:
+                    meta["effect_history"] = f["effect_history"][()]
                 if "history" in f["slidebeam"]:
                     meta["history"] = f["slidebeam/history"][()]
                     meta["history_reasons"] = [r.decode() for r in f["slidebeam/history_reasons"][()]]
@@ -194,6 +198,12 @@ def read_checkpoint(sim: "Simulation", path: Path) -> "RunState":
     viewer.destroy()
     sim.integrator.restore(float(meta["t"]), float(meta["h_prev"]), bool(meta["pivoting_lu"]),
                            float(meta.get("segment_start", meta["t"])), int(meta.get("segment_steps", 0)))
+    held = [float(v) for v in meta.get("effect_history", [])]
+    if len(held) != len(sim.effect_history()):
+        raise CheckpointError(f"checkpoint {path} holds {len(held)} values of the effects' history (friction's "
+                              f"anchors), this scene has {len(sim.effect_history())}: restart with the scene that "
+                              f"wrote it")
+    sim.set_effect_history(held)
     sim.earlier_wall_time = float(meta.get("wall_time_s", 0.0))
     if "energy_flows" in meta:
         sim.integrator.set_energy_flows(json.loads(meta["energy_flows"]))

@@ -73,6 +73,13 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
     for entry in sorted(scene.effects, key=lambda e: specs[e.type].role != "constraint"):
         try:
             add(entry.type, entry.label, entry.num, entry.vec, entry.text)
+            if specs[entry.type].table == "contact" and dynamic:
+                # its friction and its damping: effects of their own beside it, on the same shape
+                for key, kind in (("mu", "friction"), ("damping", "damping")):
+                    if entry.num.get(key, 0.0) > 0.0:
+                        label = entry.label.replace("_contact", f"_{kind}", 1)
+                        add(f"contact_{kind}", label, entry.num, entry.vec,
+                            {**entry.text, "shape": specs[entry.type].variant, "label": label})
         except _core.ParamError as exc:  # refused by the effect: name the entry and the key
             key, message = exc.args
             raise SceneError(message, scene.file, entry.place, key) from exc

@@ -685,6 +685,15 @@ class Simulation:
         self.output_groups()
         return self._output_slices[effect]
 
+    def effect_history(self) -> list[float]:
+        """What effects keep from one step to the next besides the unknowns (where friction holds
+        each point of a beam on a contact), whole on every rank (collective): a checkpoint's."""
+        return list(self._model.effect_history())
+
+    def set_effect_history(self, values: list[float]) -> None:
+        """Replace the effects' history with values from :meth:`effect_history`."""
+        self._model.set_effect_history([float(v) for v in values])
+
     def effect_outputs(self) -> list[float]:
         """The values named by :meth:`output_labels` in the current state (collective): in a
         dynamic run over the last step (rates and a joint's force over it), else at the state."""

@@ -67,18 +67,33 @@ class ElasticCatenary:
 
 @dataclass(frozen=True)
 class MooringLine:
-    """A catenary mooring line partly on a frictionless seabed (the quasi-static line of MoorPy and
-    MoorDyn's static solve): unstretched length L0, axial stiffness EA, submerged weight w per
-    unstretched length, anchored on the seabed, its fairlead a horizontal distance `span` from
-    the anchor and `height` above the seabed. The suspended part leaves the seabed horizontally at
-    the touch-down point, with the horizontal tension H all along the line (Irvine's elastic
-    catenary from a horizontal tangent); the grounded part lies straight, stretched by H / EA."""
+    """A catenary mooring line partly on the seabed (the quasi-static line of MoorPy and MoorDyn's
+    static solve): unstretched length L0, axial stiffness EA, submerged weight w per unstretched
+    length, anchored on the seabed, its fairlead a horizontal distance `span` from the anchor and
+    `height` above the seabed. The suspended part leaves the seabed horizontally at the touch-down
+    point, with the horizontal tension H all along it (Irvine's elastic catenary from a horizontal
+    tangent); the grounded part lies straight. On a frictionless seabed (friction = 0) it carries H
+    all along; with a seabed friction coefficient CB the friction is taken fully mobilised against
+    a pull towards the fairlead (MoorPy's and MAP's model: the line was pulled out), so the
+    tension falls by CB w per unit length from H at the touch-down point towards the anchor, not
+    below 0, and each piece stretches by its own tension / EA."""
 
     span: float
     height: float
     length: float
     EA: float
     w: float
+    friction: float = 0.0
+
+    def grounded_stretch(self, H: float, grounded: float) -> float:
+        """How much the grounded part (unstretched length `grounded`) is stretched: the integral of
+        T / EA over it, T = max(H - CB w u, 0) at unstretched distance u from the touch-down point."""
+        if self.friction <= 0.0:
+            return H * grounded / self.EA
+        drop = self.friction * self.w
+        if drop * grounded <= H:
+            return (H * grounded - 0.5 * drop * grounded**2) / self.EA
+        return 0.5 * H * H / (drop * self.EA)
 
     def _suspended(self, H: float) -> float:
         """The suspended unstretched length that reaches the fairlead's height at tension H."""
@@ -94,7 +109,9 @@ class MooringLine:
     def reach(self, H: float) -> float:
         """Horizontal distance anchor to fairlead at tension H."""
         Ls = self._suspended(H)
-        return (self.length - Ls) * (1.0 + H / self.EA) + H / self.w * math.asinh(self.w * Ls / H) + H * Ls / self.EA
+        grounded = self.length - Ls
+        return (grounded + self.grounded_stretch(H, grounded) + H / self.w * math.asinh(self.w * Ls / H)
+                + H * Ls / self.EA)
 
     @cached_property
     def H(self) -> float:
@@ -112,7 +129,14 @@ class MooringLine:
     @property
     def touchdown(self) -> float:
         """Horizontal distance of the touch-down point from the anchor."""
-        return (self.length - self.suspended_length) * (1.0 + self.H / self.EA)
+        grounded = self.length - self.suspended_length
+        return grounded + self.grounded_stretch(self.H, grounded)
+
+    @property
+    def anchor_tension(self) -> float:
+        """The anchor's horizontal pull: H less the seabed friction over the grounded part, not
+        below 0."""
+        return max(self.H - self.friction * self.w * (self.length - self.suspended_length), 0.0)
 
 
 def catenary_end(L0: float, H: float, V: float, EA: float, w: float, s: float | None = None) -> tuple[float, float]:

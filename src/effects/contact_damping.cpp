@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+/// @file Damping of the normal motion of a beam in contact with a fixed shape (`damping` > 0 on a
+/// [[contact]] entry adds this effect beside the contact): a bed that takes energy out of the
+/// beam's bounce on it, as a seabed's or a drum's lining does.
+///
+/// Per unit length of the beam at each mass quadrature point in contact at the step's end
+/// (g1 < 0), a force against the step's mean rate of the gap, c (g1 - g0) / h, along a discrete
+/// gradient w of the gap (w . (x1 - x0) = g1 - g0, gap_potential.hpp) under every scheme:
+///
+///   f = -c (g1 - g0) / h w,   whose work over the step is -c (g1 - g0)^2 / h <= 0,
+///
+/// exactly what the step dissipates (EnergyRole::Dissipative). A penalty bed without it rings:
+/// its normal mode (frequency sqrt(k / rho A)) is undamped under energy-momentum, and a rope
+/// sliding over a drum then alternates between stick and slip at that frequency, which lowers
+/// the friction it carries. c = 2 zeta sqrt(k rho A) damps that mode by the ratio zeta.
+
+#include "effects/contact_shapes.hpp"
+
+#include <Eigen/Dense>
+
+#include <memory>
+#include <string>
+
+namespace slidebeam::effects {
+
+namespace {
+
+template <int W, class Shape>
+class ContactDamping final : public CentreLineEffect<W> {
+  using Base = CentreLineEffect<W>;
+  using VecY = typename Base::VecY;
+  using MatY = typename Base::MatY;
+
+ public:
+  ContactDamping(int beam, const Model& m, const EffectParams& p, const std::string& label, const Shape& shape)
+      : Base(beam, m), shape_(shape), c_(p.number("damping")), label_(label) {
+    if (!(c_ > 0.0)) throw ParamError("damping", "the bed's damping must be > 0");
+  }
+  std::string type() const override { return "contact_damping"; }
+  std::string label() const override { return label_; }
+
+ protected:
+  bool acts(const EvalContext& ctx) const override { return ctx.h > 0.0 && ctx.scheme != StepScheme::Static; }
+
+  void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const override {
+    const VecY y1 = this->gather(ctx, ctx.x, b, e), y0 = this->gather(ctx, ctx.x_old, b, e);
+    const double c = c_ / ctx.h;
+    for (int g = 0; g < Base::n_points(b); ++g) {
+      const CentreLinePoint<W> q = Base::point(b, e, g);
+      const GapStep s = shape_.step(position(q, y0), position(q, y1));
+      if (!(s.g1 < 0.0)) continue;
+      const Eigen::Vector3d force = c * (s.g1 - s.g0) * s.w;
+      for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * force;
+      if (!K) continue;
+      const Eigen::Matrix3d stiffness = c * (s.w * s.n1.transpose() + (s.g1 - s.g0) * s.dw);
+      for (int i = 0; i < W; ++i)
+        for (int j = 0; j < W; ++j)
+          K->template block<3, 3>(3 * i, 3 * j) += q.w * q.N[static_cast<size_t>(i)] * q.N[static_cast<size_t>(j)] * stiffness;
+    }
+  }
+
+ private:
+  static Eigen::Vector3d position(const CentreLinePoint<W>& q, const VecY& y) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    return x;
+  }
+
+  Shape shape_;
+  double c_;
+  std::string label_;
+};
+
+template <class Shape>
+std::unique_ptr<Effect> make_damping(const Model& m, const EffectParams& p, const std::string& label,
+                                     Shape (*shape)(const EffectParams&)) {
+  const int beam = beam_param(m, p);
+  if (m.beam(beam).is_ancf()) return std::make_unique<ContactDamping<4, Shape>>(beam, m, p, label, shape(p));
+  return std::make_unique<ContactDamping<3, Shape>>(beam, m, p, label, shape(p));
+}
+
+std::unique_ptr<Effect> make_contact_damping(const Model& m, const EffectParams& p) {
+  const std::string shape = p.string("shape"), label = p.string("label", "contact_damping");
+  if (p.num.count("body"))
+    throw ParamError("damping", "damping on a shape carried by a body is not supported yet: leave it out");
+  if (shape == "plane") return make_damping(m, p, label, &plane_shape);
+  if (shape == "cylinder") return make_damping(m, p, label, &cylinder_shape);
+  if (shape == "sphere") return make_damping(m, p, label, &sphere_shape);
+  throw std::invalid_argument("contact_damping: unknown shape '" + shape + "'");
+}
+
+}  // namespace
+
+void register_contact_damping_effects(EffectRegistry& r) {
+  EffectSpec s = model_effect_spec("contact_damping", EnergyRole::Dissipative,
+                                   "damping of a beam's normal motion on a fixed [[contact]] shape (the entry's "
+                                   "damping > 0), against the rate of its penetration");
+  s.rate_force = true;
+  r.add(s, [](const Model& m, const EffectParams& p) { return make_contact_damping(m, p); });
+}
+
+}  // namespace slidebeam::effects

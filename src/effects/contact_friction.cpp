@@ -1,0 +1,252 @@
+// SPDX-License-Identifier: MIT
+/// @file Coulomb friction between a beam and the fixed shape of its [[contact]] (`mu` > 0 on the
+/// entry adds this effect beside the contact; docs/theory.md, "Friction on contact").
+///
+/// Each mass quadrature point of the beam in contact is held at an anchor a on the shape by a
+/// tangential spring of stiffness k_t per unit length (by default the bed's k), whose force is
+/// capped at mu N, N = k <-g> the bed's normal force per unit length. Over a time step, from the
+/// anchor a_n of the step's start, with the point's end position x1 and the shape's unit normal n
+/// at x1 (P = I - n n^T):
+///
+///   e_trial = P (x1 - a_n),   e1 = e_trial                               if k_t |e_trial| <= mu N1,
+///                             e1 = (mu N1 / k_t) e_trial / |e_trial|     otherwise (slip),
+///
+/// and the point's tangential force is k_t e1 (opposing e1), at the step's end under every
+/// scheme (backward Euler on the friction law: the return map of elasto-plasticity). A step that
+/// is accepted moves the anchor to a_n+1 = x1 - e1: a sticking point keeps its anchor, a slipping
+/// one drags it along. So a point sticks for good below the limit (it stays within mu N / k_t of
+/// its anchor, the bed's own scale: a line weight w sinks w / k), with no creep however long the
+/// load lasts, and slips at the limit force. A point that touches down anchors where the step
+/// started; one that lifts off forgets its anchor.
+///
+/// Energy: the springs' energy sum 1/2 k_t |e|^2 is part of H (potential), and what the step
+/// dissipates is their force's work minus that energy's change (EnergyRole::Dissipative with a
+/// stored part): on a plane, per point, k_t e1 . (e_trial - e1) + 1/2 k_t |e1 - e_n|^2 >= 0, slip
+/// and the backward-Euler spring's small loss while it sticks. On a round shape P moves with the
+/// point, which adds terms of the order of the shape's curvature times the elastic slip.
+///
+/// Friction acts within time steps only: the equilibrium start and static runs are frictionless.
+/// Shapes carried by a body are refused for now (their anchors would turn with the body).
+
+#include "effects/contact_shapes.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace slidebeam::effects {
+
+namespace {
+
+/// One point's friction over a step: the force on it (residual sign: +k_t e1, the beam is pulled
+/// by -k_t e1), its derivative with respect to the point's end position, the elastic slip e1 and
+/// whether it slipped.
+struct FrictionPoint {
+  Eigen::Vector3d force, e1;
+  Eigen::Matrix3d stiffness;
+  bool slipped = false;
+};
+
+/// A load within this share of mu N above the limit still sticks (as on a sliding joint).
+constexpr double kTie = 1e-6;
+
+/// The return map of one point at end position x1 held at anchor a (Shape: PlaneGap, RoundGap).
+/// false: the point is not in contact at x1 (no force, no anchor).
+template <class Shape>
+bool friction_point(const Penalty& law, const Shape& shape, double mu, double kt, const Eigen::Vector3d& x1,
+                    const Eigen::Vector3d& a, bool with_K, FrictionPoint& out) {
+  const double g = shape.gap(x1);
+  if (!(g < 0.0)) return false;
+  const double N = -law.dV(g);
+  const Eigen::Vector3d n = shape.gradient(x1);
+  const Eigen::Vector3d d = x1 - a;
+  const double nd = n.dot(d);
+  const Eigen::Vector3d e = d - nd * n;
+  const double limit = mu * N, norm = e.norm();
+  out.slipped = kt * norm > limit * (1.0 + kTie);
+  Eigen::Matrix3d De;  // d e / d x1
+  if (with_K) {
+    const Eigen::Matrix3d H = shape.hessian(x1);
+    De = Eigen::Matrix3d::Identity() - n * n.transpose() - nd * H - n * (H * d).transpose();
+  }
+  if (!out.slipped) {
+    out.e1 = e;
+    out.force = kt * e;
+    if (with_K) out.stiffness = kt * De;
+    return true;
+  }
+  const Eigen::Vector3d t = e / norm;
+  out.e1 = (limit / kt) * t;
+  out.force = limit * t;
+  if (with_K) {
+    const Eigen::Vector3d dN = -law.ddV(g) * n;  // dN / dx1
+    out.stiffness = mu * t * dN.transpose() + (limit / norm) * (Eigen::Matrix3d::Identity() - t * t.transpose()) * De;
+  }
+  return true;
+}
+
+/// Friction of one beam (W = 3: director, 4: ANCF) on a fixed Shape.
+template <int W, class Shape>
+class ContactFriction final : public CentreLineEffect<W>, public StepHistory, public OutputSource {
+  using Base = CentreLineEffect<W>;
+  using VecY = typename Base::VecY;
+  using MatY = typename Base::MatY;
+  // per point: the anchor's 3 coordinates, then its state (kFree, kStuck, kSlipped)
+  static constexpr int kPerPoint = 4;
+  static constexpr double kFree = 0.0, kStuck = 1.0, kSlipped = 2.0;
+
+ public:
+  ContactFriction(int beam, const Model& m, const EffectParams& p, const std::string& label, const Shape& shape)
+      : Base(beam, m), shape_(shape), law_(bed(p)), mu_(p.number("mu")), label_(label) {
+    if (!(mu_ > 0.0)) throw ParamError("mu", "friction on a contact needs mu > 0");
+    kt_ = p.num.count("tangential_stiffness") ? p.number("tangential_stiffness") : law_.k;
+    if (!(kt_ > 0.0)) throw ParamError("tangential_stiffness", "the tangential stiffness must be > 0");
+    const Beam& b = m.beam(beam);
+    points_ = Base::n_points(b);
+    history_.assign(static_cast<size_t>(b.n_spans() * points_ * kPerPoint), 0.0);
+  }
+  std::string type() const override { return "contact_friction"; }
+  std::string label() const override { return label_; }
+
+  void distribute(const Model& m) override {
+    Base::distribute(m);
+    owned_.assign(static_cast<size_t>(m.beam(this->beam_).n_spans()), 0);
+    for (int e : this->elements_) owned_[static_cast<size_t>(e)] = 1;
+  }
+
+  const std::vector<double>& history() const override { return history_; }
+  bool owns_history(size_t i) const override { return owned_[i / static_cast<size_t>(points_ * kPerPoint)] != 0; }
+  void set_history(const std::vector<double>& values) override { history_ = values; }
+  void commit(const EvalContext& ctx) override {
+    if (!acts(ctx)) return;
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      const VecY y1 = this->gather(ctx, ctx.x, b, e), y0 = this->gather(ctx, ctx.x_old, b, e);
+      for (int g = 0; g < points_; ++g) {
+        const CentreLinePoint<W> q = Base::point(b, e, g);
+        const Eigen::Vector3d x1 = position(q, y1);
+        double* h = slot(e, g);
+        FrictionPoint f;
+        if (!friction_point(law_, shape_, mu_, kt_, x1, anchor(h, position(q, y0)), false, f)) {
+          for (int k = 0; k < kPerPoint; ++k) h[k] = 0.0;
+          continue;
+        }
+        const Eigen::Vector3d held = x1 - f.e1;
+        for (int k = 0; k < 3; ++k) h[k] = held(k);
+        h[3] = f.slipped ? kSlipped : kStuck;
+      }
+    }
+  }
+
+  /// The tangential springs' energy at x (anchors as committed).
+  double energy(const EvalContext& ctx) const override {
+    double U = 0.0;
+    at_anchored(ctx, [&](double w, const Eigen::Vector3d& e, double) { U += 0.5 * w * kt_ * e.squaredNorm(); });
+    return U;
+  }
+
+  std::vector<std::string> output_names() const override {
+    return {"force.x", "force.y", "force.z", "sticking", "slipping"};
+  }
+  /// The friction force on the beam and the lengths that stuck and slipped over the last step.
+  void outputs(const EvalContext& ctx, double* values) const override {
+    at_anchored(ctx, [&](double w, const Eigen::Vector3d& e, double state) {
+      const Eigen::Vector3d f = -w * kt_ * e;
+      for (int k = 0; k < 3; ++k) values[k] += f(k);
+      values[state == kSlipped ? 4 : 3] += w;
+    });
+  }
+
+ protected:
+  bool acts(const EvalContext& ctx) const override { return ctx.h > 0.0 && ctx.scheme != StepScheme::Static; }
+
+  void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const override {
+    const VecY y1 = this->gather(ctx, ctx.x, b, e), y0 = this->gather(ctx, ctx.x_old, b, e);
+    for (int g = 0; g < points_; ++g) {
+      const CentreLinePoint<W> q = Base::point(b, e, g);
+      FrictionPoint f;
+      if (!friction_point(law_, shape_, mu_, kt_, position(q, y1), anchor(slot(e, g), position(q, y0)), K != nullptr, f))
+        continue;
+      for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.force;
+      if (!K) continue;
+      for (int i = 0; i < W; ++i)
+        for (int j = 0; j < W; ++j)
+          K->template block<3, 3>(3 * i, 3 * j) +=
+              q.w * q.N[static_cast<size_t>(i)] * q.N[static_cast<size_t>(j)] * f.stiffness;
+    }
+  }
+
+ private:
+  double* slot(int e, int g) { return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint); }
+  const double* slot(int e, int g) const {
+    return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint);
+  }
+  /// Where a point is held over the step: its committed anchor, or where the step started if it
+  /// had none (it touches down in this step).
+  static Eigen::Vector3d anchor(const double* h, const Eigen::Vector3d& x0) {
+    return h[3] == kFree ? x0 : Eigen::Vector3d(h[0], h[1], h[2]);
+  }
+  /// f(weight, elastic slip P (x - a), state) at every anchored point of this rank's elements.
+  template <class F>
+  void at_anchored(const EvalContext& ctx, F&& f) const {
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      const VecY y = this->gather(ctx, ctx.x, b, e);
+      for (int g = 0; g < points_; ++g) {
+        const double* h = slot(e, g);
+        if (h[3] == kFree) continue;
+        const CentreLinePoint<W> q = Base::point(b, e, g);
+        const Eigen::Vector3d x = position(q, y), n = shape_.gradient(x);
+        const Eigen::Vector3d d = x - Eigen::Vector3d(h[0], h[1], h[2]);
+        f(q.w, Eigen::Vector3d(d - n.dot(d) * n), h[3]);
+      }
+    }
+  }
+  static Eigen::Vector3d position(const CentreLinePoint<W>& q, const VecY& y) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    return x;
+  }
+
+  Shape shape_;
+  Penalty law_;
+  double mu_, kt_ = 0.0;
+  std::string label_;
+  int points_ = 0;
+  std::vector<double> history_;
+  std::vector<char> owned_;  // by span
+};
+
+template <class Shape>
+std::unique_ptr<Effect> make_friction(const Model& m, const EffectParams& p, const std::string& label,
+                                      Shape (*shape)(const EffectParams&)) {
+  const int beam = beam_param(m, p);
+  if (m.beam(beam).is_ancf()) return std::make_unique<ContactFriction<4, Shape>>(beam, m, p, label, shape(p));
+  return std::make_unique<ContactFriction<3, Shape>>(beam, m, p, label, shape(p));
+}
+
+std::unique_ptr<Effect> make_contact_friction(const Model& m, const EffectParams& p) {
+  const std::string shape = p.string("shape"), label = p.string("label", "contact_friction");
+  if (p.num.count("body"))
+    throw ParamError("mu", "friction on a shape carried by a body is not supported yet: give mu = 0 (frictionless)");
+  if (shape == "plane") return make_friction(m, p, label, &plane_shape);
+  if (shape == "cylinder") return make_friction(m, p, label, &cylinder_shape);
+  if (shape == "sphere") return make_friction(m, p, label, &sphere_shape);
+  throw std::invalid_argument("contact_friction: unknown shape '" + shape + "'");
+}
+
+}  // namespace
+
+void register_contact_friction_effects(EffectRegistry& r) {
+  EffectSpec s = model_effect_spec("contact_friction", EnergyRole::Dissipative,
+                                   "Coulomb friction between a beam and a fixed [[contact]] shape (the entry's mu > "
+                                   "0): each point in contact sticks to its anchor on the shape by a tangential "
+                                   "spring capped at mu N",
+                                   "potential");
+  s.rate_force = true;  // none outside a step: HHT weights it by 1, as the rate forces
+  r.add(s, [](const Model& m, const EffectParams& p) { return make_contact_friction(m, p); });
+}
+
+}  // namespace slidebeam::effects
