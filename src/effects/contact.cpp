@@ -399,6 +399,13 @@ void register_contact_effects(EffectRegistry& r) {
                      "Coulomb friction coefficient between beam and shape (0: frictionless; a fixed shape only): "
                      "a point sticks while its tangential load is below mu N",
                      "0", 0.0, inf};
+  const ParamSpec mu_axial = optional_param(
+      {"mu_axial", K::Number, "",
+       "friction coefficient along the beam, if it differs from across it (a chain on the seabed: MoorDyn's "
+       "axial seabed friction); default mu",
+       "", 0.0, inf, true});
+  const ParamSpec mu_transverse = optional_param(
+      {"mu_transverse", K::Number, "", "friction coefficient across the beam (default mu)", "", 0.0, inf, true});
   const ParamSpec damping{"damping", K::Number, "N s/m^2",
                           "c, the bed's damping of the beam's normal motion in contact, per unit length (0: none; a "
                           "fixed shape only): c = 2 zeta sqrt(k rho A) damps the beam's bounce on the bed by the ratio "
@@ -421,7 +428,7 @@ void register_contact_effects(EffectRegistry& r) {
                       {"normal", K::Vector, "",
                        "the plane's normal, towards the side the beam is on (e.g. [0, 0, 1] for the ground)", "",
                        -inf, inf, false, 3},
-                      stiffness, mu, tangential_stiffness, damping}),
+                      stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping}),
         [](const Model& m, const EffectParams& p) { return make_contact(m, p, "plane_contact", &plane_shape); });
   r.add(spec("cylinder_contact", "cylinder",
                      "contact of a beam with a fixed rigid cylinder from outside (a drum, a sheave, a pipe, a "
@@ -435,7 +442,7 @@ void register_contact_effects(EffectRegistry& r) {
                                       ""}),
                       {"axis", K::Vector, "", "the axis' direction as drawn (the cylinder is endless)", "", -inf, inf,
                        false, 3},
-                      radius, stiffness, mu, tangential_stiffness, damping}),
+                      radius, stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping}),
         [](const Model& m, const EffectParams& p) { return make_cylinder_contact(m, p); });
   r.add(spec("sphere_contact", "sphere",
                      "contact of a beam with a rigid sphere from outside, fixed or carried by a body: "
@@ -447,7 +454,7 @@ void register_contact_effects(EffectRegistry& r) {
                                       "the [[body]] that carries the sphere, centred on its centre of mass (or give "
                                       "`center`)",
                                       ""}),
-                      radius, stiffness, mu, tangential_stiffness, damping}),
+                      radius, stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping}),
         [](const Model& m, const EffectParams& p) { return make_sphere_contact(m, p); });
 }
 

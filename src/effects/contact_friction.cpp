@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @file Coulomb friction between a beam and the fixed shape of its [[contact]] (`mu` > 0 on the
-/// entry adds this effect beside the contact; docs/theory.md, "Friction on contact").
+/// entry adds this effect beside the contact; docs/theory.md, "Friction and damping on contact").
 ///
 /// Each mass quadrature point of the beam in contact is held at an anchor a on the shape by a
 /// tangential spring of stiffness k_t per unit length (by default the bed's k), whose force is
@@ -25,6 +25,10 @@
 /// and the backward-Euler spring's small loss while it sticks. On a round shape P moves with the
 /// point, which adds terms of the order of the shape's curvature times the elastic slip.
 ///
+/// With `mu_axial` and `mu_transverse` (MoorDyn's seabed friction along and across the line) the
+/// limit is an ellipse in the surface, the beam's direction at the step's start as its axis:
+/// (f_a / mu_a)^2 + (f_t / mu_t)^2 <= N^2 (friction_point).
+///
 /// Friction acts within time steps only: the equilibrium start and static runs are frictionless.
 /// Shapes carried by a body are refused for now (their anchors would turn with the body).
 
@@ -32,9 +36,11 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace slidebeam::effects {
 
@@ -52,11 +58,25 @@ struct FrictionPoint {
 /// A load within this share of mu N above the limit still sticks (as on a sliding joint).
 constexpr double kTie = 1e-6;
 
-/// The return map of one point at end position x1 held at anchor a (Shape: PlaneGap, RoundGap).
+/// Coulomb's coefficients along the beam and across it (MoorDyn's axial and transverse seabed
+/// friction): the limit of the tangential force f is the ellipse (f_a / mu_a)^2 + (f_t / mu_t)^2
+/// <= N^2, f_a its part along the beam's direction t on the surface, f_t the rest.
+struct Coefficients {
+  double axial = 0.0, transverse = 0.0;
+  bool isotropic() const { return axial == transverse; }
+};
+
+/// The return map of one point at end position x1 held at anchor a (Shape: PlaneGap, RoundGap),
+/// with t the beam's unit direction in the surface at the step's start (fixed over the step, so
+/// that the step's Jacobian has no term from it; zero with equal coefficients). Stick while
+/// phi(e) = k_t |e|_M <= N, |e|_M^2 = e . M e, M = t t^T / mu_a^2 + (I - t t^T) / mu_t^2 (with equal
+/// coefficients k_t |e| <= mu N); in slip the trial is scaled back onto the limit, e1 = (N / phi)
+/// e_trial, so the force keeps the trial's direction and the slip's work is never negative.
 /// false: the point is not in contact at x1 (no force, no anchor).
 template <class Shape>
-bool friction_point(const Penalty& law, const Shape& shape, double mu, double kt, const Eigen::Vector3d& x1,
-                    const Eigen::Vector3d& a, bool with_K, FrictionPoint& out) {
+bool friction_point(const Penalty& law, const Shape& shape, const Coefficients& mu, double kt,
+                    const Eigen::Vector3d& x1, const Eigen::Vector3d& a, const Eigen::Vector3d& t, bool with_K,
+                    FrictionPoint& out) {
   const double g = shape.gap(x1);
   if (!(g < 0.0)) return false;
   const double N = -law.dV(g);
@@ -64,8 +84,11 @@ bool friction_point(const Penalty& law, const Shape& shape, double mu, double kt
   const Eigen::Vector3d d = x1 - a;
   const double nd = n.dot(d);
   const Eigen::Vector3d e = d - nd * n;
-  const double limit = mu * N, norm = e.norm();
-  out.slipped = kt * norm > limit * (1.0 + kTie);
+  // M e, M the limit's metric
+  Eigen::Vector3d Me = e / (mu.transverse * mu.transverse);
+  if (!mu.isotropic()) Me += (1.0 / (mu.axial * mu.axial) - 1.0 / (mu.transverse * mu.transverse)) * t.dot(e) * t;
+  const double norm_M = std::sqrt(std::max(e.dot(Me), 0.0)), phi = kt * norm_M;
+  out.slipped = phi > N * (1.0 + kTie);
   Eigen::Matrix3d De;  // d e / d x1
   if (with_K) {
     const Eigen::Matrix3d H = shape.hessian(x1);
@@ -77,12 +100,14 @@ bool friction_point(const Penalty& law, const Shape& shape, double mu, double kt
     if (with_K) out.stiffness = kt * De;
     return true;
   }
-  const Eigen::Vector3d t = e / norm;
-  out.e1 = (limit / kt) * t;
-  out.force = limit * t;
+  const double r = N / phi;  // < 1
+  out.e1 = r * e;
+  out.force = kt * out.e1;
   if (with_K) {
-    const Eigen::Vector3d dN = -law.ddV(g) * n;  // dN / dx1
-    out.stiffness = mu * t * dN.transpose() + (limit / norm) * (Eigen::Matrix3d::Identity() - t * t.transpose()) * De;
+    // r = N / (kt |e|_M): dr = dN / phi - r (Me . de) / |e|_M^2
+    const Eigen::Vector3d dN = -law.ddV(g) * n;
+    const Eigen::RowVector3d dr = dN.transpose() / phi - (r / (norm_M * norm_M)) * (Me.transpose() * De);
+    out.stiffness = kt * (r * De + e * dr);
   }
   return true;
 }
@@ -99,8 +124,13 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
 
  public:
   ContactFriction(int beam, const Model& m, const EffectParams& p, const std::string& label, const Shape& shape)
-      : Base(beam, m), shape_(shape), law_(bed(p)), mu_(p.number("mu")), label_(label) {
-    if (!(mu_ > 0.0)) throw ParamError("mu", "friction on a contact needs mu > 0");
+      : Base(beam, m), shape_(shape), law_(bed(p)), label_(label) {
+    const double mu = p.number("mu");
+    mu_ = {p.num.count("mu_axial") ? p.number("mu_axial") : mu, p.num.count("mu_transverse") ? p.number("mu_transverse") : mu};
+    for (const auto& [key, value] : {std::pair<const char*, double>{"mu_axial", mu_.axial}, {"mu_transverse", mu_.transverse}})
+      if (!(value > 0.0))
+        throw ParamError(p.num.count(key) ? key : "mu", std::string("friction on a contact needs ") + key +
+                                                            " > 0 (it is mu unless given)");
     kt_ = p.num.count("tangential_stiffness") ? p.number("tangential_stiffness") : law_.k;
     if (!(kt_ > 0.0)) throw ParamError("tangential_stiffness", "the tangential stiffness must be > 0");
     const Beam& b = m.beam(beam);
@@ -129,7 +159,7 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
         const Eigen::Vector3d x1 = position(q, y1);
         double* h = slot(e, g);
         FrictionPoint f;
-        if (!friction_point(law_, shape_, mu_, kt_, x1, anchor(h, position(q, y0)), false, f)) {
+        if (!friction_point(law_, shape_, mu_, kt_, x1, anchor(h, position(q, y0)), direction(q, y0), false, f)) {
           for (int k = 0; k < kPerPoint; ++k) h[k] = 0.0;
           continue;
         }
@@ -167,7 +197,8 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
     for (int g = 0; g < points_; ++g) {
       const CentreLinePoint<W> q = Base::point(b, e, g);
       FrictionPoint f;
-      if (!friction_point(law_, shape_, mu_, kt_, position(q, y1), anchor(slot(e, g), position(q, y0)), K != nullptr, f))
+      if (!friction_point(law_, shape_, mu_, kt_, position(q, y1), anchor(slot(e, g), position(q, y0)),
+                          direction(q, y0), K != nullptr, f))
         continue;
       for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.force;
       if (!K) continue;
@@ -209,10 +240,22 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
     for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
     return x;
   }
+  /// The beam's unit direction in the shape's surface at the point in state y (the centre line's
+  /// tangent less its normal part); zero when the coefficients are equal (not read then).
+  Eigen::Vector3d direction(const CentreLinePoint<W>& q, const VecY& y) const {
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    if (mu_.isotropic()) return t;
+    for (int i = 0; i < W; ++i) t += q.dN[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    const Eigen::Vector3d n = shape_.gradient(position(q, y));
+    t -= n.dot(t) * n;
+    const double norm = t.norm();
+    return norm > 0.0 ? Eigen::Vector3d(t / norm) : t;
+  }
 
   Shape shape_;
   Penalty law_;
-  double mu_, kt_ = 0.0;
+  Coefficients mu_;
+  double kt_ = 0.0;
   std::string label_;
   int points_ = 0;
   std::vector<double> history_;

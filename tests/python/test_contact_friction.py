@@ -235,6 +235,8 @@ def test_one_rank_equals_two():
     ({"mu": -0.1}, "mu", ">= 0"),
     ({"damping": -1.0}, "damping", ">= 0"),
     ({"mu": 0.3, "tangential_stiffness": 0.0}, "tangential_stiffness", "> 0"),
+    ({"mu_axial": 0.0}, "mu_axial", "> 0"),
+    ({"mu": 0.0, "mu_axial": 0.3}, "mu", "mu_transverse > 0"),
 ])
 def test_bad_friction_input_is_refused_naming_the_key(entry, key, words):
     data = dict(slope(0.5).data)
@@ -282,3 +284,48 @@ def test_a_mooring_line_pulled_over_a_seabed_with_friction_rests_as_the_closed_f
     assert anchor < 0.6 * exact.H  # friction carries 48 % of H
     assert grounded == pytest.approx(m.LENGTH - exact.suspended_length, rel=2e-3)
     assert_balance_and_dissipation(records, rtol=1e-10)
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+@pytest.mark.parametrize("formulation", ("director", "ancf"))
+@pytest.mark.parametrize("integrator", INTEGRATORS)
+def test_axial_and_transverse_friction_step_jacobian_matches_finite_differences(integrator, formulation, shape):
+    base = everything_scene(integrator, "full") if formulation == "director" else test_ancf.everything_scene(integrator)
+    sim = slidebeam.Simulation(with_contact(base, **SHAPES[shape], mu_axial=0.01, mu_transverse=0.04))
+    check_step_jacobian(sim, steps=1, h=0.05, seed=7, label=f"{integrator} {shape}")
+
+
+def sliding_rope(angle: float, formulation: str, mu_axial: float = 0.5, mu_transverse: float = 1.0) -> slidebeam.Scene:
+    """A 2 m rope (1 kg/m) lying straight along x on the ground, thrown at 2 m/s at `angle` to
+    its length."""
+    section = ({"EA": 1e5, "EI": 1e-2, "rhoA": 1.0} if formulation == "ancf" else
+               {"EA": 1e5, "kGA": 5e4, "GJ": 1e-2, "EI2": 1e-2, "EI3": 1e-2, "rhoA": 1.0, "rhoI2": 1e-6, "rhoI3": 1e-6})
+    k, sunk = 1e5, -G / 1e5
+    return slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "integrator": "energy-momentum", "dt": 1e-3, "t_end": 0.15},
+        "beam": [{"name": "rope", "start": [0.0, 0.0, sunk], "end": [2.0, 0.0, sunk], "spans": 8,
+                  "formulation": formulation, "section": section,
+                  "velocity": [2.0 * float(np.cos(angle)), 2.0 * float(np.sin(angle)), 0.0]}],
+        "gravity": {"g": [0.0, 0.0, -G]},
+        "contact": [{"type": "plane", "beam": "rope", "point": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0],
+                     "stiffness": k, "mu_axial": mu_axial, "mu_transverse": mu_transverse,
+                     "damping": 2 * 0.5 * np.sqrt(k)}],
+    })
+
+
+@pytest.mark.parametrize("angle", (0.0, np.pi / 2, np.pi / 4))
+@pytest.mark.parametrize("formulation", ("director", "ancf"))
+def test_a_rope_sliding_on_the_ground_feels_its_axial_and_transverse_friction(formulation, angle):
+    """mu_axial = 0.5, mu_transverse = 1: a rope sliding along its length decelerates at 0.5 g,
+    across it at 1 g, and at 45 deg against its sliding direction at g / |(cos, sin)|_M, the
+    elliptical limit (f_a / mu_a)^2 + (f_t / mu_t)^2 = N^2 along the slip (the centre of mass's
+    deceleration from the momentum, to 1e-9)."""
+    records = slidebeam.Simulation(sliding_rope(angle, formulation)).run_dynamic().records
+    t = np.array([r.t for r in records])
+    velocity = np.array([r.linear_momentum for r in records])[:, :2] / 2.0
+    late = t > 0.03
+    a = np.array([np.polyfit(t[late], velocity[late, c], 1)[0] for c in range(2)])
+    c, s = np.cos(angle), np.sin(angle)
+    exact = -G / np.sqrt(c * c / 0.25 + s * s / 1.0) * np.array([c, s])
+    assert np.linalg.norm(a - exact) <= 1e-9 * np.linalg.norm(exact)
+    assert_balance_and_dissipation(records)

@@ -75,8 +75,8 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
             add(entry.type, entry.label, entry.num, entry.vec, entry.text)
             if specs[entry.type].table == "contact" and dynamic:
                 # its friction and its damping: effects of their own beside it, on the same shape
-                for key, kind in (("mu", "friction"), ("damping", "damping")):
-                    if entry.num.get(key, 0.0) > 0.0:
+                for keys, kind in ((("mu", "mu_axial", "mu_transverse"), "friction"), (("damping",), "damping")):
+                    if any(entry.num.get(key, 0.0) > 0.0 for key in keys):
                         label = entry.label.replace("_contact", f"_{kind}", 1)
                         add(f"contact_{kind}", label, entry.num, entry.vec,
                             {**entry.text, "shape": specs[entry.type].variant, "label": label})
