@@ -9,7 +9,8 @@ cos^2 b / R) the whole wrap slips and T1 follows F at that ratio. Measured as th
 over the steps after T1 has risen 5 % above its start, for mu = 0.3 and 0.5
 (docs/verification.md, "Friction on contact").
 
-    scripts/capstan_table.py [--quick]
+    scripts/capstan_table.py [--quick] [--undamped]
+    scripts/capstan_table.py --figure docs/capstan.png
 """
 from __future__ import annotations
 
@@ -95,11 +96,54 @@ def measure(mu: float, theta: float, quick: bool, damped: bool) -> dict[str, flo
             "newton": float(np.mean([r.newton_iterations for r in records[1:]])), "wall": wall}
 
 
+def figure(path: Path) -> None:
+    """runs/cables/capstan.toml over its 4 s: the pull F and the held leg's tension T1, their ratio
+    against exp(mu pi), and the lengths of the wrap that stick and slip."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    root = Path(__file__).resolve().parents[1]
+    scene = slidebeam.load_scene(root / "runs" / "cables" / "capstan.toml", ["output.every=1"])
+    sim = slidebeam.Simulation(scene)
+    records = sim.run_dynamic().records
+    labels = sim.output_labels()
+    t = np.array([r.t for r in records])
+    T1 = np.array([np.linalg.norm(r.reactions[0].force) for r in records])
+    F = T0 * (1.0 + 2.0 * t / 4.0)
+    stick = np.array([r.outputs[labels.index("cylinder_friction[rope].sticking")] for r in records])
+    slip = np.array([r.outputs[labels.index("cylinder_friction[rope].slipping")] for r in records])
+    limit = np.exp(0.3 * np.pi)
+    fig, ax = plt.subplots(3, 1, figsize=(7, 7.5), sharex=True)
+    ax[0].plot(t, F, label="pull F")
+    ax[0].plot(t, T1, label="held leg T1")
+    ax[0].set_ylabel("tension, N")
+    ax[0].legend()
+    ax[1].plot(t, F / T1, label="F / T1")
+    ax[1].axhline(limit, color="k", ls="--", lw=0.8, label=f"exp(mu pi) = {limit:.4f}")
+    ax[1].set_ylabel("ratio")
+    ax[1].legend()
+    ax[2].plot(t, stick, label="sticking")
+    ax[2].plot(t, slip, label="slipping")
+    ax[2].set_ylabel("length of rope, m")
+    ax[2].set_xlabel("t, s")
+    ax[2].legend()
+    fig.suptitle("a rope half a turn over a capstan, mu = 0.3 (runs/cables/capstan.toml)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    print(f"wrote {path}")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="2 s ramps at dt = 4 ms (4 s at 2 ms otherwise)")
     parser.add_argument("--undamped", action="store_true", help="the bed without its damping (it rings)")
+    parser.add_argument("--figure", type=Path, help="draw runs/cables/capstan.toml's run into this PNG instead")
     args = parser.parse_args()
+    if args.figure:
+        figure(args.figure)
+        return 0
     print("| wrap | mu | exp(mu theta cos b) | F / T1 while it slips | error | T1 while F < 0.95 limit T1 | "
           "balance / largest energy | Newton per step | wall, s |")
     print("|---|---|---|---|---|---|---|---|---|")

@@ -71,24 +71,6 @@ class ContactDamping final : public CentreLineEffect<W> {
   std::string label_;
 };
 
-template <class Shape>
-std::unique_ptr<Effect> make_damping(const Model& m, const EffectParams& p, const std::string& label,
-                                     Shape (*shape)(const EffectParams&)) {
-  const int beam = beam_param(m, p);
-  if (m.beam(beam).is_ancf()) return std::make_unique<ContactDamping<4, Shape>>(beam, m, p, label, shape(p));
-  return std::make_unique<ContactDamping<3, Shape>>(beam, m, p, label, shape(p));
-}
-
-std::unique_ptr<Effect> make_contact_damping(const Model& m, const EffectParams& p) {
-  const std::string shape = p.string("shape"), label = p.string("label", "contact_damping");
-  if (p.num.count("body"))
-    throw ParamError("damping", "damping on a shape carried by a body is not supported yet: leave it out");
-  if (shape == "plane") return make_damping(m, p, label, &plane_shape);
-  if (shape == "cylinder") return make_damping(m, p, label, &cylinder_shape);
-  if (shape == "sphere") return make_damping(m, p, label, &sphere_shape);
-  throw std::invalid_argument("contact_damping: unknown shape '" + shape + "'");
-}
-
 }  // namespace
 
 void register_contact_damping_effects(EffectRegistry& r) {
@@ -96,7 +78,7 @@ void register_contact_damping_effects(EffectRegistry& r) {
                                    "damping of a beam's normal motion on a fixed [[contact]] shape (the entry's "
                                    "damping > 0), against the rate of its penetration");
   s.rate_force = true;
-  r.add(s, [](const Model& m, const EffectParams& p) { return make_contact_damping(m, p); });
+  r.add(s, [](const Model& m, const EffectParams& p) { return make_on_fixed_shape<ContactDamping>(m, p, "damping"); });
 }
 
 }  // namespace slidebeam::effects

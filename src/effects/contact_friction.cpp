@@ -262,24 +262,6 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
   std::vector<char> owned_;  // by span
 };
 
-template <class Shape>
-std::unique_ptr<Effect> make_friction(const Model& m, const EffectParams& p, const std::string& label,
-                                      Shape (*shape)(const EffectParams&)) {
-  const int beam = beam_param(m, p);
-  if (m.beam(beam).is_ancf()) return std::make_unique<ContactFriction<4, Shape>>(beam, m, p, label, shape(p));
-  return std::make_unique<ContactFriction<3, Shape>>(beam, m, p, label, shape(p));
-}
-
-std::unique_ptr<Effect> make_contact_friction(const Model& m, const EffectParams& p) {
-  const std::string shape = p.string("shape"), label = p.string("label", "contact_friction");
-  if (p.num.count("body"))
-    throw ParamError("mu", "friction on a shape carried by a body is not supported yet: give mu = 0 (frictionless)");
-  if (shape == "plane") return make_friction(m, p, label, &plane_shape);
-  if (shape == "cylinder") return make_friction(m, p, label, &cylinder_shape);
-  if (shape == "sphere") return make_friction(m, p, label, &sphere_shape);
-  throw std::invalid_argument("contact_friction: unknown shape '" + shape + "'");
-}
-
 }  // namespace
 
 void register_contact_friction_effects(EffectRegistry& r) {
@@ -289,7 +271,7 @@ void register_contact_friction_effects(EffectRegistry& r) {
                                    "spring capped at mu N",
                                    "potential");
   s.rate_force = true;  // none outside a step: HHT weights it by 1, as the rate forces
-  r.add(s, [](const Model& m, const EffectParams& p) { return make_contact_friction(m, p); });
+  r.add(s, [](const Model& m, const EffectParams& p) { return make_on_fixed_shape<ContactFriction>(m, p, "mu"); });
 }
 
 }  // namespace slidebeam::effects

@@ -6,6 +6,9 @@
 #include "effects/gap_potential.hpp"
 
 #include <array>
+#include <memory>
+#include <stdexcept>
+#include <string>
 
 namespace slidebeam::effects {
 
@@ -45,6 +48,27 @@ inline RoundGap cylinder_shape(const EffectParams& p) {
 
 inline RoundGap sphere_shape(const EffectParams& p) {
   return {vector3_param(p, "center"), Eigen::Matrix3d::Identity(), contact_radius(p)};
+}
+
+/// Effect E<W, Shape> (W = 3 a director beam, 4 an ANCF cable) of the beam of a [[contact]] entry
+/// on its fixed shape (the entry's `type`, passed as "shape"), labelled by the entry's "label". A
+/// shape carried by a body is refused, naming `key` (what the entry asked of it).
+template <template <int, class> class E>
+std::unique_ptr<Effect> make_on_fixed_shape(const Model& m, const EffectParams& p, const char* key) {
+  if (p.num.count("body"))
+    throw ParamError(key, std::string("`") + key + "` on a shape carried by a body is not supported yet: leave it out");
+  const int beam = beam_param(m, p);
+  const bool ancf = m.beam(beam).is_ancf();
+  const std::string shape = p.string("shape"), label = p.string("label");
+  auto make = [&](auto build) -> std::unique_ptr<Effect> {
+    using Shape = decltype(build(p));
+    if (ancf) return std::make_unique<E<4, Shape>>(beam, m, p, label, build(p));
+    return std::make_unique<E<3, Shape>>(beam, m, p, label, build(p));
+  };
+  if (shape == "plane") return make(&plane_shape);
+  if (shape == "cylinder") return make(&cylinder_shape);
+  if (shape == "sphere") return make(&sphere_shape);
+  throw std::invalid_argument("contact: unknown shape '" + shape + "'");
 }
 
 }  // namespace slidebeam::effects
