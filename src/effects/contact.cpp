@@ -183,47 +183,30 @@ struct CylinderOnBody {
 /// CylinderOnBody): a penalty of the point's gap at the beam's mass quadrature points, each
 /// element coupled with the body coordinates the shape reads.
 template <int W, class Kernel>
-class BodyContact final : public Effect {
+class BodyContact final : public BeamOnBodyElements<W, Kernel::kBody> {
+  using Base = BeamOnBodyElements<W, Kernel::kBody>;
   static constexpr int kBody = Kernel::kBody;
-  static constexpr int kDofs = 3 * W + kBody;  // the element's position blocks, then the body's
-  using Point = CentreLinePoint<W>;
-  using VecY = Eigen::Matrix<double, kDofs, 1>;
-  using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+  static constexpr int kDofs = Base::kDofs;
+  using typename Base::Point;
+  using typename Base::VecY;
+  using typename Base::MatY;
   using Body = typename Kernel::Body;
 
  public:
   BodyContact(int beam, int body, const Model& m, const EffectParams& p, const Kernel& kernel)
-      : beam_(beam), body_(body), law_(bed(p)), kernel_(kernel) {
-    label_ = std::string(Kernel::kType) + "[" + m.beam(beam_).name() + "-" + m.beam(body_).name() + "]";
+      : Base(beam, body), law_(bed(p)), kernel_(kernel) {
+    label_ = std::string(Kernel::kType) + "[" + m.beam(beam).name() + "-" + m.beam(body).name() + "]";
   }
   std::string type() const override { return Kernel::kType; }
   std::string label() const override { return label_; }
 
-  void distribute(const Model& m) override {
-    const Beam& b = m.beam(beam_);
-    elements_.clear();
-    for (int e = 0; e < b.n_spans(); ++e)
-      if (owns_span(m, b, e)) elements_.push_back(e);
-  }
-  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
-    if (elements_.empty()) return;
-    const Beam& b = m.beam(beam_);
-    for (int e : elements_) add_cp_blocks(m.dof_map(), b.first_cp() + e, W == 3 ? 3 : 2, dofs);
-    add_cp_blocks(m.dof_map(), m.beam(body_).first_cp(), 1, dofs);
-  }
-  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
-    PetscFunctionBeginUser;
-    for (int e : elements_) PetscCall(add_block_pattern(sink, dofs(m.dof_map(), m, e)));
-    PetscFunctionReturn(0);
-  }
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
-    for (int e : elements_) {
+    for (int e : this->elements_) {
       VecY re = VecY::Zero();
       const auto [y1, yf] = states(ctx, e);
       element(ctx, e, y1, yf, re, nullptr);
-      const auto d = dofs(ctx.map, ctx.model, e);
-      for (int k = 0; k < kDofs; ++k) r.at(d[static_cast<size_t>(k)]) += re(k);
+      this->scatter(ctx, e, re, r);
     }
     PetscFunctionReturn(0);
   }
@@ -234,25 +217,25 @@ class BodyContact final : public Effect {
   /// factorisation up anew when it changes); the preallocated one (pattern()) holds them all.
   PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
     PetscFunctionBeginUser;
-    for (int e : elements_) {
+    for (int e : this->elements_) {
       const auto [y1, yf] = states(ctx, e);
       if (!near(ctx, e, y1, yf)) continue;
       VecY re = VecY::Zero();
       MatY K = MatY::Zero();
       element(ctx, e, y1, yf, re, &K);
-      const auto d = dofs(ctx.map, ctx.model, e);
+      const auto d = this->dofs(ctx.map, ctx.model, e);
       PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
     }
     PetscFunctionReturn(0);
   }
   double energy(const EvalContext& ctx) const override {
-    const Beam& b = ctx.model.beam(beam_);
+    const Beam& b = ctx.model.beam(this->beam_);
     double U = 0.0;
-    for (int e : elements_) {
-      const VecY y = gather(ctx, ctx.x, e);
-      for (int g = 0; g < n_points(b); ++g) {
-        const Point q = point(b, e, g);
-        U += q.w * law_.V(kernel_.gap(position(q, y), y.template tail<kBody>()));
+    for (int e : this->elements_) {
+      const VecY y = this->gather(ctx, ctx.x, e);
+      for (int g = 0; g < Base::n_points(b); ++g) {
+        const Point q = Base::point(b, e, g);
+        U += q.w * law_.V(kernel_.gap(Base::position(q, y), y.template tail<kBody>()));
       }
     }
     return U;
@@ -262,18 +245,18 @@ class BodyContact final : public Effect {
   /// Span e's unknowns (its blocks, then the body's) at the step's end and at its force state
   /// (the step's start under energy-momentum).
   std::pair<VecY, VecY> states(const EvalContext& ctx, int e) const {
-    return {gather(ctx, ctx.x, e), gather(ctx, ctx.rule == StepRule::EnergyMomentum ? ctx.x_old : ctx.xf, e)};
+    return {this->gather(ctx, ctx.x, e), this->gather(ctx, ctx.rule == StepRule::EnergyMomentum ? ctx.x_old : ctx.xf, e)};
   }
   /// re += span e's generalised force (residual sign) on its blocks and on the body's
   /// coordinates, K += its derivative with respect to the step's end state.
   void element(const EvalContext& ctx, int e, const VecY& y1, const VecY& yf, VecY& re, MatY* K) const {
-    const Beam& b = ctx.model.beam(beam_);
+    const Beam& b = ctx.model.beam(this->beam_);
     const Body b1 = y1.template tail<kBody>(), bf = yf.template tail<kBody>();
-    for (int g = 0; g < n_points(b); ++g) {
-      const Point q = point(b, e, g);
+    for (int g = 0; g < Base::n_points(b); ++g) {
+      const Point q = Base::point(b, e, g);
       typename Kernel::Force f;
       typename Kernel::Stiffness S;
-      if (!kernel_.force(law_, ctx, position(q, yf), bf, position(q, y1), b1, K != nullptr, f, S)) continue;
+      if (!kernel_.force(law_, ctx, Base::position(q, yf), bf, Base::position(q, y1), b1, K != nullptr, f, S)) continue;
       // the point's x = sum_i N_i y_i: its force spread by N_i; the body's part as it is
       for (int i = 0; i < W; ++i) re.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.template head<3>();
       re.template tail<kBody>() += q.w * f.template tail<kBody>();
@@ -291,59 +274,20 @@ class BodyContact final : public Effect {
   /// Whether a point of span e is within half the shape's radius of its surface at the step's
   /// end or force state (a margin, so that the pattern changes less often than the contact).
   bool near(const EvalContext& ctx, int e, const VecY& y1, const VecY& yf) const {
-    const Beam& b = ctx.model.beam(beam_);
-    for (int g = 0; g < n_points(b); ++g) {
-      const Point q = point(b, e, g);
-      const double gap = std::min(kernel_.gap(position(q, y1), y1.template tail<kBody>()),
-                                  kernel_.gap(position(q, yf), yf.template tail<kBody>()));
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int g = 0; g < Base::n_points(b); ++g) {
+      const Point q = Base::point(b, e, g);
+      const double gap = std::min(kernel_.gap(Base::position(q, y1), y1.template tail<kBody>()),
+                                  kernel_.gap(Base::position(q, yf), yf.template tail<kBody>()));
       if (gap < 0.5 * kernel_.radius()) return true;
     }
     return false;
   }
-  static int n_points(const Beam& b) { return centre_line_points(b); }
-  static Point point(const Beam& b, int e, int g) { return centre_line_point<W>(b, e, g); }
-  static Eigen::Vector3d position(const Point& q, const VecY& y) {
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return x;
-  }
-  // block i < W of the element: director, the phi of control point i; ANCF, r (even i) or r'
-  // (odd i) of node i / 2; then the body's first kBody coordinates (phi, then d1, d2, d3)
-  static int node(int i) { return W == 3 ? i : i / 2; }
-  static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
-  std::array<PetscInt, kDofs> dofs(const DofMap& map, const Model& m, int e) const {
-    std::array<PetscInt, kDofs> d{};
-    const PetscInt first = m.beam(beam_).first_cp(), body = m.beam(body_).first_cp();
-    for (int i = 0; i < W; ++i)
-      for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(first + e + node(i), offset(i) + k);
-    for (int k = 0; k < kBody; ++k) d[static_cast<size_t>(3 * W + k)] = map.q(body, k);
-    return d;
-  }
-  VecY gather(const EvalContext& ctx, const LocalValues& x, int e) const {
-    VecY y;
-    const PetscInt first = ctx.model.beam(beam_).first_cp();
-    for (int i = 0; i < W; ++i)
-      y.template segment<3>(3 * i) = Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, first + e + node(i)) + offset(i));
-    y.template tail<kBody>() = Eigen::Map<const Body>(x.cp(ctx.map, ctx.model.beam(body_).first_cp()));
-    return y;
-  }
 
-  int beam_, body_;
   Penalty law_;
   Kernel kernel_;
   std::string label_;
-  std::vector<int> elements_;
 };
-
-/// The body a contact shape is carried by (its "body" parameter), checked to be a [[body]].
-int carrier_body(const Model& m, const EffectParams& p, const char* shape) {
-  const int body = static_cast<int>(p.number("body"));
-  if (body < 0 || body >= static_cast<int>(m.beams().size()))
-    throw std::invalid_argument(std::string(shape) + "_contact: no body with index " + std::to_string(body));
-  if (!m.beam(body).is_rigid())
-    throw ParamError("body", "'" + m.beam(body).name() + "' is a beam: a " + shape + " is carried by a [[body]]");
-  return body;
-}
 
 template <class Kernel>
 std::unique_ptr<Effect> make_body_contact(const Model& m, const EffectParams& p, int body, const Kernel& kernel) {
@@ -396,8 +340,8 @@ void register_contact_effects(EffectRegistry& r) {
   const ParamSpec radius{"radius", K::Number, "m",
                          "R, where the centre line touches: the shape's radius plus the rope's", "", 0.0, inf, true};
   const ParamSpec mu{"mu", K::Number, "",
-                     "Coulomb friction coefficient between beam and shape (0: frictionless; a fixed shape only): "
-                     "a point sticks while its tangential load is below mu N",
+                     "Coulomb friction coefficient between beam and shape (0: frictionless; a fixed shape, or a "
+                     "cylinder carried by a body): a point sticks while its tangential load is below mu N",
                      "0", 0.0, inf};
   const ParamSpec mu_axial = optional_param(
       {"mu_axial", K::Number, "",

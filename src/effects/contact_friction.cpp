@@ -35,6 +35,7 @@
 #include "effects/contact_shapes.hpp"
 
 #include <Eigen/Dense>
+#include <unsupported/Eigen/AutoDiff>
 
 #include <algorithm>
 #include <cmath>
@@ -262,6 +263,249 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
   std::vector<char> owned_;  // by span
 };
 
+/// Friction on a cylinder carried by a body (a drum, a sheave: `body` on the [[contact]] entry),
+/// the law of ContactFriction with equal coefficients, in the body's frame: with D = (d1, d2, d3)
+/// the body's axes and phi its centre of mass, a point's body coordinates are
+/// xi = D^T (x - phi), the cylinder is fixed there (axis a, radius R through the centre), and each
+/// anchor is kept as body coordinates alpha, so that a sticking point turns with the drum. The
+/// spring's force F = k_t D e1 acts on the beam's point and, opposite, on the body at the same
+/// place, phi + D xi = x (the body's phi takes -F, its d_k take -xi_k F): the pair has no net force
+/// and no moment. (At the anchor instead, the body's share would change when an accepted step
+/// moves the anchor, and the energy balance would count another force than the step's.) Its
+/// derivatives with respect to the point and the body's 12 coordinates come by forward-mode
+/// automatic differentiation.
+template <int W>
+class DrumFriction final : public BeamOnBodyElements<W, 12>, public StepHistory, public OutputSource {
+  using Base = BeamOnBodyElements<W, 12>;
+  static constexpr int kBody = 12, kVars = 3 + kBody, kDofs = Base::kDofs;
+  static constexpr int kPerPoint = 4;  // alpha, then the state
+  static constexpr double kFree = 0.0, kStuck = 1.0, kSlipped = 2.0;
+  using typename Base::Point;
+  using typename Base::VecY;
+  using typename Base::MatY;
+  using Vars = Eigen::Matrix<double, kVars, 1>;
+  using AD = Eigen::AutoDiffScalar<Vars>;
+  template <class T>
+  using Vec3 = Eigen::Matrix<T, 3, 1>;
+
+ public:
+  DrumFriction(int beam, int body, const Model& m, const EffectParams& p, const std::string& label,
+               const Eigen::Vector3d& axis, double radius)
+      : Base(beam, body), law_(bed(p)), mu_(p.number("mu")), axis_(axis), R_(radius), label_(label) {
+    if (!(mu_ > 0.0)) throw ParamError("mu", "friction on a contact needs mu > 0");
+    if (p.num.count("mu_axial") || p.num.count("mu_transverse"))
+      throw ParamError(p.num.count("mu_axial") ? "mu_axial" : "mu_transverse",
+                       "friction on a shape carried by a body takes one mu (along and across alike) so far");
+    kt_ = p.num.count("tangential_stiffness") ? p.number("tangential_stiffness") : law_.k;
+    if (!(kt_ > 0.0)) throw ParamError("tangential_stiffness", "the tangential stiffness must be > 0");
+    points_ = Base::n_points(m.beam(beam));
+    history_.assign(static_cast<size_t>(m.beam(beam).n_spans() * points_ * kPerPoint), 0.0);
+  }
+  std::string type() const override { return "contact_friction"; }
+  std::string label() const override { return label_; }
+
+  void distribute(const Model& m) override {
+    Base::distribute(m);
+    owned_.assign(static_cast<size_t>(m.beam(this->beam_).n_spans()), 0);
+    for (int e : this->elements_) owned_[static_cast<size_t>(e)] = 1;
+  }
+  const std::vector<double>& history() const override { return history_; }
+  bool owns_history(size_t i) const override { return owned_[i / static_cast<size_t>(points_ * kPerPoint)] != 0; }
+  void set_history(const std::vector<double>& values) override { history_ = values; }
+
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    PetscFunctionBeginUser;
+    if (!acts(ctx)) PetscFunctionReturn(0);
+    for (int e : this->elements_) {
+      VecY re = VecY::Zero();
+      element(ctx, e, re, nullptr);
+      this->scatter(ctx, e, re, r);
+    }
+    PetscFunctionReturn(0);
+  }
+  PetscErrorCode jacobian(const EvalContext& ctx, const MatSink& J) const override {
+    PetscFunctionBeginUser;
+    if (!acts(ctx)) PetscFunctionReturn(0);
+    for (int e : this->elements_) {
+      VecY re = VecY::Zero();
+      MatY K = MatY::Zero();
+      if (!element(ctx, e, re, &K)) continue;  // no point in contact: the body's columns stay off this span
+      const auto d = this->dofs(ctx.map, ctx.model, e);
+      PetscCall(J.add(kDofs, d.data(), kDofs, d.data(), K.data()));
+    }
+    PetscFunctionReturn(0);
+  }
+  void commit(const EvalContext& ctx) override {
+    if (!acts(ctx)) return;
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      const VecY y1 = this->gather(ctx, ctx.x, e), y0 = this->gather(ctx, ctx.x_old, e);
+      for (int g = 0; g < points_; ++g) {
+        const Point q = Base::point(b, e, g);
+        double* h = slot(e, g);
+        const Vars s1 = stack(Base::position(q, y1), y1);
+        Vec3<double> e1;
+        Vars f;
+        bool slipped = false;
+        if (!law(s1, anchor(h, q, y0), f, e1, slipped)) {
+          for (int k = 0; k < kPerPoint; ++k) h[k] = 0.0;
+          continue;
+        }
+        const Vec3<double> held = body_coordinates(s1) - e1;
+        for (int k = 0; k < 3; ++k) h[k] = held(k);
+        h[3] = slipped ? kSlipped : kStuck;
+      }
+    }
+  }
+  double energy(const EvalContext& ctx) const override {
+    double U = 0.0;
+    at_anchored(ctx, [&](double w, const Vec3<double>& e, const Vars&, double) { U += 0.5 * w * kt_ * e.squaredNorm(); });
+    return U;
+  }
+  std::vector<std::string> output_names() const override {
+    return {"force.x", "force.y", "force.z", "sticking", "slipping"};
+  }
+  void outputs(const EvalContext& ctx, double* values) const override {
+    at_anchored(ctx, [&](double w, const Vec3<double>& e, const Vars& s, double state) {
+      const Vec3<double> F = -w * kt_ * (e(0) * s.segment<3>(6) + e(1) * s.segment<3>(9) + e(2) * s.segment<3>(12));
+      for (int k = 0; k < 3; ++k) values[k] += F(k);
+      values[state == kSlipped ? 4 : 3] += w;
+    });
+  }
+
+ private:
+  static bool acts(const EvalContext& ctx) { return ctx.h > 0.0 && ctx.scheme != StepScheme::Static; }
+  static Vars stack(const Eigen::Vector3d& x, const VecY& y) {
+    Vars s;
+    s << x, y.template tail<kBody>();
+    return s;
+  }
+  /// xi = D^T (x - phi) at s = (x, phi, d1, d2, d3).
+  template <class T>
+  static Vec3<T> body_coordinates(const Eigen::Matrix<T, kVars, 1>& s) {
+    const Vec3<T> z = s.template segment<3>(0) - s.template segment<3>(3);
+    return {s.template segment<3>(6).dot(z), s.template segment<3>(9).dot(z), s.template segment<3>(12).dot(z)};
+  }
+  /// The return map at s held at body coordinates alpha: the residual-sign force on (x, phi, d1,
+  /// d2, d3) and the elastic slip e1 in body coordinates. false: not in contact.
+  template <class T>
+  bool law(const Eigen::Matrix<T, kVars, 1>& s, const Vec3<double>& alpha, Eigen::Matrix<T, kVars, 1>& f, Vec3<T>& e1,
+           bool& slipped) const {
+    const Vec3<T> xi = body_coordinates(s);
+    const Vec3<T> a = axis_.cast<T>();
+    const Vec3<T> y = xi - a.dot(xi) * a;
+    const T r = y.norm(), g = r - T(R_);
+    if (!(value(g) < 0.0)) return false;
+    const T N = -T(law_.k) * g;
+    const Vec3<T> n = y / r, d = xi - alpha.cast<T>();
+    const Vec3<T> e = d - n.dot(d) * n;
+    const T phi = T(kt_ / mu_) * e.norm();
+    slipped = value(phi) > value(N) * (1.0 + kTie);
+    e1 = slipped ? Vec3<T>((N / phi) * e) : e;
+    const Vec3<T> F = T(kt_) * (e1(0) * s.template segment<3>(6) + e1(1) * s.template segment<3>(9) +
+                                e1(2) * s.template segment<3>(12));
+    f.template segment<3>(0) = F;
+    f.template segment<3>(3) = -F;
+    for (int k = 0; k < 3; ++k) f.template segment<3>(6 + 3 * k) = -xi(k) * F;  // at the point: phi + D xi = x
+    return true;
+  }
+  static double value(double v) { return v; }
+  static double value(const AD& v) { return v.value(); }
+  /// re += span e's friction forces, K += their derivatives with respect to the step's end;
+  /// false if no point is in contact.
+  bool element(const EvalContext& ctx, int e, VecY& re, MatY* K) const {
+    const Beam& b = ctx.model.beam(this->beam_);
+    const VecY y1 = this->gather(ctx, ctx.x, e), y0 = this->gather(ctx, ctx.x_old, e);
+    bool any = false;
+    for (int g = 0; g < points_; ++g) {
+      const Point q = Base::point(b, e, g);
+      const Vec3<double> alpha = anchor(slot(e, g), q, y0);
+      const Vars s1 = stack(Base::position(q, y1), y1);
+      Vars f;
+      Eigen::Matrix<double, kVars, kVars> S;
+      bool slipped = false;
+      if (K) {
+        Eigen::Matrix<AD, kVars, 1> sa, fa;
+        for (int i = 0; i < kVars; ++i) sa(i) = AD(s1(i), kVars, i);
+        Vec3<AD> e1;
+        if (!law(sa, alpha, fa, e1, slipped)) continue;
+        for (int i = 0; i < kVars; ++i) {
+          f(i) = fa(i).value();
+          S.row(i) = fa(i).derivatives().transpose();
+        }
+      } else {
+        Vec3<double> e1;
+        if (!law(s1, alpha, f, e1, slipped)) continue;
+      }
+      any = true;
+      for (int i = 0; i < W; ++i) re.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.template head<3>();
+      re.template tail<kBody>() += q.w * f.template tail<kBody>();
+      if (!K) continue;
+      for (int i = 0; i < W; ++i) {
+        const double Ni = q.w * q.N[static_cast<size_t>(i)];
+        for (int j = 0; j < W; ++j)
+          K->template block<3, 3>(3 * i, 3 * j) += Ni * q.N[static_cast<size_t>(j)] * S.template topLeftCorner<3, 3>();
+        K->template block<3, kBody>(3 * i, 3 * W) += Ni * S.template topRightCorner<3, kBody>();
+        K->template block<kBody, 3>(3 * W, 3 * i) += Ni * S.template bottomLeftCorner<kBody, 3>();
+      }
+      K->template block<kBody, kBody>(3 * W, 3 * W) += q.w * S.template bottomRightCorner<kBody, kBody>();
+    }
+    return any;
+  }
+  double* slot(int e, int g) { return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint); }
+  const double* slot(int e, int g) const {
+    return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint);
+  }
+  /// A point's anchor in body coordinates: as committed, or where it was at the step's start.
+  Vec3<double> anchor(const double* h, const Point& q, const VecY& y0) const {
+    if (h[3] != kFree) return {h[0], h[1], h[2]};
+    return body_coordinates(stack(Base::position(q, y0), y0));
+  }
+  /// f(weight, elastic slip in body coordinates, the point's (x, body) state, state) at every
+  /// anchored point of this rank's elements, in the state x.
+  template <class F>
+  void at_anchored(const EvalContext& ctx, F&& f) const {
+    const Beam& b = ctx.model.beam(this->beam_);
+    for (int e : this->elements_) {
+      const VecY y = this->gather(ctx, ctx.x, e);
+      for (int g = 0; g < points_; ++g) {
+        const double* h = slot(e, g);
+        if (h[3] == kFree) continue;
+        const Point q = Base::point(b, e, g);
+        const Vars s = stack(Base::position(q, y), y);
+        const Vec3<double> xi = body_coordinates(s);
+        const Vec3<double> yv = xi - axis_.dot(xi) * axis_, n = yv.normalized();
+        const Vec3<double> d = xi - Vec3<double>(h[0], h[1], h[2]);
+        f(q.w, Vec3<double>(d - n.dot(d) * n), s, h[3]);
+      }
+    }
+  }
+
+  Penalty law_;
+  double mu_, kt_ = 0.0;
+  Eigen::Vector3d axis_;  // in body components
+  double R_;
+  std::string label_;
+  int points_ = 0;
+  std::vector<double> history_;
+  std::vector<char> owned_;
+};
+
+/// Friction on the [[contact]] entry's shape: fixed, or a cylinder carried by a body.
+std::unique_ptr<Effect> make_contact_friction(const Model& m, const EffectParams& p) {
+  if (!p.num.count("body")) return make_on_fixed_shape<ContactFriction>(m, p, "mu");
+  if (p.string("shape") != "cylinder")
+    throw ParamError("mu", "friction on a sphere carried by a body is not supported yet: leave `mu` out");
+  const int beam = beam_param(m, p), body = carrier_body(m, p, "cylinder");
+  const Beam& B = m.beam(body);
+  Eigen::Matrix3d D;
+  for (int i = 0; i < 3; ++i) D.col(i) = Eigen::Map<const Eigen::Vector3d>(B.q_ref().data() + 3 + 3 * i);
+  const Eigen::Vector3d axis = D.transpose() * unit_vector_param(p, "axis", "the cylinder's axis");
+  const std::string label = p.string("label");
+  if (m.beam(beam).is_ancf()) return std::make_unique<DrumFriction<4>>(beam, body, m, p, label, axis, contact_radius(p));
+  return std::make_unique<DrumFriction<3>>(beam, body, m, p, label, axis, contact_radius(p));
+}
+
 }  // namespace
 
 void register_contact_friction_effects(EffectRegistry& r) {
@@ -271,7 +515,7 @@ void register_contact_friction_effects(EffectRegistry& r) {
                                    "spring capped at mu N",
                                    "potential");
   s.rate_force = true;  // none outside a step: HHT weights it by 1, as the rate forces
-  r.add(s, [](const Model& m, const EffectParams& p) { return make_on_fixed_shape<ContactFriction>(m, p, "mu"); });
+  r.add(s, [](const Model& m, const EffectParams& p) { return make_contact_friction(m, p); });
 }
 
 }  // namespace slidebeam::effects

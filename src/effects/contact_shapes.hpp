@@ -5,10 +5,13 @@
 
 #include "effects/gap_potential.hpp"
 
+#include <Eigen/Dense>
+
 #include <array>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace slidebeam::effects {
 
@@ -48,6 +51,89 @@ inline RoundGap cylinder_shape(const EffectParams& p) {
 
 inline RoundGap sphere_shape(const EffectParams& p) {
   return {vector3_param(p, "center"), Eigen::Matrix3d::Identity(), contact_radius(p)};
+}
+
+/// The spans of one beam coupled with the first kBody coordinates of a rigid body that carries a
+/// contact shape (W = 3 a director beam's spans, W = 4 an ANCF cable's elements): the unknowns each
+/// element reads (its position blocks, then the body's phi, d1, d2, d3), its pattern and its states.
+template <int W, int kBody>
+class BeamOnBodyElements : public Effect {
+ protected:
+  static constexpr int kDofs = 3 * W + kBody;  // the element's position blocks, then the body's
+  using Point = CentreLinePoint<W>;
+  using VecY = Eigen::Matrix<double, kDofs, 1>;
+  using MatY = Eigen::Matrix<double, kDofs, kDofs, Eigen::RowMajor>;
+  using Body = Eigen::Matrix<double, kBody, 1>;
+
+  BeamOnBodyElements(int beam, int body) : beam_(beam), body_(body) {}
+
+ public:
+  void distribute(const Model& m) override {
+    const Beam& b = m.beam(beam_);
+    elements_.clear();
+    for (int e = 0; e < b.n_spans(); ++e)
+      if (owns_span(m, b, e)) elements_.push_back(e);
+  }
+  void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
+    if (elements_.empty()) return;
+    const Beam& b = m.beam(beam_);
+    for (int e : elements_) add_cp_blocks(m.dof_map(), b.first_cp() + e, W == 3 ? 3 : 2, dofs);
+    add_cp_blocks(m.dof_map(), m.beam(body_).first_cp(), 1, dofs);
+  }
+  PetscErrorCode pattern(const Model& m, const MatSink& sink) const override {
+    PetscFunctionBeginUser;
+    for (int e : elements_) PetscCall(add_block_pattern(sink, dofs(m.dof_map(), m, e)));
+    PetscFunctionReturn(0);
+  }
+
+ protected:
+  static int n_points(const Beam& b) { return centre_line_points(b); }
+  static Point point(const Beam& b, int e, int g) { return centre_line_point<W>(b, e, g); }
+  static Eigen::Vector3d position(const Point& q, const VecY& y) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    return x;
+  }
+  std::array<PetscInt, kDofs> dofs(const DofMap& map, const Model& m, int e) const {
+    std::array<PetscInt, kDofs> d{};
+    const PetscInt first = m.beam(beam_).first_cp(), body = m.beam(body_).first_cp();
+    for (int i = 0; i < W; ++i)
+      for (int k = 0; k < 3; ++k) d[static_cast<size_t>(3 * i + k)] = map.q(first + e + node(i), offset(i) + k);
+    for (int k = 0; k < kBody; ++k) d[static_cast<size_t>(3 * W + k)] = map.q(body, k);
+    return d;
+  }
+  VecY gather(const EvalContext& ctx, const LocalValues& x, int e) const {
+    VecY y;
+    const PetscInt first = ctx.model.beam(beam_).first_cp();
+    for (int i = 0; i < W; ++i)
+      y.template segment<3>(3 * i) = Eigen::Map<const Eigen::Vector3d>(x.cp(ctx.map, first + e + node(i)) + offset(i));
+    y.template tail<kBody>() = Eigen::Map<const Body>(x.cp(ctx.map, ctx.model.beam(body_).first_cp()));
+    return y;
+  }
+  /// re (kDofs values, residual sign) into r at element e's unknowns.
+  void scatter(const EvalContext& ctx, int e, const VecY& re, const LocalValues& r) const {
+    const auto d = dofs(ctx.map, ctx.model, e);
+    for (int k = 0; k < kDofs; ++k) r.at(d[static_cast<size_t>(k)]) += re(k);
+  }
+
+  int beam_, body_;
+  std::vector<int> elements_;
+
+ private:
+  // block i < W of the element: director, the phi of control point i; ANCF, r (even i) or r'
+  // (odd i) of node i / 2
+  static int node(int i) { return W == 3 ? i : i / 2; }
+  static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
+};
+
+/// The body a contact shape is carried by (its "body" parameter), checked to be a [[body]].
+inline int carrier_body(const Model& m, const EffectParams& p, const char* shape) {
+  const int body = static_cast<int>(p.number("body"));
+  if (body < 0 || body >= static_cast<int>(m.beams().size()))
+    throw std::invalid_argument(std::string(shape) + "_contact: no body with index " + std::to_string(body));
+  if (!m.beam(body).is_rigid())
+    throw ParamError("body", "'" + m.beam(body).name() + "' is a beam: a " + shape + " is carried by a [[body]]");
+  return body;
 }
 
 /// Effect E<W, Shape> (W = 3 a director beam, 4 an ANCF cable) of the beam of a [[contact]] entry

@@ -229,6 +229,8 @@ def test_the_anchors_survive_a_checkpoint(tmp_path):
 def test_one_rank_equals_two():
     distributed_and_serial_records(slope(0.5, t_end=0.1))
     distributed_and_serial_records(capstan(t_end=0.3))
+    drum = atwood_over_a_drum(0.5)
+    distributed_and_serial_records(dataclasses.replace(drum, analysis=dataclasses.replace(drum.analysis, t_end=0.1)))
 
 
 @pytest.mark.parametrize("entry, key, words", [
@@ -246,12 +248,73 @@ def test_bad_friction_input_is_refused_naming_the_key(entry, key, words):
     assert key in str(err.value) and words in str(err.value)
 
 
-@pytest.mark.parametrize("key", ("mu", "damping"))
-def test_friction_on_a_shape_carried_by_a_body_is_refused(key):
-    data = dict(thrown_at_rope("drum").data)
+@pytest.mark.parametrize("shape, key", [("ball", "mu"), ("drum", "damping"), ("ball", "damping")])
+def test_what_a_shape_carried_by_a_body_does_not_take_is_refused(shape, key):
+    data = dict(thrown_at_rope(shape).data)
     data["contact"] = [{**data["contact"][0], key: 0.3}]
     with pytest.raises(SceneError, match=f"key '{key}'.*carried by a body"):
         slidebeam.Simulation(slidebeam.scene_from_dict(data))
+
+
+@pytest.mark.skip_in_parallel
+@pytest.mark.parametrize("mu", (0.02, 2.0))
+@pytest.mark.parametrize("formulation", ("director", "ancf"))
+@pytest.mark.parametrize("integrator", INTEGRATORS)
+def test_friction_on_a_drum_carried_by_a_body_has_the_step_jacobian_of_finite_differences(integrator, formulation, mu):
+    """The drum of test_contact.thrown_at_rope pressed into the rope and spinning, with friction:
+    the whole step Jacobian and the body's rows and columns on their own scale."""
+    data = dict(thrown_at_rope("drum", integrator, formulation).data)
+    data["contact"] = [{**data["contact"][0], "mu": mu}]
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(data))
+    assert "contact_friction" in [e.type for e in sim.active_effects]
+    base, n = sim.control_point_unknowns(sim.first_control_point(sim.scene.bodies[0].index))
+    from checks import check_step_jacobian_and_rows
+
+    check_step_jacobian_and_rows(sim, list(range(base, base + n)), seed=3, label=f"{formulation}, {integrator}, {mu}")
+
+
+def atwood_over_a_drum(mu: float, R: float = 0.2, inertia: float = 0.04) -> slidebeam.Scene:
+    """A light rope (0.02 kg/m) half a turn over a drum (a 2 kg body turning about y on a revolute
+    support at its centre, radius R to the rope's centre line), 1 kg and 1.5 kg at its ends."""
+    arc = [[R * float(np.cos(p)), 0.0, R * float(np.sin(p))] for p in np.linspace(np.pi, 0.0, 25)]
+    return slidebeam.scene_from_dict({
+        "analysis": {"type": "dynamic", "integrator": "energy-momentum", "dt": 1e-3, "t_end": 0.4},
+        "beam": [{"name": "rope", "polyline": [[-R, 0.0, -1.0], *arc, [R, 0.0, -1.0]], "spans": 30,
+                  "section": {"EA": 1e5, "kGA": 5e4, "GJ": 1e-3, "EI2": 1e-3, "EI3": 1e-3, "rhoA": 0.02,
+                              "rhoI2": 1e-8, "rhoI3": 1e-8}}],
+        "body": [{"name": "drum", "mass": 2.0, "inertia": [inertia] * 3, "position": [0.0, 0.0, 0.0]}],
+        "support": [{"type": "revolute", "beam": "drum", "at": [0.0, 0.0, 0.0], "axis": [0.0, 1.0, 0.0]}],
+        "point_mass": [{"beam": "rope", "at": "start", "mass": 1.0}, {"beam": "rope", "at": "end", "mass": 1.5}],
+        "gravity": {"g": [0.0, 0.0, -G]},
+        "damping": [{"beam": "rope", "retardation_time": 1e-3}],
+        "contact": [{"type": "cylinder", "beam": "rope", "body": "drum", "axis": [0.0, 1.0, 0.0], "radius": R,
+                     "stiffness": 1e6, "mu": mu}],
+        "output": {"track": [{"beam": "rope", "at": "end"}]},
+    })
+
+
+def test_a_rope_turns_the_drum_it_sticks_to():
+    """An Atwood machine over a drum with friction (mu = 0.5: the tension ratio 1.05 is far below
+    exp(mu pi)): the rope sticks to the drum and turns it, the heavier end's fall equal to R times
+    the drum's turn (to the rope's stretch) and to the rigid Atwood machine's
+    1/2 (m2 - m1) g t^2 / (m1 + m2 + m_rope + I / R^2) within 1 %; the balance closes under
+    energy-momentum. Frictionless, the drum does not turn at all and the rope runs over it."""
+    R, inertia = 0.2, 0.04
+
+    def run(mu):
+        sim = slidebeam.Simulation(atwood_over_a_drum(mu, R, inertia))
+        records = sim.run_dynamic().records
+        d1 = sim.control_points(sim.scene.bodies[0].index)[0][3:6]
+        return records, float(np.arctan2(-d1[2], d1[0])), records[-1].tracked[0][2] - records[0].tracked[0][2]
+
+    records, turn, fall = run(0.5)
+    t = records[-1].t
+    rigid = 0.5 * 0.5 * G * t * t / (2.5 + 0.02 * (2.0 + np.pi * R) + inertia / R**2)
+    assert -fall == pytest.approx(R * turn, rel=2e-3)
+    assert -fall == pytest.approx(rigid, rel=1e-2)
+    assert_balance_and_dissipation(records)
+    records, turn, fall = run(0.0)
+    assert abs(turn) < 1e-12 and -fall > 1.3 * rigid
 
 
 def compare_mooring():
