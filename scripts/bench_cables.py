@@ -13,6 +13,7 @@ against the elastic catenary (Irvine) of the same cable. Time it only on an othe
 
     scripts/bench_cables.py                      # every scene, 3 runs each
     scripts/bench_cables.py --repeat 1 --quick   # the swings shortened to 10.5 s
+    scripts/bench_cables.py runs/cables/capstan.toml --set contact.0.mu=0   # a scene, changed
 
 Side by side with MoorDyn (optional; the project does not depend on it): where the Python running
 this script imports `moordyn`, the swing is also run by MoorDyn on the same cable (40 lumped-mass
@@ -211,9 +212,11 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--repeat", type=int, default=3, help="runs per scene and variant (the median is shown)")
     p.add_argument("--quick", action="store_true", help="the swings over 10.5 s instead of 60.5 s")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="KEY=VALUE",
+                   help="an override for the scenes given (as `slidebeam run --set`), e.g. contact.0.mu=0")
     p.add_argument("scenes", nargs="*", help="scene files (default: the cable scenes)")
     args = p.parse_args()
-    scenes = [(s, []) for s in args.scenes] if args.scenes else SCENES
+    scenes = [(s, list(args.sets)) for s in args.scenes] if args.scenes else SCENES
     print("| scene | unknowns | Newton | ms / step | iterations / step | Jacobians / step | rejected / step "
           "| assembly share | vs full Newton |")
     print("|---|---|---|---|---|---|---|---|---|")
