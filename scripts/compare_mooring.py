@@ -49,7 +49,7 @@ def slidebeam_line(spans: int) -> tuple[float, float, float]:
 START_SPAN, PULL, RAMP, SETTLE = 175.0, 30.0, 30.0, 30.0  # the friction runs: from 175 m out to 205 m
 
 
-def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETTLE):
+def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETTLE, dt: float | None = None):
     """The scene's chain on a seabed with friction mu: from the frictionless equilibrium start with
     the fairlead at START_SPAN (1.6 kN of horizontal tension), pulled out by PULL over `ramp`
     seconds and left to settle for `settle` more (the bed damped, the chain's swing damped by
@@ -61,7 +61,7 @@ def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETT
 
     scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "mooring_line.toml",
                                  [f"beam.chain.spans={spans}", f"analysis.t_end={ramp + settle}", "output.xdmf=false",
-                                  "output.every=20"])
+                                  "output.every=20", *([f"analysis.dt={dt}"] if dt else [])])
     data = dict(scene.data)
     # drawn along the frictionless catenary at START_SPAN (the start then has little to do)
     start = MooringLine(span=START_SPAN, height=DEPTH, length=LENGTH, EA=EA, w=W)
