@@ -257,18 +257,7 @@ class BodyContact final : public BeamOnBodyElements<W, Kernel::kBody> {
       typename Kernel::Force f;
       typename Kernel::Stiffness S;
       if (!kernel_.force(law_, ctx, Base::position(q, yf), bf, Base::position(q, y1), b1, K != nullptr, f, S)) continue;
-      // the point's x = sum_i N_i y_i: its force spread by N_i; the body's part as it is
-      for (int i = 0; i < W; ++i) re.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.template head<3>();
-      re.template tail<kBody>() += q.w * f.template tail<kBody>();
-      if (!K) continue;
-      for (int i = 0; i < W; ++i) {
-        const double Ni = q.w * q.N[static_cast<size_t>(i)];
-        for (int j = 0; j < W; ++j)
-          K->template block<3, 3>(3 * i, 3 * j) += Ni * q.N[static_cast<size_t>(j)] * S.template topLeftCorner<3, 3>();
-        K->template block<3, kBody>(3 * i, 3 * W) += Ni * S.template topRightCorner<3, kBody>();
-        K->template block<kBody, 3>(3 * W, 3 * i) += Ni * S.template bottomLeftCorner<kBody, 3>();
-      }
-      K->template block<kBody, kBody>(3 * W, 3 * W) += q.w * S.template bottomRightCorner<kBody, kBody>();
+      Base::spread(q, f, S, re, K);
     }
   }
   /// Whether a point of span e is within half the shape's radius of its surface at the step's

@@ -59,6 +59,13 @@ struct FrictionPoint {
 /// A load within this share of mu N above the limit still sticks (as on a sliding joint).
 constexpr double kTie = 1e-6;
 
+/// k_t: the entry's `tangential_stiffness`, by default the bed's stiffness k.
+double tangential_stiffness(const EffectParams& p, double k) {
+  const double kt = p.num.count("tangential_stiffness") ? p.number("tangential_stiffness") : k;
+  if (!(kt > 0.0)) throw ParamError("tangential_stiffness", "the tangential stiffness must be > 0");
+  return kt;
+}
+
 /// Coulomb's coefficients along the beam and across it (MoorDyn's axial and transverse seabed
 /// friction): the limit of the tangential force f is the ellipse (f_a / mu_a)^2 + (f_t / mu_t)^2
 /// <= N^2, f_a its part along the beam's direction t on the surface, f_t the rest.
@@ -115,7 +122,7 @@ bool friction_point(const Penalty& law, const Shape& shape, const Coefficients& 
 
 /// Friction of one beam (W = 3: director, 4: ANCF) on a fixed Shape.
 template <int W, class Shape>
-class ContactFriction final : public CentreLineEffect<W>, public StepHistory, public OutputSource {
+class ContactFriction final : public CentreLineEffect<W>, public PointHistory<4>, public OutputSource {
   using Base = CentreLineEffect<W>;
   using VecY = typename Base::VecY;
   using MatY = typename Base::MatY;
@@ -132,24 +139,17 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
       if (!(value > 0.0))
         throw ParamError(p.num.count(key) ? key : "mu", std::string("friction on a contact needs ") + key +
                                                             " > 0 (it is mu unless given)");
-    kt_ = p.num.count("tangential_stiffness") ? p.number("tangential_stiffness") : law_.k;
-    if (!(kt_ > 0.0)) throw ParamError("tangential_stiffness", "the tangential stiffness must be > 0");
-    const Beam& b = m.beam(beam);
-    points_ = Base::n_points(b);
-    history_.assign(static_cast<size_t>(b.n_spans() * points_ * kPerPoint), 0.0);
+    kt_ = tangential_stiffness(p, law_.k);
+    size_history(m.beam(beam).n_spans(), Base::n_points(m.beam(beam)));
   }
   std::string type() const override { return "contact_friction"; }
   std::string label() const override { return label_; }
 
   void distribute(const Model& m) override {
     Base::distribute(m);
-    owned_.assign(static_cast<size_t>(m.beam(this->beam_).n_spans()), 0);
-    for (int e : this->elements_) owned_[static_cast<size_t>(e)] = 1;
+    own_spans(m.beam(this->beam_).n_spans(), this->elements_);
   }
 
-  const std::vector<double>& history() const override { return history_; }
-  bool owns_history(size_t i) const override { return owned_[i / static_cast<size_t>(points_ * kPerPoint)] != 0; }
-  void set_history(const std::vector<double>& values) override { history_ = values; }
   void commit(const EvalContext& ctx) override {
     if (!acts(ctx)) return;
     const Beam& b = ctx.model.beam(this->beam_);
@@ -211,10 +211,6 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
   }
 
  private:
-  double* slot(int e, int g) { return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint); }
-  const double* slot(int e, int g) const {
-    return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint);
-  }
   /// Where a point is held over the step: its committed anchor, or where the step started if it
   /// had none (it touches down in this step).
   static Eigen::Vector3d anchor(const double* h, const Eigen::Vector3d& x0) {
@@ -258,9 +254,6 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
   Coefficients mu_;
   double kt_ = 0.0;
   std::string label_;
-  int points_ = 0;
-  std::vector<double> history_;
-  std::vector<char> owned_;  // by span
 };
 
 /// Friction on a cylinder carried by a body (a drum, a sheave: `body` on the [[contact]] entry),
@@ -275,7 +268,7 @@ class ContactFriction final : public CentreLineEffect<W>, public StepHistory, pu
 /// derivatives with respect to the point and the body's 12 coordinates come by forward-mode
 /// automatic differentiation.
 template <int W>
-class DrumFriction final : public BeamOnBodyElements<W, 12>, public StepHistory, public OutputSource {
+class DrumFriction final : public BeamOnBodyElements<W, 12>, public PointHistory<4>, public OutputSource {
   using Base = BeamOnBodyElements<W, 12>;
   static constexpr int kBody = 12, kVars = 3 + kBody, kDofs = Base::kDofs;
   static constexpr int kPerPoint = 4;  // alpha, then the state
@@ -296,22 +289,16 @@ class DrumFriction final : public BeamOnBodyElements<W, 12>, public StepHistory,
     if (p.num.count("mu_axial") || p.num.count("mu_transverse"))
       throw ParamError(p.num.count("mu_axial") ? "mu_axial" : "mu_transverse",
                        "friction on a shape carried by a body takes one mu (along and across alike) so far");
-    kt_ = p.num.count("tangential_stiffness") ? p.number("tangential_stiffness") : law_.k;
-    if (!(kt_ > 0.0)) throw ParamError("tangential_stiffness", "the tangential stiffness must be > 0");
-    points_ = Base::n_points(m.beam(beam));
-    history_.assign(static_cast<size_t>(m.beam(beam).n_spans() * points_ * kPerPoint), 0.0);
+    kt_ = tangential_stiffness(p, law_.k);
+    size_history(m.beam(beam).n_spans(), Base::n_points(m.beam(beam)));
   }
   std::string type() const override { return "contact_friction"; }
   std::string label() const override { return label_; }
 
   void distribute(const Model& m) override {
     Base::distribute(m);
-    owned_.assign(static_cast<size_t>(m.beam(this->beam_).n_spans()), 0);
-    for (int e : this->elements_) owned_[static_cast<size_t>(e)] = 1;
+    own_spans(m.beam(this->beam_).n_spans(), this->elements_);
   }
-  const std::vector<double>& history() const override { return history_; }
-  bool owns_history(size_t i) const override { return owned_[i / static_cast<size_t>(points_ * kPerPoint)] != 0; }
-  void set_history(const std::vector<double>& values) override { history_ = values; }
 
   PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
     PetscFunctionBeginUser;
@@ -438,23 +425,9 @@ class DrumFriction final : public BeamOnBodyElements<W, 12>, public StepHistory,
         if (!law(s1, alpha, f, e1, slipped)) continue;
       }
       any = true;
-      for (int i = 0; i < W; ++i) re.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.template head<3>();
-      re.template tail<kBody>() += q.w * f.template tail<kBody>();
-      if (!K) continue;
-      for (int i = 0; i < W; ++i) {
-        const double Ni = q.w * q.N[static_cast<size_t>(i)];
-        for (int j = 0; j < W; ++j)
-          K->template block<3, 3>(3 * i, 3 * j) += Ni * q.N[static_cast<size_t>(j)] * S.template topLeftCorner<3, 3>();
-        K->template block<3, kBody>(3 * i, 3 * W) += Ni * S.template topRightCorner<3, kBody>();
-        K->template block<kBody, 3>(3 * W, 3 * i) += Ni * S.template bottomLeftCorner<kBody, 3>();
-      }
-      K->template block<kBody, kBody>(3 * W, 3 * W) += q.w * S.template bottomRightCorner<kBody, kBody>();
+      Base::spread(q, f, S, re, K);
     }
     return any;
-  }
-  double* slot(int e, int g) { return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint); }
-  const double* slot(int e, int g) const {
-    return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint);
   }
   /// A point's anchor in body coordinates: as committed, or where it was at the step's start.
   Vec3<double> anchor(const double* h, const Point& q, const VecY& y0) const {
@@ -486,9 +459,6 @@ class DrumFriction final : public BeamOnBodyElements<W, 12>, public StepHistory,
   Eigen::Vector3d axis_;  // in body components
   double R_;
   std::string label_;
-  int points_ = 0;
-  std::vector<double> history_;
-  std::vector<char> owned_;
 };
 
 /// Friction on the [[contact]] entry's shape: fixed, or a cylinder carried by a body.

@@ -110,6 +110,22 @@ class BeamOnBodyElements : public Effect {
     y.template tail<kBody>() = Eigen::Map<const Body>(x.cp(ctx.map, ctx.model.beam(body_).first_cp()));
     return y;
   }
+  /// A point's force on (x, the body's coordinates) and its derivative S (if K): into the
+  /// element's re and K, the point's part spread by the shape functions (x = sum_i N_i y_i).
+  template <class Force, class Stiffness>
+  static void spread(const Point& q, const Force& f, const Stiffness& S, VecY& re, MatY* K) {
+    for (int i = 0; i < W; ++i) re.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * f.template head<3>();
+    re.template tail<kBody>() += q.w * f.template tail<kBody>();
+    if (!K) return;
+    for (int i = 0; i < W; ++i) {
+      const double Ni = q.w * q.N[static_cast<size_t>(i)];
+      for (int j = 0; j < W; ++j)
+        K->template block<3, 3>(3 * i, 3 * j) += Ni * q.N[static_cast<size_t>(j)] * S.template topLeftCorner<3, 3>();
+      K->template block<3, kBody>(3 * i, 3 * W) += Ni * S.template topRightCorner<3, kBody>();
+      K->template block<kBody, 3>(3 * W, 3 * i) += Ni * S.template bottomLeftCorner<kBody, 3>();
+    }
+    K->template block<kBody, kBody>(3 * W, 3 * W) += q.w * S.template bottomRightCorner<kBody, kBody>();
+  }
   /// re (kDofs values, residual sign) into r at element e's unknowns.
   void scatter(const EvalContext& ctx, int e, const VecY& re, const LocalValues& r) const {
     const auto d = dofs(ctx.map, ctx.model, e);
@@ -124,6 +140,37 @@ class BeamOnBodyElements : public Effect {
   // (odd i) of node i / 2
   static int node(int i) { return W == 3 ? i : i / 2; }
   static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
+};
+
+/// A StepHistory of kPerPoint values at every mass quadrature point of a beam (all its spans, on
+/// every rank), this rank's own those of the spans it owns: what friction keeps of each point.
+template <int kPerPoint>
+class PointHistory : public StepHistory {
+ public:
+  const std::vector<double>& history() const override { return history_; }
+  bool owns_history(size_t i) const override { return owned_[i / static_cast<size_t>(points_ * kPerPoint)] != 0; }
+  void set_history(const std::vector<double>& values) override { history_ = values; }
+
+ protected:
+  /// All 0: nothing kept yet.
+  void size_history(int spans, int points) {
+    points_ = points;
+    history_.assign(static_cast<size_t>(spans * points * kPerPoint), 0.0);
+  }
+  /// The spans this rank owns (after distribute).
+  void own_spans(int spans, const std::vector<int>& elements) {
+    owned_.assign(static_cast<size_t>(spans), 0);
+    for (int e : elements) owned_[static_cast<size_t>(e)] = 1;
+  }
+  double* slot(int e, int g) { return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint); }
+  const double* slot(int e, int g) const {
+    return history_.data() + static_cast<size_t>((e * points_ + g) * kPerPoint);
+  }
+  int points_ = 0;
+
+ private:
+  std::vector<double> history_;
+  std::vector<char> owned_;  // by span
 };
 
 /// The body a contact shape is carried by (its "body" parameter), checked to be a [[body]].
