@@ -340,19 +340,20 @@ def test_a_mooring_line_pulled_over_a_seabed_with_friction_rests_as_the_closed_f
     175 m to 205 m and left at rest: fairlead tension, the anchor's pull (H less mu w times the
     grounded length) and the length on the seabed against the catenary with seabed friction
     (MoorPy's model; slidebeam.scene.catenary.MooringLine, equal to MoorPy's Catenary to 1e-14).
-    The anchor's pull is 2e-3 of H high at 2 m spans: the bed carries the chain's weight fully
-    only a span away from the touch-down point, and friction with it."""
+    Shortened for the suite (4 m spans, dt = 0.1 s, 10 s at rest: 8 s): fairlead 2e-4, anchor
+    4.3e-3 of H, length on the seabed 2.5e-3; scripts/compare_mooring.py --friction has the
+    figures at 2 m spans (docs/verification.md)."""
     from slidebeam.scene.catenary import MooringLine
 
     m = compare_mooring()
-    sim = slidebeam.Simulation(m.pulled_scene(0.5, 110, ramp=30.0, settle=10.0))
+    sim = slidebeam.Simulation(m.pulled_scene(0.5, 55, ramp=30.0, settle=10.0, dt=0.1))
     records = sim.run_dynamic().records
     fairlead, anchor, grounded = m.line_at_rest(sim, records[-1])
     exact = MooringLine(span=205.0, height=m.DEPTH, length=m.LENGTH, EA=m.EA, w=m.W, friction=0.5)
-    assert fairlead == pytest.approx(exact.fairlead_tension, rel=1e-4)
-    assert abs(anchor - exact.anchor_tension) < 4e-3 * exact.H
+    assert fairlead == pytest.approx(exact.fairlead_tension, rel=5e-4)
+    assert abs(anchor - exact.anchor_tension) < 6e-3 * exact.H
     assert anchor < 0.6 * exact.H  # friction carries 48 % of H
-    assert grounded == pytest.approx(m.LENGTH - exact.suspended_length, rel=2e-3)
+    assert grounded == pytest.approx(m.LENGTH - exact.suspended_length, rel=4e-3)
     assert_balance_and_dissipation(records, rtol=1e-10)
 
 
