@@ -246,19 +246,21 @@ void TimeIntegrator::account_energy_flows() {
     // a time-dependent potential: its change over the step minus the work of its force is the
     // work its explicit time dependence put in
     remember_start_energies();
-    std::vector<size_t> which;
-    for (size_t i : timed_) which.push_back(flows_[i].effect);
-    const std::vector<double> e1 = model_.effect_energies(next_time(h_), x1_, which);
+    const std::vector<double> e1 = model_.effect_energies(next_time(h_), x1_, timed_effects());
     for (size_t j = 0; j < timed_.size(); ++j) flows_[timed_[j]].work += e1[j] - timed_energy_[j];
     timed_energy_ = e1;
   }
 }
 
-void TimeIntegrator::remember_start_energies() {
-  if (timed_.empty() || !timed_energy_.empty()) return;
+std::vector<size_t> TimeIntegrator::timed_effects() const {
   std::vector<size_t> which;
   for (size_t i : timed_) which.push_back(flows_[i].effect);
-  timed_energy_ = model_.effect_energies(clock_.time(), x_, which);
+  return which;
+}
+
+void TimeIntegrator::remember_start_energies() {
+  if (timed_.empty() || !timed_energy_.empty()) return;
+  timed_energy_ = model_.effect_energies(clock_.time(), x_, timed_effects());
 }
 
 KSP TimeIntegrator::constrained_mass_solver() {

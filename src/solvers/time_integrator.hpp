@@ -202,9 +202,11 @@ class TimeIntegrator {
   /// Its backtracking (DirectorCondensation::set_backtrack): on for the retry of a failed step.
   void set_backtracking(bool on);
   /// Add the converged step's work of every counted effect to flows_ (x_: start, x1_: end).
+  void account_energy_flows();
   /// The timed effects' energies at the step's start, unless kept from the last step.
   void remember_start_energies();
-  void account_energy_flows();
+  /// The effects (model indices) of the timed flows, in the order of timed_.
+  std::vector<size_t> timed_effects() const;
   /// [M G^T; G 0] at x_ (the effects' tangent with the forces frozen, theta = 0; supports'
   /// rows identity) in J_, and a pivoting LU of it: the caller destroys the KSP.
   KSP constrained_mass_solver();
