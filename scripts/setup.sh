@@ -5,7 +5,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 packages=(petsc-dev python3-petsc4py python3-mpi4py python3-meshio python3-h5py python3-numpy python3-pytest
           python3-pytest-xdist python3-matplotlib libeigen3-dev libhdf5-openmpi-dev openmpi-bin pybind11-dev python3-pybind11
-          libgtest-dev cmake g++ make pkg-config
+          libgtest-dev cmake g++ make pkg-config ccache
           python3-venv python3-setuptools python3-wheel  # these three: pip install (docs/install.md)
           libopenblas0-serial)  # BLAS and LAPACK for SuperLU and MUMPS (Debian's alternatives; one thread a rank)
 missing=()
