@@ -50,6 +50,22 @@ def pytest_configure(config: pytest.Config) -> None:
     config.addinivalue_line("markers", "skip_in_parallel: only meaningful on one rank (spawns its own processes, "
                                        "or checks a closed form that other tests run on 2 ranks)")
     config.addinivalue_line("markers", "stability: the hard-case suite of runs/hard/ (issue 8; a few minutes)")
+    config.addinivalue_line("markers", "one_case_in_parallel: of a parametrized test, only the first case runs "
+                                       "under mpirun (the cases differ in what the serial pass checks, not in "
+                                       "how the run is distributed)")
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    if MPI.COMM_WORLD.Get_size() == 1:
+        return
+    seen: set[tuple[str, str]] = set()
+    for item in items:
+        if not item.get_closest_marker("one_case_in_parallel"):
+            continue
+        function = (item.nodeid.split("::")[0], getattr(item, "originalname", item.name))
+        if function in seen:
+            item.add_marker(pytest.mark.skip(reason="one case of this test runs under mpirun"))
+        seen.add(function)
 
 
 def pytest_runtest_setup(item: pytest.Item) -> None:

@@ -139,6 +139,7 @@ def elastica_tip(k: float, n: int = 4000) -> tuple[float, float]:
 
 
 @pytest.mark.parametrize("k", [1.0, 5.0])
+@pytest.mark.one_case_in_parallel
 def test_cantilever_tip_force_matches_the_elastica(k):
     """Clamped cable of length 1, EI = 1, EA = 1e7 (nearly inextensible: axial strain <= k 1e-7),
     tip force P = k EI/L^2 across. 64 elements: tip within 5e-7 L of the inextensible elastica.

@@ -140,6 +140,7 @@ def tip_at_end(integrator: str, dt: float) -> np.ndarray:
 
 
 @pytest.mark.parametrize("integrator", INTEGRATORS)
+@pytest.mark.one_case_in_parallel
 def test_second_order_convergence_in_dt(integrator):
     """Differences of the tip position at t = 0.2 between successive halvings of dt fall at
     order 2 (measured: 1.73-1.98 from dt = 2.5e-3 to 3.1e-4; order 1 fails the test, as HHT

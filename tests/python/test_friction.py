@@ -142,6 +142,7 @@ def arc_turning_points(theta0: float, mu: float, g_over_r: float) -> list[float]
 
 
 @pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint"))
+@pytest.mark.one_case_in_parallel
 def test_a_block_held_by_friction_stays_put(root, integrator):
     """mu = 0.7 > tan 30 deg: the block does not move at all (no creep), friction takes the whole
     tangential load, and nothing is dissipated."""
@@ -231,6 +232,7 @@ PENDULUM_RUNS = (("energy-momentum", "frame", {}), ("energy-momentum", "spatial"
 
 @pytest.mark.parametrize("integrator, form, analysis", PENDULUM_RUNS,
                          ids=[f"{i}{'-damped' if a else ''}-{f}" for i, f, a in PENDULUM_RUNS])
+@pytest.mark.one_case_in_parallel
 def test_a_flexible_pendulum_on_the_circular_rail_runs_to_the_end(integrator, form, analysis):
     """A pendulum hanging from the slider sticks and slips as it swings (the normal force swings
     with it); the run reaches its end without a rejected step and, under energy-momentum, with the

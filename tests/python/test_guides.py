@@ -180,6 +180,7 @@ def test_the_towers_ropeway_on_all_ranks_equals_one_rank():
 
 
 @pytest.mark.parametrize("at_end,failed", [("stop", False), ("fail", True)])
+@pytest.mark.one_case_in_parallel
 def test_the_rope_reaching_its_end_at_the_guide_ends_the_run(tmp_path, at_end, failed):
     """A winch reels the rope in through the guide until its start arrives there: the run ends at
     that step, located in time, saying so and as at_rope_end asks."""

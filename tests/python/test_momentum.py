@@ -49,6 +49,7 @@ KNOTS = {"two_beams": [(1.25, 1.0, 0.75, 0.5)], "three_beams": [(1.75, 2.0, 2.25
 
 @pytest.mark.parametrize("name", ("two_beams", "three_beams"))
 @pytest.mark.parametrize("integrator", ("energy-momentum", "midpoint"))
+@pytest.mark.one_case_in_parallel
 def test_frame_joint_keeps_both_momenta(name, integrator):
     """1 s at dt = 2e-3, sliders crossing knots: linear and angular momentum constant to 1e-12
     of their size under both midpoint-type schemes (measured 2e-13 to 1e-12; the test allows
@@ -68,6 +69,7 @@ def test_frame_joint_keeps_both_momenta(name, integrator):
 
 
 @pytest.mark.parametrize("name", ("two_beams", "three_beams"))
+@pytest.mark.one_case_in_parallel
 def test_spatial_joint_loses_angular_momentum(name):
     """The same runs with the spatial form Phi = c(s) - p: energy and linear momentum as exact,
     angular momentum off by the moment arm -1/4 sum dN_A dx_A of every step (4.4e-6 and 2.7e-7

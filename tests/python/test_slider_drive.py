@@ -60,6 +60,7 @@ def test_slider_drive_step_jacobian(root, integrator):
 
 
 @pytest.mark.parametrize("integrator", ["newmark", "hht"])
+@pytest.mark.one_case_in_parallel
 def test_a_drive_costs_no_newton_iterations(root, integrator):
     """At the scene's own dt a driven slider takes the iterations of a free one under Newmark and
     HHT (3.8 and 3.2 per step on 1 and 2 ranks, at most 5), no step cut."""
