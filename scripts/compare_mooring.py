@@ -46,6 +46,402 @@ def slidebeam_line(spans: int) -> tuple[float, float, float]:
     return float(np.linalg.norm(f["spherical[chain@end]"])), float(-f["spherical[chain@start]"][0]), float(on_bed.max())
 
 
+# The quasi-static chain cases MoorDyn validates against (its tests/quasi_static_chain.cpp and
+# tests/Mooring/WD*_Chain.txt, https://github.com/FloatingArrayDesign/MoorDyn): a chain of 390 kg/m,
+# EA = 1.674e9 N, 0.252 m volume-equivalent diameter, in sea water (1025 kg/m^3, g = 9.80665), from
+# an anchor on the seabed to a fairlead at the surface, at three depths. depth: (anchor to fairlead,
+# unstretched length, MoorDyn's segments, fairlead and anchor tension predicted by quasi-static codes, kN)
+CHAIN_CASES = {
+    50.0: (400.0, 410.0, 41, 991.6, 826.2),
+    200.0: (700.0, 760.0, 76, 2065.4, 1402.2),
+    600.0: (1500.0, 1700.0, 170, 5232.6, 3244.2),
+}
+CHAIN_RHO_A, CHAIN_EA, CHAIN_D, SEA, G = 390.0, 1.674e9, 0.252, 1025.0, 9.80665
+CHAIN_W = (CHAIN_RHO_A - SEA * math.pi / 4 * CHAIN_D**2) * G  # submerged weight, N/m
+
+
+def chain_scene_data(depth: float, spans: int) -> dict:
+    """One of CHAIN_CASES as a scene (a dict for slidebeam.scene_from_dict): drawn along the seabed
+    and then straight up to the fairlead, a polyline as long as the chain; the equilibrium start
+    lays it on a stiff frictionless bed (it sinks 0.3 mm) and hangs the rest."""
+    span, length = CHAIN_CASES[depth][:2]
+    corner = (span**2 + depth**2 - length**2) / (2.0 * (span - length))  # where the drawing leaves the bed
+    return {
+        "scene": {"name": f"chain_wd{int(depth):04d}"},
+        "analysis": {"type": "dynamic", "start": "equilibrium", "dt": 0.1, "t_end": 1e-9},
+        "beam": [{"name": "chain", "polyline": [[0.0, 0.0, -depth], [corner, 0.0, -depth], [span, 0.0, 0.0]],
+                  "unstretched_length": length, "spans": spans,
+                  "section": {"EA": CHAIN_EA, "kGA": 0.9 * CHAIN_EA / 2.6, "GJ": 1e3, "EI2": 1e4, "EI3": 1e4,
+                              "rhoA": CHAIN_RHO_A, "rhoI2": 1e-2, "rhoI3": 1e-2}}],
+        "support": [{"type": "spherical", "beam": "chain", "at": "start"},
+                    {"type": "spherical", "beam": "chain", "at": "end"}],
+        "gravity": {"g": [0.0, 0.0, -G]},
+        "contact": [{"type": "plane", "beam": "chain", "point": [0.0, 0.0, -depth], "normal": [0.0, 0.0, 1.0],
+                     "stiffness": 1e7}],
+        "buoyancy": [{"beam": "chain", "density": SEA, "diameter": CHAIN_D, "surface": [0.0, 0.0, 0.0]}],
+        "output": {"xdmf": False},
+    }
+
+
+def chain_at_rest(depth: float, spans: int) -> tuple[float, float, float, float]:
+    """(fairlead tension, anchor tension, touch-down point's distance from the anchor, wall time of
+    the equilibrium start) of slidebeam's chain_scene_data."""
+    import petsc4py
+
+    petsc4py.init([])
+    import slidebeam
+
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(chain_scene_data(depth, spans)))
+    outcome = sim.settle()
+    if not outcome.converged:
+        raise RuntimeError(f"the {depth} m chain's equilibrium start did not converge")
+    f = {r.effect: np.asarray(r.force) for r in sim.reactions()}
+    samples = sim.sample_beam("chain", samples_per_span=16)
+    on_bed = samples["position"][samples["position"][:, 2] < -depth + 2e-3]
+    return (float(np.linalg.norm(f["spherical[chain@end]"])), float(np.linalg.norm(f["spherical[chain@start]"])),
+            float(on_bed[:, 0].max()), sim.settle_wall_time)
+
+
+MOORDYN_CHAIN = """--------------------- MoorDyn Input File ------------------------------------
+a chain of compare_mooring.py's CHAIN_CASES
+----------------------- LINE TYPES ------------------------------------------
+TypeName   Diam    Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
+(name)     (m)     (kg/m)     (N)        (N-s/-)     (N-m^2)    (-)    (-)    (-)     (-)
+chain      {d}   {m}        {EA}    -1.0        0          1.37   1.0    0.64    0.0
+---------------------- POINT PROPERTIES --------------------------------
+ID    Type      X       Y       Z       Mass   Volume  CdA    Ca
+(#)   (-)       (m)     (m)     (m)     (kg)   (m^3)   (m^2)  (-)
+1     Fixed     0.0     0.0     {z}    0      0       0      0
+2     Coupled   {x}     0.0     0.0     0      0       0      0
+---------------------- LINES ----------------------------------------
+ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#)   (name)     (#)      (#)       (m)       (-)     (-)
+1     chain      1        2         {L}       {n}      -
+---------------------- OPTIONS -----------------------------------------
+1.0e-4               dtM
+1.0e6                kBot
+1.0e4                cBot
+{rho}               WtrDnsty
+{depth}              WtrDpth
+{g}              g
+100.0                TmaxIC
+1.0e-6               threshIC
+--------------------- OUTPUTS --------------------------------------------
+END
+------------------------- need this line --------------------------------------
+"""
+
+
+def moordyn_chain_at_rest(depth: float, work: Path) -> tuple[float, float, float]:
+    """(fairlead tension, anchor tension, wall time) of MoorDyn's own static initialisation of
+    the case (its Python module), at MoorDyn's segments."""
+    import os
+    import time
+
+    import moordyn  # type: ignore[import-not-found]
+
+    span, length, segments = CHAIN_CASES[depth][:3]
+    path = work / f"moordyn_chain_{int(depth)}.txt"
+    path.write_text(MOORDYN_CHAIN.format(d=CHAIN_D, m=CHAIN_RHO_A, EA=CHAIN_EA, z=-depth, x=span, L=length,
+                                         n=segments, rho=SEA, depth=depth, g=G))
+    sys.stdout.flush()
+    saved, quiet = os.dup(1), os.open(os.devnull, os.O_WRONLY)
+    os.dup2(quiet, 1)  # MoorDyn reports on the C library's stdout
+    try:
+        started = time.perf_counter()
+        system = moordyn.Create(str(path))
+        moordyn.Init(system, [span, 0.0, 0.0], [0.0, 0.0, 0.0])
+        wall = time.perf_counter() - started
+        fh, fv, ah, av = moordyn.GetFASTtens(system, 1)
+        moordyn.Close(system)
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(quiet)
+    return math.hypot(fh[0], fv[0]), math.hypot(ah[0], av[0]), wall
+
+
+def chain_table(fine: int) -> None:
+    """The three chain cases: slidebeam's equilibrium start (at MoorDyn's segments and `fine` times
+    as many), the closed form (MooringLine), MoorPy's Catenary and MoorDyn's own static start where
+    installed, against the quasi-static codes' tensions."""
+    import tempfile
+
+    from slidebeam.scene.catenary import MooringLine
+
+    try:
+        from moorpy.Catenary import catenary  # type: ignore[import-not-found]
+    except ImportError:
+        catenary = None
+    try:
+        import moordyn  # type: ignore[import-not-found] # noqa: F401
+        have_moordyn = True
+    except ImportError:
+        have_moordyn = False
+    if catenary is None or not have_moordyn:
+        print("MoorPy or MoorDyn is not installed here: see this script's docstring to compare with them",
+              file=sys.stderr)
+    print("| depth, m | line | fairlead tension, kN | error | anchor tension, kN | error | touch-down from the anchor, m "
+          "| wall, s |")
+    print("|---|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as work:
+        for depth, (span, length, segments, T_ref, A_ref) in CHAIN_CASES.items():
+            print(f"| {depth:g} | quasi-static codes (MoorDyn's reference) | {T_ref:.1f} | | {A_ref:.1f} | | | |")
+
+            def row(name: str, T: float, A: float, touchdown: str, wall: str) -> None:
+                print(f"| {depth:g} | {name} | {T / 1e3:.1f} | {T / 1e3 / T_ref - 1:+.2%} | {A / 1e3:.1f} | "
+                      f"{A / 1e3 / A_ref - 1:+.2%} | {touchdown} | {wall} |", flush=True)
+
+            exact = MooringLine(span=span, height=depth, length=length, EA=CHAIN_EA, w=CHAIN_W)
+            row("elastic catenary (MooringLine)", exact.fairlead_tension, exact.anchor_tension, f"{exact.touchdown:.1f}",
+                "")
+            if catenary is not None:
+                fAH, fAV, fBH, fBV, info = catenary(span, depth, length, CHAIN_EA, CHAIN_W, CB=0.0, Tol=1e-10)
+                row("MoorPy (Catenary)", math.hypot(fBH, fBV), math.hypot(fAH, fAV),
+                    f"{float(info['LBot']) * (1.0 + abs(fAH) / CHAIN_EA):.1f}", "")
+            if have_moordyn:
+                T, A, wall = moordyn_chain_at_rest(depth, Path(work))
+                row(f"MoorDyn 2.7, {segments} segments, static start", T, A, "", f"{wall:.2f}")
+            for n in (segments, fine * segments):
+                T, A, touchdown, wall = chain_at_rest(depth, n)
+                row(f"slidebeam, {n} spans, equilibrium start", T, A, f"{touchdown:.1f}", f"{wall:.2f}")
+
+
+MOORDYN_MOVING = """--------------------- MoorDyn Input File ------------------------------------
+runs/cables/mooring_line.toml's chain (compare_mooring.py --moving)
+----------------------- LINE TYPES ------------------------------------------
+TypeName   Diam    Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
+(name)     (m)     (kg/m)     (N)        (N-s/-)     (N-m^2)    (-)    (-)    (-)     (-)
+chain      {d}   {m}        {EA}    -1.0        0          0.0    0.0    0.0     0.0
+---------------------- POINT PROPERTIES --------------------------------
+ID    Type      X       Y       Z       Mass   Volume  CdA    Ca
+(#)   (-)       (m)     (m)     (m)     (kg)   (m^3)   (m^2)  (-)
+1     Fixed     0.0     0.0     -50.0   0      0       0      0
+2     Coupled   200.0   0.0     0.0     0      0       0      0
+---------------------- LINES ----------------------------------------
+ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#)   (name)     (#)      (#)       (m)       (-)     (-)
+1     chain      1        2         220.0     {n}      -
+---------------------- OPTIONS -----------------------------------------
+{dtM}                dtM
+{kbot}               kBot
+{cbot}               cBot
+1025.0               WtrDnsty
+50.0                 WtrDpth
+9.81                 g
+RK4                  tScheme
+200.0                TmaxIC
+1.0e-6               threshIC
+--------------------- OUTPUTS --------------------------------------------
+END
+------------------------- need this line --------------------------------------
+"""
+MOVE, MOVE_TIME, MOVING_END = 5.0, 10.0, 20.0  # the scene's fairlead: 5 m out over 10 s, held to 20 s
+
+
+def slidebeam_moving(spans: int, sets: list[str]) -> dict:
+    """runs/cables/mooring_line.toml at `spans` spans: the fairlead tension at 0, 10 and 20 s and
+    the time stepping's wall time (the equilibrium start apart)."""
+    import time
+
+    import petsc4py
+
+    petsc4py.init([])
+    import slidebeam
+
+    scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "mooring_line.toml",
+                                 [f"beam.chain.spans={spans}", "output.xdmf=false", "output.every=1", *sets])
+    sim = slidebeam.Simulation(scene)
+    sim.settle()
+    tensions: dict[float, float] = {}
+
+    def on_step(record) -> None:
+        for t in (MOVE_TIME, MOVING_END):
+            if abs(record.t - t) < 1e-9:
+                f = {r.effect: np.asarray(r.force) for r in record.reactions}
+                tensions[t] = float(np.linalg.norm(f["spherical[chain@end]"]))
+
+    tensions[0.0] = float(np.linalg.norm({r.effect: np.asarray(r.force) for r in sim.reactions()}["spherical[chain@end]"]))
+    started = time.perf_counter()
+    outcome = sim.run_dynamic(on_step)
+    wall = time.perf_counter() - started
+    if not outcome.complete:
+        raise RuntimeError(f"the mooring line's run did not finish: {outcome.message}")
+    steps = len(sim.step_wall_times)
+    return {"tension": tensions, "wall": wall, "steps": steps, "dt": scene.analysis.dt}
+
+
+def moordyn_moving(segments: int, dtM: float, work: Path) -> dict | None:
+    """The same line in MoorDyn (RK4, no drag or added mass, the bed as stiff as slidebeam's): the
+    coupled fairlead moved by the same smooth ramp, coupled every 0.01 s. None if it blew up."""
+    import os
+    import time
+
+    import moordyn  # type: ignore[import-not-found]
+
+    d = 0.13790157544671897  # the scene's buoyancy diameter (the steel volume)
+    path = work / f"moordyn_moving_{segments}_{dtM:g}.txt"
+    path.write_text(MOORDYN_MOVING.format(d=d, m=117.24598880562183, EA=EA, n=segments, dtM=dtM, kbot=1e7 / d,
+                                          cbot=0.0))
+    sys.stdout.flush()
+    saved, quiet = os.dup(1), os.open(os.devnull, os.O_WRONLY)
+    os.dup2(quiet, 1)  # MoorDyn reports on the C library's stdout
+    try:
+        system = moordyn.Create(str(path))
+        moordyn.Init(system, [200.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+        point = moordyn.GetPoint(system, 2)
+
+        def tension() -> float:
+            return math.sqrt(sum(f * f for f in moordyn.GetPointForce(point)))
+
+        tensions = {0.0: tension()}
+        dt = 0.01
+        steps = int(round(MOVING_END / dt))
+        started = time.perf_counter()
+        for k in range(steps):
+            t1 = (k + 1) * dt
+            u = min(t1 / MOVE_TIME, 1.0)
+            x = 200.0 + MOVE * u**3 * (10.0 + u * (-15.0 + 6.0 * u))
+            v = MOVE / MOVE_TIME * 30.0 * u * u * (1.0 - u) ** 2
+            moordyn.Step(system, [x, 0.0, 0.0], [v, 0.0, 0.0], k * dt, dt)
+            for t in (MOVE_TIME, MOVING_END):
+                if abs(t1 - t) < 1e-9:
+                    tensions[t] = tension()
+        wall = time.perf_counter() - started
+        moordyn.Close(system)
+    except Exception:  # MoorDyn raises on NaN states
+        return None
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(quiet)
+    if not all(math.isfinite(T) and T < 1e7 for T in tensions.values()):
+        return None
+    return {"tension": tensions, "wall": wall}
+
+
+def moving_table(spans: list[int]) -> None:
+    """The scene's moving line in slidebeam and, where installed, MoorDyn at equal segments and its
+    largest stable step (halved from 2e-3 s until the run stays finite): fairlead tension at 0, 10
+    and 20 s and the time stepping's wall time."""
+    import tempfile
+
+    try:
+        import moordyn  # type: ignore[import-not-found] # noqa: F401
+        have_moordyn = True
+    except ImportError:
+        have_moordyn = False
+        print("MoorDyn is not installed here: see this script's docstring to compare with it", file=sys.stderr)
+    print("| code | segments | time step, s | fairlead tension at 0 s, kN | at 10 s | at 20 s | time stepping, s | "
+          "/ MoorDyn's |")
+    print("|---|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as work:
+        for n in spans:
+            md = None
+            if have_moordyn:
+                dtM = 2e-3
+                while md is None and dtM > 1e-5:
+                    md = moordyn_moving(n, dtM, Path(work))
+                    if md is None:
+                        dtM /= 2.0
+            runs = [("slidebeam, full Newton", slidebeam_moving(n, [])),
+                    ("slidebeam, modified Newton", slidebeam_moving(n, ["petsc.sb_jacobian_reuse=true"]))]
+            if md is not None:
+                runs.append((f"MoorDyn 2.7, RK4", {**md, "dt": dtM}))
+            for name, r in runs:
+                T = r["tension"]
+                ratio = f"{r['wall'] / md['wall']:.2f}" if md is not None else ""
+                print(f"| {name} | {n} | {r['dt']:g} | {T[0.0] / 1e3:.2f} | {T[MOVE_TIME] / 1e3:.2f} | "
+                      f"{T[MOVING_END] / 1e3:.2f} | {r['wall']:.2f} | {ratio} |", flush=True)
+
+
+# Lowe & Langley's flexible jumper (OMAE 2006; MoorDyn's tests/lowe_and_langley_2006.cpp and
+# tests/Mooring/lowe_and_langley_2006/line.txt): 170 m of 0.396 m hose, 165 kg/m, EA = 5e8 N,
+# EI = 120.8e3 N m^2, in water of 1000 kg/m^3 (g = 9.807), pinned at (-100, 0, -55) and (0, 0, -5);
+# static end forces of the reference, kN: at the top and at the bottom.
+JUMPER = {"length": 170.0, "d": 0.396, "rhoA": 165.0, "EA": 5e8, "EI": 120.8e3, "rho": 1000.0, "g": 9.807,
+          "bottom": (-100.0, -55.0), "top": (0.0, -5.0)}
+JUMPER_TOP, JUMPER_BOTTOM = (11.40, 0.0, 45.71), (-11.40, 0.0, 24.04)
+
+
+def catenary_through(span: float, rise: float, L0: float, EA: float, w: float) -> tuple[float, float]:
+    """(H, V) at the lower end of the elastic catenary of unstretched length L0 from there to a
+    point `span` further and `rise` higher (Newton on catenary_end)."""
+    from slidebeam.scene.catenary import catenary_end
+
+    H, V = 0.1 * w * L0, 0.5 * w * L0
+    for _ in range(100):
+        x, z = catenary_end(L0, H, V, EA, w)
+        z = -z  # catenary_end's z is downward-positive for V > w s: the rise, upward
+        r = np.array([x - span, z - rise])
+        if abs(r).sum() < 1e-12 * (span + abs(rise)):
+            break
+        J = np.empty((2, 2))
+        for k, (dH, dV) in enumerate(((1e-7 * H, 0.0), (0.0, 1e-7 * w * L0))):
+            xp, zp = catenary_end(L0, H + dH, V + dV, EA, w)
+            J[:, k] = ((xp - x) / (dH or dV), (-zp - z) / (dH or dV))
+        dH, dV = np.linalg.solve(J, -r)
+        H, V = max(H + dH, 0.5 * H), V + dV
+    return H, V
+
+
+def jumper_scene_data(spans: int = 68) -> dict:
+    """The jumper as a scene: drawn along its elastic catenary without bending stiffness, given by
+    its unstretched length; the equilibrium start bends it (pinned ends)."""
+    from slidebeam.scene.catenary import catenary_end
+
+    j = JUMPER
+    w = (j["rhoA"] - j["rho"] * math.pi / 4 * j["d"] ** 2) * j["g"]
+    (x0, z0), (x1, z1) = j["bottom"], j["top"]
+    H, V = catenary_through(x1 - x0, z1 - z0, j["length"], j["EA"], w)
+    points = []
+    for s in np.linspace(0.0, j["length"], 41):
+        x, z = catenary_end(j["length"], H, V, j["EA"], w, s)
+        points.append([x0 + x, 0.0, z0 - z])
+    points[-1] = [x1, 0.0, z1]
+    E_over_G = 2.6
+    return {
+        "scene": {"name": "jumper"},
+        "analysis": {"type": "dynamic", "start": "equilibrium", "dt": 0.01, "t_end": 1e-9},
+        "beam": [{"name": "jumper", "polyline": points, "unstretched_length": j["length"], "spans": spans,
+                  "section": {"EA": j["EA"], "kGA": 0.9 * j["EA"] / E_over_G, "GJ": j["EI"] / 1.3,
+                              "EI2": j["EI"], "EI3": j["EI"], "rhoA": j["rhoA"], "rhoI2": 1.0, "rhoI3": 1.0}}],
+        "support": [{"type": "spherical", "beam": "jumper", "at": "start"},
+                    {"type": "spherical", "beam": "jumper", "at": "end"}],
+        "gravity": {"g": [0.0, 0.0, -j["g"]]},
+        "buoyancy": [{"beam": "jumper", "density": j["rho"], "diameter": j["d"], "surface": [0.0, 0.0, 0.0]}],
+        "output": {"xdmf": False},
+    }
+
+
+def jumper_at_rest(spans: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """(force of the supports on the jumper at the top and at the bottom, N; wall time of the start)
+    after slidebeam's equilibrium start: the supports' reactions, with the reference's signs."""
+    import petsc4py
+
+    petsc4py.init([])
+    import slidebeam
+
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(jumper_scene_data(spans)))
+    if not sim.settle().converged:
+        raise RuntimeError("the jumper's equilibrium start did not converge")
+    f = {r.effect: np.asarray(r.force) for r in sim.reactions()}
+    return f["spherical[jumper@end]"], f["spherical[jumper@start]"], sim.settle_wall_time
+
+
+def jumper_table(spans: list[int]) -> None:
+    print("| line | top: horizontal, kN | vertical, kN | bottom: horizontal, kN | vertical, kN | largest error, kN |")
+    print("|---|---|---|---|---|---|")
+    print(f"| Lowe & Langley (MoorDyn's reference) | {JUMPER_TOP[0]:.2f} | {JUMPER_TOP[2]:.2f} | "
+          f"{JUMPER_BOTTOM[0]:.2f} | {JUMPER_BOTTOM[2]:.2f} | |")
+    for n in spans:
+        top, bottom, _ = jumper_at_rest(n)
+        err = max(abs(top[0] / 1e3 - JUMPER_TOP[0]), abs(top[2] / 1e3 - JUMPER_TOP[2]),
+                  abs(bottom[0] / 1e3 - JUMPER_BOTTOM[0]), abs(bottom[2] / 1e3 - JUMPER_BOTTOM[2]))
+        print(f"| slidebeam, {n} spans | {top[0] / 1e3:.2f} | {top[2] / 1e3:.2f} | {bottom[0] / 1e3:.2f} | "
+              f"{bottom[2] / 1e3:.2f} | {err:.2f} |", flush=True)
+
+
 START_SPAN, PULL, RAMP, SETTLE = 175.0, 30.0, 30.0, 30.0  # the friction runs: from 175 m out to 205 m
 
 
@@ -141,7 +537,21 @@ def main() -> int:
     p.add_argument("--friction", type=float, nargs="*",
                    help="seabed friction coefficients: the line pulled out from 175 m to 205 m, then at rest, "
                         "against the closed form with friction (e.g. --friction 0 0.1 0.5 1.5)")
+    p.add_argument("--chains", action="store_true",
+                   help="the quasi-static chain cases MoorDyn validates against (50, 200 and 600 m deep)")
+    p.add_argument("--moving", action="store_true",
+                   help="the scene's line moved by its fairlead, slidebeam and MoorDyn side by side (--spans)")
+    p.add_argument("--jumper", action="store_true", help="Lowe & Langley's jumper at rest (--spans)")
     args = p.parse_args()
+    if args.jumper:
+        jumper_table(args.spans)
+        return 0
+    if args.moving:
+        moving_table(args.spans)
+        return 0
+    if args.chains:
+        chain_table(2)
+        return 0
     if args.friction:
         friction_table(args.spans, args.friction)
         return 0
