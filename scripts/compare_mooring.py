@@ -239,9 +239,10 @@ END
 MOVE, MOVE_TIME, MOVING_END = 5.0, 10.0, 20.0  # the scene's fairlead: 5 m out over 10 s, held to 20 s
 
 
-def slidebeam_moving(spans: int, sets: list[str]) -> dict:
-    """runs/cables/mooring_line.toml at `spans` spans: the fairlead tension at 0, 10 and 20 s and
-    the time stepping's wall time (the equilibrium start apart)."""
+def slidebeam_moving(spans: int, sets: list[str], ancf: bool = False) -> dict:
+    """runs/cables/mooring_line.toml at `spans` spans (ancf: the chain as an ANCF cable of as many
+    elements, without the director beam's shear and torsion): the fairlead tension at 0, 10 and
+    20 s and the time stepping's wall time (the equilibrium start apart)."""
     import time
 
     import petsc4py
@@ -251,6 +252,13 @@ def slidebeam_moving(spans: int, sets: list[str]) -> dict:
 
     scene = slidebeam.load_scene(ROOT / "runs" / "cables" / "mooring_line.toml",
                                  [f"beam.chain.spans={spans}", "output.xdmf=false", "output.every=1", *sets])
+    if ancf:
+        data = dict(scene.data)
+        chain = data["beam"][0]
+        section = chain["section"]
+        data["beam"] = [{**chain, "formulation": "ancf",
+                         "section": {"EA": section["EA"], "EI": section["EI2"], "rhoA": section["rhoA"]}}]
+        scene = slidebeam.scene_from_dict(data)
     sim = slidebeam.Simulation(scene)
     sim.settle()
     tensions: dict[float, float] = {}
@@ -322,7 +330,7 @@ def moordyn_moving(segments: int, dtM: float, work: Path) -> dict | None:
 
 def moving_table(spans: list[int]) -> None:
     """The scene's moving line in slidebeam and, where installed, MoorDyn at equal segments and its
-    largest stable step (halved from 2e-3 s until the run stays finite): fairlead tension at 0, 10
+    largest stable step (from 2e-3 s down by factors of 0.8 until the run stays finite): fairlead tension at 0, 10
     and 20 s and the time stepping's wall time."""
     import tempfile
 
@@ -343,15 +351,20 @@ def moving_table(spans: list[int]) -> None:
                 while md is None and dtM > 1e-5:
                     md = moordyn_moving(n, dtM, Path(work))
                     if md is None:
-                        dtM /= 2.0
-            runs = [("slidebeam, full Newton", slidebeam_moving(n, [])),
-                    ("slidebeam, modified Newton", slidebeam_moving(n, ["petsc.sb_jacobian_reuse=true"]))]
+                        dtM *= 0.8
+            reuse = ["petsc.sb_jacobian_reuse=true"]
+            runs = [("slidebeam, director beam, full Newton", slidebeam_moving(n, [])),
+                    ("slidebeam, director beam, modified Newton", slidebeam_moving(n, reuse)),
+                    ("slidebeam, ANCF cable, full Newton", slidebeam_moving(n, [], ancf=True)),
+                    ("slidebeam, ANCF cable, modified Newton", slidebeam_moving(n, reuse, ancf=True)),
+                    ("slidebeam, ANCF cable, modified Newton, dt = 0.1 s",
+                     slidebeam_moving(n, [*reuse, "analysis.dt=0.1"], ancf=True))]
             if md is not None:
-                runs.append((f"MoorDyn 2.7, RK4", {**md, "dt": dtM}))
+                runs.append(("MoorDyn 2.7, RK4", {**md, "dt": dtM}))
             for name, r in runs:
                 T = r["tension"]
                 ratio = f"{r['wall'] / md['wall']:.2f}" if md is not None else ""
-                print(f"| {name} | {n} | {r['dt']:g} | {T[0.0] / 1e3:.2f} | {T[MOVE_TIME] / 1e3:.2f} | "
+                print(f"| {name} | {n} | {r['dt']:.3g} | {T[0.0] / 1e3:.2f} | {T[MOVE_TIME] / 1e3:.2f} | "
                       f"{T[MOVING_END] / 1e3:.2f} | {r['wall']:.2f} | {ratio} |", flush=True)
 
 
@@ -372,14 +385,13 @@ def catenary_through(span: float, rise: float, L0: float, EA: float, w: float) -
     H, V = 0.1 * w * L0, 0.5 * w * L0
     for _ in range(100):
         x, z = catenary_end(L0, H, V, EA, w)
-        z = -z  # catenary_end's z is downward-positive for V > w s: the rise, upward
         r = np.array([x - span, z - rise])
         if abs(r).sum() < 1e-12 * (span + abs(rise)):
             break
         J = np.empty((2, 2))
         for k, (dH, dV) in enumerate(((1e-7 * H, 0.0), (0.0, 1e-7 * w * L0))):
             xp, zp = catenary_end(L0, H + dH, V + dV, EA, w)
-            J[:, k] = ((xp - x) / (dH or dV), (-zp - z) / (dH or dV))
+            J[:, k] = ((xp - x) / (dH or dV), (zp - z) / (dH or dV))
         dH, dV = np.linalg.solve(J, -r)
         H, V = max(H + dH, 0.5 * H), V + dV
     return H, V
@@ -397,7 +409,7 @@ def jumper_scene_data(spans: int = 68) -> dict:
     points = []
     for s in np.linspace(0.0, j["length"], 41):
         x, z = catenary_end(j["length"], H, V, j["EA"], w, s)
-        points.append([x0 + x, 0.0, z0 - z])
+        points.append([x0 + x, 0.0, z0 + z])
     points[-1] = [x1, 0.0, z1]
     E_over_G = 2.6
     return {

@@ -155,16 +155,18 @@ def test_a_rope_on_the_ground_sinks_w_over_k():
     assert np.allclose(f["position"][middle, 2], -w / k, rtol=1e-6)  # measured 3e-10
 
 
-def mooring(k: float = 1e7, spans: int = 110) -> slidebeam.Scene:
+def mooring(k: float = 1e7, spans: int = 110, formulation: str = "director") -> slidebeam.Scene:
     """220 m of chain (EA 5e8 N, 1000 N/m submerged) from an anchor on the seabed (50 m deep) to a
     fairlead at the surface 200 m away, drawn along the seabed and then straight up to the
-    fairlead (its unstretched length: the corner is not stress free)."""
+    fairlead (its unstretched length: the corner is not stress free); a director beam or an ANCF
+    cable."""
+    section = ({"EA": 5e8, "EI": 1e3, "rhoA": 1000.0 / 9.81} if formulation == "ancf" else
+               {"EA": 5e8, "kGA": 1e8, "GJ": 1e3, "EI2": 1e3, "EI3": 1e3, "rhoA": 1000.0 / 9.81, "rhoI2": 1e-2,
+                "rhoI3": 1e-2})
     return slidebeam.scene_from_dict({
         "analysis": {"type": "dynamic", "start": "equilibrium", "dt": 0.1, "t_end": 0.1},
         "beam": [{"name": "chain", "polyline": [[0.0, 0.0, -50.0], [147.5, 0.0, -50.0], [200.0, 0.0, 0.0]],
-                  "unstretched_length": 220.0, "spans": spans,
-                  "section": {"EA": 5e8, "kGA": 1e8, "GJ": 1e3, "EI2": 1e3, "EI3": 1e3, "rhoA": 1000.0 / 9.81,
-                              "rhoI2": 1e-2, "rhoI3": 1e-2}}],
+                  "unstretched_length": 220.0, "spans": spans, "formulation": formulation, "section": section}],
         "support": [{"type": "spherical", "beam": "chain", "at": "start"},
                     {"type": "spherical", "beam": "chain", "at": "end"}],
         "gravity": {"g": [0.0, 0.0, -9.81]},
@@ -173,12 +175,14 @@ def mooring(k: float = 1e7, spans: int = 110) -> slidebeam.Scene:
     })
 
 
-def test_mooring_line_on_the_seabed_matches_the_closed_form_catenary():
+@pytest.mark.parametrize("formulation", ("director", "ancf"))
+def test_mooring_line_on_the_seabed_matches_the_closed_form_catenary(formulation):
     """The fairlead tension, the anchor's horizontal pull and the suspended shape against the
     quasi-static catenary on a frictionless seabed (MooringLine): within 1e-3 (measured 1.3e-4 and
-    2.0e-4 at 110 spans, 1.6e-5 and 2.0e-5 at 220)."""
+    2.0e-4 at 110 spans, 1.6e-5 and 2.0e-5 at 220; the ANCF cable drawn as the same polyline,
+    110 elements: 4.7e-6 and 1.1e-5)."""
     exact = MooringLine(span=200.0, height=50.0, length=220.0, EA=5e8, w=1000.0)
-    sim = slidebeam.Simulation(mooring())
+    sim = slidebeam.Simulation(mooring(formulation=formulation))
     outcome = sim.run_dynamic()
     assert outcome.complete and sim.settled.converged
     f = {r.effect: np.asarray(r.force) for r in sim.reactions()}

@@ -113,7 +113,8 @@ def test_a_pretensioned_rope_conserves_energy():
     ({"unstretched_length": -1.0}, "unstretched_length", "> 0"),
     ({"pretension": -5.0}, "pretension", ">= 0"),
     ({"pretension": 10.0, "strain": "seed"}, "pretension", "simo-reissner"),
-    ({"pretension": 10.0, "formulation": "ancf", "polyline": [[0, 0, 0], [50, 0, -1], [100, 0, 0]]}, "polyline",
+    # an ANCF cable's stress-free state is straight: a polyline only where it starts, with its length
+    ({"formulation": "ancf", "polyline": [[0, 0, 0], [50, 0, -1], [100, 0, 0]]}, "polyline",
      "straight stress-free state"),
 ])
 def test_bad_ropes_are_clear_errors(beam, key, text):
@@ -151,3 +152,25 @@ def test_stretch_at_tension():
     lam = stretch_at_tension(1e-3, True)
     assert lam * (lam * lam - 1.0) / 2.0 == pytest.approx(1e-3, rel=1e-14)
     assert math.isclose(stretch_at_tension(0.0, True), 1.0)
+
+
+def test_an_ancf_cable_drawn_as_a_polyline_starts_on_it():
+    """Given its unstretched length, an ANCF cable may be drawn as a polyline (a mooring chain along
+    the seabed and up to its fairlead): its nodes start on the polyline, r' along the sides, at a
+    corner their mean direction."""
+    polyline = [[0.0, 0.0, 0.0], [50.0, 0.0, 0.0], [100.0, 0.0, 50.0]]
+    scene = rope_scene({"formulation": "ancf", "polyline": polyline, "unstretched_length": 130.0, "spans": 4})
+    for key in ("start", "end"):
+        scene["beam"][0].pop(key)
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(scene))
+    nodes = sim.control_points("rope")  # spans + 1 nodes: r, r'
+    length = 50.0 + 50.0 * math.sqrt(2.0)
+    side = np.array([1.0, 0.0, 1.0]) / math.sqrt(2.0)
+    for a, node in enumerate(nodes):
+        s = length * a / 4
+        expected = (np.array([s, 0.0, 0.0]) if s <= 50.0 else np.array([50.0, 0.0, 0.0]) + (s - 50.0) * side)
+        assert np.allclose(node[:3], expected, atol=1e-12)
+        assert np.allclose(node[3:6], [1.0, 0.0, 0.0] if s < 50.0 else side, atol=1e-12)
+    geometry = slidebeam.scene_from_dict(scene).beams[0].geometry
+    mean = np.array([1.0, 0.0, 0.0]) + side
+    assert np.allclose(geometry.tangent_at(50.0), mean / np.linalg.norm(mean), atol=1e-12)

@@ -125,12 +125,25 @@ class Geometry:
         return _vec(pts[-1])
 
     def tangent_at(self, s: float) -> Vec3:
-        """Unit tangent of a line or an arc at arc length s."""
+        """Unit tangent at arc length s (clamped to [0, L]); at a polyline's corner the mean of its
+        two sides' directions."""
         if self.kind == "arc":
             assert self.radius is not None and self.angle_deg is not None
             n = np.asarray(self.normal)
             return _vec(_rotate(np.asarray(self.tangent_at_start()), n, math.copysign(s / self.radius, self.angle_deg)))
-        return self.tangent_at_start()
+        pts = [np.asarray(p) for p in self.points]
+        sides = [(b - a) / float(np.linalg.norm(b - a)) for a, b in zip(pts[:-1], pts[1:])]
+        corner = 1e-12 * self.length
+        s = min(max(s, 0.0), self.length)
+        for k, (a, b) in enumerate(zip(pts[:-1], pts[1:])):
+            seg = float(np.linalg.norm(b - a))
+            if s < seg - corner or k == len(sides) - 1:
+                return _vec(sides[k])
+            if s <= seg + corner:
+                mean = sides[k] + sides[k + 1]
+                return _vec(mean / np.linalg.norm(mean))
+            s -= seg
+        return _vec(sides[-1])
 
     def tangent_at_start(self) -> Vec3:
         """Unit tangent of the centreline at s = 0."""
@@ -1177,11 +1190,11 @@ def _parse_ancf_beam(t: _Table, index: int, name: str, geometry: Geometry, gravi
     section = _parse_ancf_section(t.sub("section", f"{t.label}.section"))
     # the cable's axial strain is the centre line's 1/2 (r'.r' - 1): its law is the assumed strains'
     unstretched, geometry = _parse_rope(t, geometry, section, "simo-reissner", "assumed_strain", gravity)
-    if geometry.kind == "polyline" or (geometry.kind == "arc" and not unstretched):
+    if geometry.kind in ("polyline", "arc") and not unstretched:
         raise t.error(geometry.kind, "formulation = 'ancf' needs a straight stress-free state: draw it straight "
                                      "('start' + 'end'), or give unstretched_length or pretension, with which "
-                                     "an arc is only where the cable starts (its bending energy |r'' - r0''|^2 "
-                                     "is frame-indifferent only for a straight stress-free state)")
+                                     "an arc or a polyline is only where the cable starts (its bending energy "
+                                     "|r'' - r0''|^2 is frame-indifferent only for a straight stress-free state)")
     return Beam(
         name=name,
         index=index,
