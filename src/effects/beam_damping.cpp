@@ -212,23 +212,8 @@ class AncfDamping final : public AncfElementEffect {
     namespace ancf = kernels::ancf;
     const ancf::AncfElement& el = b.ancf_element(e);
     const ElVec q0 = gather(ctx.x_old, ctx.map, b, e), q1 = gather(ctx.x, ctx.map, b, e);
-    const ElVec qf = (1.0 - ctx.theta) * q0 + ctx.theta * q1;
-    const double h = ctx.h, theta = ctx.theta;
-    if (c_axial_ > 0.0)
-      for (const ancf::AxialPoint& g : el.axial) {
-        const ancf::Mat3x12 B = ancf::shape_matrix(g.dS);  // r' = B q
-        const Eigen::Vector3d s0 = B * q0, s1 = B * q1, sf = B * qf;
-        const double sigma = c_axial_ * 0.5 * (s1.squaredNorm() - s0.squaredNorm()) / h;
-        const Eigen::Matrix<double, 1, 12> gf = sf.transpose() * B;  // d eps / dq at q_f
-        f += g.w * sigma * gf.transpose();
-        if (K) *K += g.w * (sigma * theta * B.transpose() * B + (c_axial_ / h) * gf.transpose() * (s1.transpose() * B));
-      }
-    if (c_bend_ > 0.0)
-      for (const ancf::BendPoint& g : el.bend) {
-        const ancf::Mat3x12 B = ancf::shape_matrix(g.ddS);  // r'' = B q
-        f += g.w * (c_bend_ / h) * B.transpose() * (B * (q1 - q0));
-        if (K) *K += g.w * (c_bend_ / h) * B.transpose() * B;
-      }
+    const double h = ctx.h;
+    ancf::kelvin_voigt(el, c_axial_, c_bend_, h, ctx.theta, q0, q1, f, K);
     if (alpha_ > 0.0) {
       const ElMat M = ancf::mass_matrix(b.ancf_section(), el);
       f += (alpha_ / h) * M * (q1 - q0);

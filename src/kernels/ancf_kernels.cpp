@@ -157,6 +157,25 @@ void internal_force_em(const AncfSection& sec, const AncfElement& el, const ElVe
   }
 }
 
+void kelvin_voigt(const AncfElement& el, double c_axial, double c_bend, double h, double theta, const ElVec& q0,
+                  const ElVec& q1, ElVec& f, ElMat* K) {
+  if (c_axial > 0.0)
+    for (const AxialPoint& p : el.axial) {
+      const Eigen::Vector3d s0 = interp(p.dS, q0), s1 = interp(p.dS, q1), sf = (1.0 - theta) * s0 + theta * s1;
+      const double sigma = c_axial * 0.5 * (s1.squaredNorm() - s0.squaredNorm()) / h;
+      add_weighted(p.dS, p.w * sigma, sf, f);
+      if (K) {  // d/dq1 [sigma S'_a s_f]: d sigma = c_axial / h S'_b s1^T, d s_f = theta S'_b I
+        add_dyad_block(p.dS, p.w * c_axial / h, sf, s1, *K);
+        add_scalar_block(p.dS, p.w * sigma * theta, *K);
+      }
+    }
+  if (c_bend > 0.0)
+    for (const BendPoint& p : el.bend) {
+      add_weighted(p.ddS, p.w * c_bend / h, interp(p.ddS, q1) - interp(p.ddS, q0), f);
+      if (K) add_scalar_block(p.ddS, p.w * c_bend / h, *K);
+    }
+}
+
 ElMat mass_matrix(const AncfSection& sec, const AncfElement& el) {
   ElMat M = ElMat::Zero();
   for (const AxialPoint& p : el.axial) add_scalar_block(p.S, p.w * sec.rhoA, M);

@@ -124,6 +124,14 @@ void internal_force(const AncfSection& sec, const AncfElement& el, const ElVec& 
 void internal_force_em(const AncfSection& sec, const AncfElement& el, const ElVec& q0, const ElVec& q1,
                        ElVec& f, ElMat* K, double xi = 0.0);
 
+/// Kelvin-Voigt damping over the step q0 -> q1 (beam_damping on a cable), accumulated into f and K:
+///   f += int c_axial deps/dt (d eps/dq)(q_f) dx + int c_bend S''^T d r''/dt dx,
+/// with the mean rates deps/dt = (eps(q1) - eps(q0)) / h and d r''/dt = r''(q1 - q0) / h, q_f =
+/// (1 - theta) q0 + theta q1; K += d f / d q1. eps being quadratic, f . (q1 - q0) at theta = 1/2 is
+/// int (c_axial deps^2 + c_bend |d r''|^2) dx / h >= 0 exactly.
+void kelvin_voigt(const AncfElement& el, double c_axial, double c_bend, double h, double theta, const ElVec& q0,
+                  const ElVec& q1, ElVec& f, ElMat* K);
+
 /// Consistent mass matrix M = int rhoA S^T S dx (12 x 12, exact).
 ElMat mass_matrix(const AncfSection& sec, const AncfElement& el);
 
