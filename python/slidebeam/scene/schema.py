@@ -88,7 +88,7 @@ BEAM = Table("beam", "[[beam]]", "One beam or cable. Give its reference centre l
     Key("strain", "strain measure: the objective director strains of Betsch & Steinmann, or the seed paper's "
                   "Green-Lagrange-type measure", "", '"simo-reissner"', '"simo-reissner", "seed"; director beams'),
     Key("formulation", "director: geometrically exact director beam; ancf: gradient-deficient ANCF cable "
-                       "(no torsion, shear or rotary inertia; a straight stress-free state: drawn straight, or an arc with unstretched_length)", "", '"director"',
+                       "(no torsion, shear or rotary inertia; a straight stress-free state: drawn straight, or an arc or a polyline with unstretched_length)", "", '"director"',
         '"director", "ancf"'),
     Key("unstretched_length", "a rope's length at rest: its stress-free state is then straight and untwisted, of "
                               "this length, and the drawn centre line only where it starts (a rope drawn straight "
