@@ -344,6 +344,11 @@ void register_contact_effects(EffectRegistry& r) {
                           "fixed shape only): c = 2 zeta sqrt(k rho A) damps the beam's bounce on the bed by the ratio "
                           "zeta",
                           "0", 0.0, inf};
+  const ParamSpec damping_depth = optional_param(
+      {"damping_depth", K::Number, "m",
+       "d, the penetration over which the bed's damping grows from nothing to c, so that the damping force is "
+       "continuous at touch-down (default: the sinkage of the beam's own weight in standard gravity, rho A g0 / k)",
+       "", 0.0, inf, true});
   const ParamSpec tangential_stiffness = optional_param(
       {"tangential_stiffness", K::Number, "N/m^2",
        "k_t, the stiffness that holds a sticking point to its anchor, per unit length (default: the bed's "
@@ -361,7 +366,7 @@ void register_contact_effects(EffectRegistry& r) {
                       {"normal", K::Vector, "",
                        "the plane's normal, towards the side the beam is on (e.g. [0, 0, 1] for the ground)", "",
                        -inf, inf, false, 3},
-                      stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping}),
+                      stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping, damping_depth}),
         [](const Model& m, const EffectParams& p) { return make_contact(m, p, "plane_contact", &plane_shape); });
   r.add(spec("cylinder_contact", "cylinder",
                      "contact of a beam with a fixed rigid cylinder from outside (a drum, a sheave, a pipe, a "
@@ -375,7 +380,7 @@ void register_contact_effects(EffectRegistry& r) {
                                       ""}),
                       {"axis", K::Vector, "", "the axis' direction as drawn (the cylinder is endless)", "", -inf, inf,
                        false, 3},
-                      radius, stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping}),
+                      radius, stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping, damping_depth}),
         [](const Model& m, const EffectParams& p) { return make_cylinder_contact(m, p); });
   r.add(spec("sphere_contact", "sphere",
                      "contact of a beam with a rigid sphere from outside, fixed or carried by a body: "
@@ -387,7 +392,7 @@ void register_contact_effects(EffectRegistry& r) {
                                       "the [[body]] that carries the sphere, centred on its centre of mass (or give "
                                       "`center`)",
                                       ""}),
-                      radius, stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping}),
+                      radius, stiffness, mu, mu_axial, mu_transverse, tangential_stiffness, damping, damping_depth}),
         [](const Model& m, const EffectParams& p) { return make_sphere_contact(m, p); });
 }
 

@@ -7,9 +7,12 @@
 /// (g1 < 0), a force against the step's mean rate of the gap, c (g1 - g0) / h, along a discrete
 /// gradient w of the gap (w . (x1 - x0) = g1 - g0, gap_potential.hpp) under every scheme:
 ///
-///   f = -c (g1 - g0) / h w,   whose work over the step is -c (g1 - g0)^2 / h <= 0,
+///   f = -c s(g1) (g1 - g0) / h w,   whose work over the step is -c s(g1) (g1 - g0)^2 / h <= 0,
 ///
-/// exactly what the step dissipates (EnergyRole::Dissipative). A penalty bed without it rings:
+/// exactly what the step dissipates (EnergyRole::Dissipative). The share s(g1) = min(1, -g1 / d)
+/// sets the damping in over the first d of penetration (damping_depth): a force continuous in the
+/// state, where a damping switched on whole at touch-down makes Newton chatter between contact
+/// and none on a line that lands (a mooring chain lifting off and landing again). A penalty bed without it rings:
 /// its normal mode (frequency sqrt(k / rho A)) is undamped under energy-momentum, and a rope
 /// sliding over a drum then alternates between stick and slip at that frequency, which lowers
 /// the friction it carries. c = 2 zeta sqrt(k rho A) damps that mode by the ratio zeta.
@@ -25,6 +28,14 @@ namespace slidebeam::effects {
 
 namespace {
 
+/// The penetration over which the damping sets in: the entry's damping_depth, by default the
+/// sinkage of the beam's own weight in standard gravity, rho A g0 / k (a line on the bed sits
+/// about that deep, so the damping is whole where it rests and continuous where it touches down).
+double damping_depth(const Beam& b, const EffectParams& p) {
+  if (p.num.count("damping_depth")) return p.number("damping_depth");
+  return b.section().rhoA * 9.80665 / p.number("stiffness");
+}
+
 template <int W, class Shape>
 class ContactDamping final : public CentreLineEffect<W> {
   using Base = CentreLineEffect<W>;
@@ -33,8 +44,9 @@ class ContactDamping final : public CentreLineEffect<W> {
 
  public:
   ContactDamping(int beam, const Model& m, const EffectParams& p, const std::string& label, const Shape& shape)
-      : Base(beam, m), shape_(shape), c_(p.number("damping")), label_(label) {
+      : Base(beam, m), shape_(shape), c_(p.number("damping")), depth_(damping_depth(m.beam(beam), p)), label_(label) {
     if (!(c_ > 0.0)) throw ParamError("damping", "the bed's damping must be > 0");
+    if (!(depth_ > 0.0)) throw ParamError("damping_depth", "the depth over which the damping sets in must be > 0");
   }
   std::string type() const override { return "contact_damping"; }
   std::string label() const override { return label_; }
@@ -49,10 +61,14 @@ class ContactDamping final : public CentreLineEffect<W> {
       const CentreLinePoint<W> q = Base::point(b, e, g);
       const GapStep s = shape_.step(position(q, y0), position(q, y1));
       if (!(s.g1 < 0.0)) continue;
-      const Eigen::Vector3d force = c * (s.g1 - s.g0) * s.w;
+      // the damping sets in over the first depth_ of penetration: a force continuous in the state
+      const bool ramp = s.g1 > -depth_;
+      const double share = ramp ? -s.g1 / depth_ : 1.0;
+      const Eigen::Vector3d force = c * share * (s.g1 - s.g0) * s.w;
       for (int i = 0; i < W; ++i) r.template segment<3>(3 * i) += q.w * q.N[static_cast<size_t>(i)] * force;
       if (!K) continue;
-      const Eigen::Matrix3d stiffness = c * (s.w * s.n1.transpose() + (s.g1 - s.g0) * s.dw);
+      Eigen::Matrix3d stiffness = c * share * (s.w * s.n1.transpose() + (s.g1 - s.g0) * s.dw);
+      if (ramp) stiffness -= (c / depth_) * (s.g1 - s.g0) * s.w * s.n1.transpose();
       for (int i = 0; i < W; ++i)
         for (int j = 0; j < W; ++j)
           K->template block<3, 3>(3 * i, 3 * j) += q.w * q.N[static_cast<size_t>(i)] * q.N[static_cast<size_t>(j)] * stiffness;
@@ -67,7 +83,7 @@ class ContactDamping final : public CentreLineEffect<W> {
   }
 
   Shape shape_;
-  double c_;
+  double c_, depth_;
   std::string label_;
 };
 
