@@ -12,6 +12,7 @@ void register_sliding_effects(EffectRegistry& r);
 void register_damping_effects(EffectRegistry& r);
 void register_slider_drive_effects(EffectRegistry& r);
 void register_drag_effects(EffectRegistry& r);
+void register_added_mass_effects(EffectRegistry& r);
 void register_friction_effects(EffectRegistry& r);
 void register_contact_effects(EffectRegistry& r);
 void register_contact_friction_effects(EffectRegistry& r);
@@ -31,6 +32,7 @@ void register_builtin_effects(EffectRegistry& registry) {
   effects::register_damping_effects(registry);
   effects::register_slider_drive_effects(registry);
   effects::register_drag_effects(registry);
+  effects::register_added_mass_effects(registry);
   effects::register_friction_effects(registry);
   effects::register_contact_effects(registry);
   effects::register_contact_friction_effects(registry);

@@ -197,6 +197,11 @@ void register_drag_effects(EffectRegistry& r) {
        "C_t, drag coefficient along the centre line, on the diameter (pi times a skin-friction coefficient; "
        "ropes about 0.01 to 0.03; 0: none)",
        "0.0", 0.0},
+      {"ca_normal", K::Number, "",
+       "C_n, added-mass coefficient across the centre line: the line carries C_n rho pi D^2 / 4 of fluid per "
+       "unit length with it (a circular cylinder: 1; 0: none; dynamic runs)",
+       "0.0", 0.0},
+      {"ca_tangential", K::Number, "", "C_t, added-mass coefficient along the centre line (0: none)", "0.0", 0.0},
       {"flow", K::Vector, "m/s", "velocity of the fluid (uniform): wind or current", "[0.0, 0.0, 0.0]", -inf, inf,
        false, 3},
       {"time_function", K::TimeFunction, "", "scales the flow over time (a gust, a tide)", "{ type = \"constant\" }"},

@@ -107,6 +107,13 @@ struct EvalContext {
   /// effects then exert no force. Rates are mean rates over the step, (x - x_old) / h.
   double t_start = 0.0, t_end = 0.0, h = 0.0;
   StepScheme scheme = StepScheme::Static;
+  /// Within a step, for ConfigurationKinetic effects only (null otherwise): the velocity and
+  /// acceleration at the step's start, ghosted, and Newmark's beta and gamma (Newmark, HHT:
+  /// v = v_old + h ((1 - gamma) a_old + gamma a), a = (x - x_old - h v_old) / (beta h^2) -
+  /// (1 / (2 beta) - 1) a_old; energy-momentum, midpoint: v = 2 (x - x_old) / h - v_old).
+  const LocalValues* v_old = nullptr;
+  const LocalValues* a_old = nullptr;
+  double beta = 0.25, gamma = 0.5;
 };
 
 /// How an effect's work enters the energy balance of a dynamic run, H - H_0 = W - D (H: kinetic

@@ -105,6 +105,19 @@ class MassSource {
   virtual PetscErrorCode mass(const Model&, const MatSink&) const = 0;
 };
 
+/// Kinetic energy that changes with the configuration, T(x, v) = 1/2 v^T A(x) v (the added mass
+/// of the fluid around a line: A follows the line's direction). Its step residual reads the step
+/// start's rates (EvalContext::v_old, a_old, which the model ghosts only when some effect has
+/// this part), and the kinetic energy and momenta of a state count its momentum A(x) v.
+class ConfigurationKinetic {
+ public:
+  virtual ~ConfigurationKinetic() = default;
+  /// p += dT/dv at the state ctx.x and velocity v (local ghosted layout).
+  virtual void momentum(const EvalContext& ctx, const LocalValues& v, const LocalValues& p) const = 0;
+  /// M += A(x) at the state ctx.x: the mass matrix of T at a state (the initial acceleration's).
+  virtual PetscErrorCode mass_at(const EvalContext& ctx, const MatSink& M) const = 0;
+};
+
 /// Unknowns the effect prescribes (Dirichlet rows), or state it holds by its own constraint.
 class PrescribedMotion {
  public:

@@ -74,6 +74,7 @@ Model::~Model() {
   VecDestroy(&r_local_);
   VecDestroy(&x_old_local_);
   VecDestroy(&xf_local_);
+  for (Vec* v : {&v_old_, &a_old_, &v_old_local_, &a_old_local_}) VecDestroy(v);
   VecDestroy(&q_mask_);
   VecDestroy(&s_mask_);
   VecDestroy(&x_);
@@ -150,6 +151,9 @@ void Model::finalize(const PartitionPolicy& partition) {
   SB_CHECK(VecCreateMPI(comm_, map_.local_size(), map_.global_size(), &x_));
   SB_CHECK(VecSetOptionsPrefix(x_, "sb_x_"));
   SB_CHECK(VecDuplicate(x_, &r_));
+  kinetic_of_.clear();
+  for (const auto& e : effects_)
+    if (const auto* k = part_of<ConfigurationKinetic>(*e)) kinetic_of_.push_back(k);
   SB_CHECK(build_ghosts());
 
   // Jacobian with exact preallocation: record every block effects may touch, plus the diagonal.
@@ -348,6 +352,44 @@ PetscErrorCode Model::set_step_start(Vec x_old) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode Model::set_step_rates(Vec v, Vec a, double beta, double gamma) {
+  PetscFunctionBeginUser;
+  if (kinetic_of_.empty()) PetscFunctionReturn(0);
+  for (auto [given, kept] : {std::pair{v, &v_old_}, std::pair{a, &a_old_}})
+    if (given != *kept) {
+      PetscCall(PetscObjectReference(reinterpret_cast<PetscObject>(given)));
+      PetscCall(VecDestroy(kept));
+      *kept = given;
+    }
+  rate_beta_ = beta;
+  rate_gamma_ = gamma;
+  PetscCall(update_ghosts(v_old_, v_old_local_));
+  PetscCall(update_ghosts(a_old_, a_old_local_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Model::add_configuration_momentum(Vec x, Vec v, Vec p) const {
+  PetscFunctionBeginUser;
+  if (kinetic_of_.empty()) PetscFunctionReturn(0);
+  PetscCall(with_context(StepEval{StepRule::Endpoint, 0.0, 1.0}, x, [&](const EvalContext& ctx) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    PetscCall(update_ghosts(v, v_old_local_));  // scratch: the next step sets its start's rates again
+    PetscCall(VecZeroEntries(r_local_));
+    PetscScalar *va = nullptr, *ra = nullptr;
+    PetscCall(VecGetArray(v_old_local_, &va));
+    PetscCall(VecGetArray(r_local_, &ra));
+    const LocalValues vv(ghost_dofs_, va), rv(ghost_dofs_, ra);
+    for (const ConfigurationKinetic* k : kinetic_of_) k->momentum(ctx, vv, rv);
+    PetscCall(VecRestoreArray(r_local_, &ra));
+    PetscCall(VecRestoreArray(v_old_local_, &va));
+    PetscFunctionReturn(0);
+  }));
+  PetscCall(VecScatterBegin(scatter_, r_local_, p, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(scatter_, r_local_, p, ADD_VALUES, SCATTER_REVERSE));
+  if (v_old_) PetscCall(update_ghosts(v_old_, v_old_local_));  // the step start's again
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode Model::build_ghosts() const {
   PetscFunctionBeginUser;
   std::vector<PetscInt> dofs;
@@ -362,6 +404,10 @@ PetscErrorCode Model::build_ghosts() const {
   PetscCall(VecDuplicate(x_local_, &r_local_));
   PetscCall(VecDuplicate(x_local_, &x_old_local_));
   PetscCall(VecDuplicate(x_local_, &xf_local_));
+  for (Vec* v : {&v_old_local_, &a_old_local_}) {
+    PetscCall(VecDestroy(v));
+    if (!kinetic_of_.empty()) PetscCall(VecDuplicate(x_local_, v));
+  }
   IS is = nullptr;
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n_ghost, ghost_dofs_.dofs().data(), PETSC_COPY_VALUES, &is));
   PetscCall(VecScatterCreate(x_, is, x_local_, nullptr, &scatter_));
@@ -392,6 +438,8 @@ PetscErrorCode Model::prepare_ghosts(const StepEval& ev, Vec x) const {
   // the step start too, whatever this evaluation's rule: a later two-state evaluation of the
   // same step (a record's reactions after its energies) reads it without ghosting it again
   if (x_old_) PetscCall(update_ghosts(x_old_, x_old_local_));
+  if (v_old_) PetscCall(update_ghosts(v_old_, v_old_local_));
+  if (a_old_) PetscCall(update_ghosts(a_old_, a_old_local_));
   PetscFunctionReturn(0);
 }
 
@@ -512,9 +560,27 @@ PetscErrorCode Model::with_context(const StepEval& ev, Vec x, Body&& body) const
   {
     LocalValues xv(ghost_dofs_, xa);
     LocalValues ov(ghost_dofs_, has_start ? oa : xa), fv(ghost_dofs_, two_states ? fa : xa);
-    const EvalContext ctx{*this,         map_,        ev.t,      xv,   fv,       ov, ev.rule, two_states ? ev.theta : 1.0,
-                          ev.dissipation, step_starts_, ev.t_start, ev.t_end, ev.h, ev.scheme};
-    PetscCall(body(ctx));
+    EvalContext ctx{*this,         map_,        ev.t,      xv,   fv,       ov, ev.rule, two_states ? ev.theta : 1.0,
+                    ev.dissipation, step_starts_, ev.t_start, ev.t_end, ev.h, ev.scheme};
+    const bool rates = has_start && ev.h > 0.0 && v_old_;
+    PetscScalar *va = nullptr, *aa = nullptr;
+    if (rates) {
+      PetscCall(VecGetArray(v_old_local_, &va));
+      PetscCall(VecGetArray(a_old_local_, &aa));
+    }
+    const LocalValues vv(ghost_dofs_, rates ? va : xa), av(ghost_dofs_, rates ? aa : xa);
+    if (rates) {
+      ctx.v_old = &vv;
+      ctx.a_old = &av;
+      ctx.beta = rate_beta_;
+      ctx.gamma = rate_gamma_;
+    }
+    const PetscErrorCode ierr = body(static_cast<const EvalContext&>(ctx));
+    if (rates) {
+      PetscCall(VecRestoreArray(a_old_local_, &aa));
+      PetscCall(VecRestoreArray(v_old_local_, &va));
+    }
+    PetscCall(ierr);
   }
   if (two_states) PetscCall(VecRestoreArray(xf_local_, &fa));
   if (has_start) PetscCall(VecRestoreArray(x_old_local_, &oa));
@@ -613,6 +679,8 @@ PetscErrorCode Model::assemble_effects_jacobian(const StepEval& ev, Vec x, Mat J
         PetscFunctionBeginUser;
         PetscCall(effects_[k]->jacobian(ctx, rate_force_[k] ? rate_sink : sink));
         if (mass_scale != 0.0 && mass_of_[k]) PetscCall(mass_of_[k]->mass(*this, mass_sink));
+        if (mass_scale != 0.0 && ev.configuration_mass)
+          if (const auto* kin = part_of<ConfigurationKinetic>(*effects_[k])) PetscCall(kin->mass_at(ctx, mass_sink));
         PetscFunctionReturn(0);
       }));
       PetscCall(PetscLogEventEnd(effect_events_[k], 0, 0, 0, 0));

@@ -32,6 +32,9 @@ struct StepEval {
   /// assembled forces by 1 + alpha and its rate forces by 1 / (1 + alpha) here, so that they
   /// count once.
   double rate_weight = 1.0;
+  /// An assembly with a mass (mass_scale != 0) adds the ConfigurationKinetic effects' mass at the
+  /// state too: the mass system of the initial acceleration.
+  bool configuration_mass = false;
 };
 
 /// Linear and angular momentum (about the origin) of a state.
@@ -97,6 +100,15 @@ class Model {
 
   /// Start state x_old of a time step, read by the Theta and EnergyMomentum rules (collective).
   PetscErrorCode set_step_start(Vec x_old);
+  /// Some effect's kinetic energy changes with the configuration (ConfigurationKinetic): its
+  /// steps read the start's rates (set_step_rates) and momenta count it (add_configuration_momentum).
+  bool has_configuration_kinetic() const { return !kinetic_of_.empty(); }
+  /// The step start's velocity v and acceleration a (Newmark's beta and gamma), read by
+  /// ConfigurationKinetic effects within steps; kept (referenced) until the next call. Nothing
+  /// happens without such effects (collective).
+  PetscErrorCode set_step_rates(Vec v, Vec a, double beta, double gamma);
+  /// p += the ConfigurationKinetic effects' momenta dT/dv at the state (x, v) (collective).
+  PetscErrorCode add_configuration_momentum(Vec x, Vec v, Vec p) const;
   /// F = sum of the effects' residuals under a step rule; prescribed rows are NOT overwritten.
   PetscErrorCode assemble_effects_residual(const StepEval& ev, Vec x, Vec F) const;
   /// J = scale * sum of the effects' tangents d F / d x + mass_scale * M (assembled); prescribed
@@ -265,6 +277,11 @@ class Model {
   mutable Vec x_local_ = nullptr, r_local_ = nullptr;
   mutable Vec x_old_local_ = nullptr, xf_local_ = nullptr;
   Vec x_old_ = nullptr;  // the step start last given to set_step_start (not owned)
+  // the step start's rates (set_step_rates), ghosted: only with ConfigurationKinetic effects
+  mutable Vec v_old_local_ = nullptr, a_old_local_ = nullptr;
+  Vec v_old_ = nullptr, a_old_ = nullptr;
+  double rate_beta_ = 0.25, rate_gamma_ = 0.5;
+  std::vector<const ConfigurationKinetic*> kinetic_of_;
   unsigned long step_starts_ = 0;  // set_step_start calls: EvalContext::step_start
   mutable int ghost_rebuilds_ = 0;
   PetscInt cut_points_ = 0;

@@ -65,6 +65,10 @@ TimeIntegrator::TimeIntegrator(Model& model, const IntegratorParams& params) : m
   SB_CHECK(VecDuplicate(x_, &x1_));
   SB_CHECK(VecDuplicate(x_, &x_start_));
   SB_CHECK(VecDuplicate(x_, &v_prev_));
+  if (model.has_configuration_kinetic()) {
+    SB_CHECK(VecDuplicate(x_, &v_start_));
+    SB_CHECK(VecDuplicate(x_, &a_start_));
+  }
   SB_CHECK(VecDuplicate(x_, &xt_));
   SB_CHECK(VecDuplicate(x_, &w_));
   SB_CHECK(VecDuplicate(x_, &f_hist_));
@@ -124,7 +128,7 @@ TimeIntegrator::~TimeIntegrator() {
   SNESDestroy(&snes_);
   MatDestroy(&M_);
   MatDestroy(&J_);
-  for (Vec* v : {&x_, &v_, &a_, &x1_, &x_start_, &v_prev_, &xt_, &w_, &f_hist_, &work_, &sdot_, &state_mask_,
+  for (Vec* v : {&x_, &v_, &a_, &x1_, &x_start_, &v_start_, &a_start_, &v_prev_, &xt_, &w_, &f_hist_, &work_, &sdot_, &state_mask_,
                  &flow_dq_, &flow_r_, &flow_r0_})
     VecDestroy(v);
 }
@@ -265,7 +269,9 @@ void TimeIntegrator::remember_start_energies() {
 
 KSP TimeIntegrator::constrained_mass_solver() {
   SB_CHECK(model_.set_step_start(x_));
-  SB_CHECK(model_.assemble_effects_jacobian(StepEval{StepRule::Theta, clock_.time(), 0.0}, x_, J_, &coo_, 1.0, 1.0));
+  StepEval ev{StepRule::Theta, clock_.time(), 0.0};
+  ev.configuration_mass = true;
+  SB_CHECK(model_.assemble_effects_jacobian(ev, x_, J_, &coo_, 1.0, 1.0));
   SB_CHECK(model_.set_prescribed_jacobian_rows(J_));
   // Its own pivoting LU: M has no entries on multipliers (and on d1 with the seed's strains).
   KSP ksp = nullptr;
@@ -412,6 +418,11 @@ void TimeIntegrator::prepare_step(double h) {
   h_ = h;
   model_.set_prescribed_time(next_time(h));  // driven supports at the step's end
   SB_CHECK(model_.set_step_start(x_));
+  if (v_start_) {  // copies: reactions and records of the step read them after v_ and a_ moved on
+    SB_CHECK(VecCopy(v_, v_start_));
+    SB_CHECK(VecCopy(a_, a_start_));
+    SB_CHECK(model_.set_step_rates(v_start_, a_start_, params_.beta, params_.gamma));
+  }
   SB_CHECK(VecWAXPY(xt_, h, v_, x_));
   scale_ = 1.0;
   has_history_force_ = false;
@@ -865,6 +876,7 @@ void TimeIntegrator::use_pivoting_lu() {
 
 TimeIntegrator::Motion TimeIntegrator::motion() const {
   SB_CHECK(MatMult(M_, v_, work_));
+  SB_CHECK(model_.add_configuration_momentum(x_, v_, work_));  // the fluid's added mass
   PetscScalar e = 0;
   SB_CHECK(VecDot(v_, work_, &e));
   return Motion{0.5 * e, model_.momenta(x_, work_)};

@@ -224,6 +224,8 @@ class TimeIntegrator {
   Vec x_ = nullptr, v_ = nullptr, a_ = nullptr;   // state at t_n
   Vec x1_ = nullptr;                              // Newton iterate / solution
   Vec x_start_ = nullptr;                         // start of the last converged step (reactions)
+  // the rates at the start of the step being taken or last taken (ConfigurationKinetic effects)
+  Vec v_start_ = nullptr, a_start_ = nullptr;
   Vec v_prev_ = nullptr;                          // v_{n-1} (predictor of midpoint-type schemes)
   Vec sdot_ = nullptr;                            // (s_n - s_{n-1}) / h on sliding coordinates
   int pattern_seen_ = 0;                          // CooAssembly generation of the factorisation

@@ -80,6 +80,10 @@ def build_model(scene: Scene, comm: object | None = None) -> tuple[_core.Model, 
                         label = entry.label.replace("_contact", f"_{kind}", 1)
                         add(f"contact_{kind}", label, entry.num, entry.vec,
                             {**entry.text, "shape": specs[entry.type].variant, "label": label})
+            if entry.type == "fluid_drag" and dynamic and any(
+                    entry.num.get(key, 0.0) > 0.0 for key in ("ca_normal", "ca_tangential")):
+                # the water it carries: kinetic energy of its own, beside the drag
+                add("added_mass", entry.label.replace("fluid_drag", "added_mass", 1), entry.num, entry.vec, entry.text)
         except _core.ParamError as exc:  # refused by the effect: name the entry and the key
             key, message = exc.args
             raise SceneError(message, scene.file, entry.place, key) from exc
