@@ -470,6 +470,95 @@ def jumper_table(spans: list[int]) -> None:
 START_SPAN, PULL, RAMP, SETTLE = 175.0, 30.0, 30.0, 30.0  # the friction runs: from 175 m out to 205 m
 
 
+# Lowe & Langley's dynamic cases 1-3 (MoorDyn's tests/lowe_and_langley_2006.cpp): the top moved
+# 10 m along x, y or z at a period of 27 s, faded in over the first period by the smooth ramp
+# 10u^3 - 15u^4 + 6u^5; the reference's top tension over the 80 s after the ramp, kN
+# (tests/data/lowe_and_langley_2006/case<k>.csv, copied from MoorDyn's repository, BSD-3-Clause).
+JUMPER_AMPLITUDE, JUMPER_PERIOD, JUMPER_COMPARED = 10.0, 27.0, 80.0
+JUMPER_DATA = ROOT / "tests" / "data" / "lowe_and_langley_2006"
+JUMPER_WATER = {"cd_normal": 1.0, "cd_tangential": 0.0, "ca_normal": 1.0, "ca_tangential": 0.0}  # Cd, CdAx, Ca, CaAx
+
+
+def jumper_moving_scene_data(case: int, spans: int, dt: float, added_mass: bool = True) -> dict:
+    """The jumper's dynamic case 1, 2 or 3: from its equilibrium start, the top moved along x, y or
+    z; drag and added mass as the reference's (Cd = Ca = 1 across, none along); modified Newton."""
+    j = JUMPER
+    data = jumper_scene_data(spans)
+    data["analysis"] = {**data["analysis"], "t_end": JUMPER_PERIOD + JUMPER_COMPARED, "dt": dt}
+    displacement = [0.0, 0.0, 0.0]
+    displacement[case - 1] = JUMPER_AMPLITUDE
+    data["support"][1]["motion"] = {"displacement": displacement, "time_function": {
+        "type": "sine", "frequency": 1.0 / JUMPER_PERIOD, "ramp": JUMPER_PERIOD}}
+    water = {**JUMPER_WATER, **({} if added_mass else {"ca_normal": 0.0})}
+    data["drag"] = [{"beam": "jumper", "density": j["rho"], "diameter": j["d"], **water}]
+    data["petsc"] = {"sb_jacobian_reuse": True}
+    data["output"] = {"xdmf": False}
+    return data
+
+
+def jumper_moving(case: int, spans: int, dt: float, added_mass: bool = True) -> dict:
+    """The reference's times (after the ramp) and top tensions, slidebeam's top tension there (kN),
+    the run's wall time, steps and Newton iterations."""
+    import petsc4py
+
+    petsc4py.init([])
+    import time
+
+    import slidebeam
+
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(jumper_moving_scene_data(case, spans, dt, added_mass)))
+    start = time.perf_counter()
+    run = sim.run_dynamic()
+    wall = time.perf_counter() - start
+    if not run.complete:
+        raise RuntimeError(f"the jumper's case {case} did not run to its end: {run.message}")
+    records = run.records
+    t = np.array([r.t for r in records])
+    top = np.array([np.linalg.norm(r.reactions[1].force) for r in records]) / 1e3
+    ref = np.loadtxt(JUMPER_DATA / f"case{case}.csv", delimiter=",")
+    return {"t": ref[:, 0], "reference": ref[:, 1], "slidebeam": np.interp(ref[:, 0] + JUMPER_PERIOD, t, top),
+            "wall": wall, "steps": run.steps, "newton": run.newton_iterations}
+
+
+def jumper_moving_table(spans: list[int], dts: list[float]) -> None:
+    print("| case: top moved along | spans | dt, s | added mass | top tension, kN: reference | slidebeam | "
+          "largest error, kN | mean error, kN | wall, s | Newton per step |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for case in (1, 2, 3):
+        runs = [(n, dt, True) for n in spans for dt in dts] + [(spans[0], dts[0], False)]
+        for n, dt, added in runs:
+            r = jumper_moving(case, n, dt, added)
+            err = r["slidebeam"] - r["reference"]
+            print(f"| {case}: {'xyz'[case - 1]} | {n} | {dt:g} | {'Ca = 1' if added else 'none'} | "
+                  f"{r['reference'].min():.2f}-{r['reference'].max():.2f} | "
+                  f"{r['slidebeam'].min():.2f}-{r['slidebeam'].max():.2f} | {np.abs(err).max():.2f} | "
+                  f"{err.mean():+.2f} | {r['wall']:.1f} | {r['newton'] / r['steps']:.1f} |", flush=True)
+
+
+def jumper_figure(path: str, spans: int, dt: float) -> None:
+    """The three cases' top tension over time, the reference's and slidebeam's, in one figure."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
+    for case, ax in zip((1, 2, 3), axes):
+        r = jumper_moving(case, spans, dt)
+        dry = jumper_moving(case, spans, dt, added_mass=False)
+        ax.plot(r["t"], r["reference"], color="k", lw=2.5, alpha=0.35, label="Lowe & Langley (2006)")
+        ax.plot(r["t"], r["slidebeam"], color="C0", lw=1.0, label=f"slidebeam, {spans} spans, dt = {dt:g} s")
+        ax.plot(dry["t"], dry["slidebeam"], color="C3", lw=0.8, ls="--", label="slidebeam without added mass")
+        ax.set_ylabel("top tension, kN")
+        ax.set_title(f"case {case}: the top moved 10 m along {'xyz'[case - 1]} at a period of 27 s", fontsize=10)
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time after the ramp, s")
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=8)
+    fig.tight_layout(rect=(0.0, 0.035, 1.0, 1.0))
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
+
+
 def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETTLE, dt: float | None = None):
     """The scene's chain on a seabed with friction mu: from the frictionless equilibrium start with
     the fairlead at START_SPAN (1.6 kN of horizontal tension), pulled out by PULL over `ramp`
@@ -567,8 +656,18 @@ def main() -> int:
     p.add_argument("--moving", action="store_true",
                    help="the scene's line moved by its fairlead, slidebeam and MoorDyn side by side (--spans)")
     p.add_argument("--jumper", action="store_true", help="Lowe & Langley's jumper at rest (--spans)")
+    p.add_argument("--jumper-moving", action="store_true",
+                   help="Lowe & Langley's jumper under its top's 10 m / 27 s motions (--spans, --dt)")
+    p.add_argument("--dt", type=float, nargs="+", default=[0.05], help="--jumper-moving: time steps (default 0.05)")
+    p.add_argument("--figure", help="--jumper-moving: draw the three cases into this file (first of --spans, --dt)")
     p.add_argument("--repeat", type=int, default=3, help="--moving: runs of each, the median wall time (default 3)")
     args = p.parse_args()
+    if args.jumper_moving:
+        if args.figure:
+            jumper_figure(args.figure, args.spans[0], args.dt[0])
+        else:
+            jumper_moving_table(args.spans, args.dt)
+        return 0
     if args.jumper:
         jumper_table(args.spans)
         return 0

@@ -105,27 +105,33 @@ class AddedMass final : public CentreLineEffect<W>, public ConfigurationKinetic 
     const VecY a0 = midpoint ? VecY::Zero() : gather(ctx, *ctx.a_old, b, e);
     for (int g = 0; g < n_points(b); ++g) {
       const CentreLinePoint<W> q = point(b, e, g);
-      Vec3AD r1, b1;
       const Vec3 r1d = position(q, y1), b1d = tangent(q, y1);
-      for (int k = 0; k < 3; ++k) {
-        r1(k) = AD(r1d(k), 6, k);
-        b1(k) = AD(b1d(k), 6, 3 + k);
-      }
-      Vec3AD f_r, f_b;
-      if (midpoint) {
-        am::midpoint_forces(c_, ctx.h, position(q, y0), tangent(q, y0), position(q, v0), r1, b1, f_r, f_b);
-      } else {
-        const am::NewmarkStart s{position(q, y0), position(q, v0), position(q, a0),
-                                 tangent(q, y0),  tangent(q, v0),  tangent(q, a0)};
-        am::endpoint_forces(c_, ctx.h, ctx.beta, ctx.gamma, s, r1, b1, f_r, f_b);
-      }
+      const auto forces = [&](const auto& r1, const auto& b1, auto& f_r, auto& f_b) {
+        if (midpoint) {
+          am::midpoint_forces(c_, ctx.h, position(q, y0), tangent(q, y0), position(q, v0), r1, b1, f_r, f_b);
+        } else {
+          const am::NewmarkStart s{position(q, y0), position(q, v0), position(q, a0),
+                                   tangent(q, y0),  tangent(q, v0),  tangent(q, a0)};
+          am::endpoint_forces(c_, ctx.h, ctx.beta, ctx.gamma, s, r1, b1, f_r, f_b);
+        }
+      };
       Vec3 fr, fb;
       Eigen::Matrix<double, 3, 6> dfr, dfb;
-      for (int k = 0; k < 3; ++k) {
-        fr(k) = f_r(k).value();
-        fb(k) = f_b(k).value();
-        dfr.row(k) = f_r(k).derivatives().transpose();
-        dfb.row(k) = f_b(k).derivatives().transpose();
+      if (!K) {  // the residual alone: plain doubles
+        forces(r1d, b1d, fr, fb);
+      } else {  // and its derivatives with respect to the point's end position and tangent
+        Vec3AD r1, b1, f_r, f_b;
+        for (int k = 0; k < 3; ++k) {
+          r1(k) = AD(r1d(k), 6, k);
+          b1(k) = AD(b1d(k), 6, 3 + k);
+        }
+        forces(r1, b1, f_r, f_b);
+        for (int k = 0; k < 3; ++k) {
+          fr(k) = f_r(k).value();
+          fb(k) = f_b(k).value();
+          dfr.row(k) = f_r(k).derivatives().transpose();
+          dfb.row(k) = f_b(k).derivatives().transpose();
+        }
       }
       for (int i = 0; i < W; ++i)
         r.template segment<3>(3 * i) += q.w * (q.N[static_cast<size_t>(i)] * fr + q.dN[static_cast<size_t>(i)] * fb);

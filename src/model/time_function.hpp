@@ -16,27 +16,32 @@ namespace slidebeam {
 struct TimeFunction {
   enum class Kind { Constant, Ramp, SmoothRamp, Hat, Step, Sine, Table } kind = Kind::Constant;
   double t0 = 0.0, t1 = std::numeric_limits<double>::infinity(), t2 = std::numeric_limits<double>::infinity();
-  /// Sine: offset + amplitude sin(2 pi frequency t + phase) (frequency in Hz, phase in rad).
+  /// Sine: offset + amplitude r(t) sin(2 pi frequency t + phase) (frequency in Hz, phase in rad),
+  /// r the smooth ramp from 0 at t = 0 to 1 at t1 (1 throughout if t1 is infinite): a motion
+  /// that starts from rest.
   double amplitude = 1.0, frequency = 0.0, phase = 0.0, offset = 0.0;
   /// Table: piecewise linear through (times[i], values[i]), times strictly increasing; constant
   /// (the first or last value) beyond the ends.
   std::vector<double> times, values;
 
   double operator()(double t) const {
+    const auto smooth = [](double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); };
     switch (kind) {
       case Kind::Constant: return 1.0;
       case Kind::Ramp: return t <= t0 ? 0.0 : (t >= t1 ? 1.0 : (t - t0) / (t1 - t0));
       case Kind::SmoothRamp: {  // 10u^3 - 15u^4 + 6u^5: rate and its rate continuous at both ends
         if (t <= t0) return 0.0;
         if (t >= t1) return 1.0;
-        const double u = (t - t0) / (t1 - t0);
-        return u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
+        return smooth((t - t0) / (t1 - t0));
       }
       case Kind::Hat:
         if (t <= t0 || t >= t2) return 0.0;
         return t <= t1 ? (t - t0) / (t1 - t0) : (t2 - t) / (t2 - t1);
       case Kind::Step: return (t >= t0 && t < t1) ? 1.0 : 0.0;
-      case Kind::Sine: return offset + amplitude * std::sin(6.283185307179586 * frequency * t + phase);
+      case Kind::Sine: {
+        const double fade = !(t < t1) || std::isinf(t1) ? 1.0 : t <= 0.0 ? 0.0 : smooth(t / t1);
+        return offset + amplitude * fade * std::sin(6.283185307179586 * frequency * t + phase);
+      }
       case Kind::Table: {
         if (t <= times.front()) return values.front();
         if (t >= times.back()) return values.back();

@@ -17,6 +17,7 @@ from slidebeam.scene import TimeFunction
 from test_dynamics import everything_scene
 
 SINE = {"type": "sine", "amplitude": 0.8, "frequency": 1.5, "phase": 0.4, "offset": 0.3}
+RAMPED = {**SINE, "ramp": 0.25}  # faded in over the first 0.25 s of the rods' 0.4
 TABLE = {"type": "table", "times": [0.0, 0.1, 0.25, 0.3], "values": [0.0, 2.0, -1.0, 0.5]}
 
 
@@ -24,6 +25,9 @@ def test_values_of_sine_and_table():
     f = sc.TimeFunction("sine", amplitude=0.8, frequency=1.5, phase=0.4, offset=0.3)
     for t in (0.0, 0.2, 1.7):
         assert f.value(t) == pytest.approx(0.3 + 0.8 * math.sin(2 * math.pi * 1.5 * t + 0.4), abs=1e-15)
+    r = sc.TimeFunction("sine", t1=2.0, amplitude=0.8, frequency=1.5, phase=0.4, offset=0.3)  # ramp = 2 s
+    for t, fade in ((-1.0, 0.0), (0.0, 0.0), (1.0, 0.5), (1.5, 0.896484375), (2.0, 1.0), (3.0, 1.0)):
+        assert r.value(t) == pytest.approx(0.3 + 0.8 * fade * math.sin(2 * math.pi * 1.5 * t + 0.4), abs=1e-15)
     g = sc.TimeFunction("table", times=(0.0, 0.1, 0.25, 0.3), values=(0.0, 2.0, -1.0, 0.5))
     assert [g.value(t) for t in (-1.0, 0.0, 0.05, 0.1, 0.2, 0.3, 5.0)] == pytest.approx(
         [0.0, 0.0, 1.0, 2.0, 0.0, 0.5, 0.5], abs=1e-15)
@@ -51,7 +55,7 @@ def impulses(f: sc.TimeFunction, records) -> list[float]:
     return out
 
 
-@pytest.mark.parametrize("tf", [SINE, TABLE], ids=["sine", "table"])
+@pytest.mark.parametrize("tf", [SINE, RAMPED, TABLE], ids=["sine", "ramped sine", "table"])
 def test_the_core_evaluates_what_the_scene_says(tf):
     """A force F0 f(t) and a gravity g f(t) on free rods: under energy-momentum the momentum is
     exactly F0 sum h f(t_n+1/2) (m g sum h f), so the core's values match the scene's to the

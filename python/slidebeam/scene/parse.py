@@ -188,7 +188,8 @@ class Support:
 class TimeFunction:
     """Load multiplier; unused parameters are math.inf (or 0 for t0).
 
-    sine: offset + amplitude sin(2 pi frequency t + phase); table: piecewise linear through
+    sine: offset + amplitude r(t) sin(2 pi frequency t + phase), r a smooth ramp from 0 to 1 over
+    [0, t1] (none if t1 is infinite); table: piecewise linear through
     (times, values), constant beyond the ends."""
 
     type: str
@@ -205,8 +206,10 @@ class TimeFunction:
     def value(self, t: float) -> float:
         if self.type == "constant":
             return 1.0
-        if self.type == "sine":
-            return self.offset + self.amplitude * math.sin(2.0 * math.pi * self.frequency * t + self.phase)
+        if self.type == "sine":  # faded in over [0, t1] (the ramp) if t1 is finite
+            u = 1.0 if math.isinf(self.t1) else min(max(t / self.t1, 0.0), 1.0)
+            fade = u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
+            return self.offset + self.amplitude * fade * math.sin(2.0 * math.pi * self.frequency * t + self.phase)
         if self.type == "table":
             return float(np.interp(t, self.times, self.values))
         if self.type == "step":
@@ -604,7 +607,7 @@ _ANCF_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "rho")
 _DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain")
 _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
-              "sine": ("amplitude", "frequency", "phase", "offset"), "table": ("times", "values", "file")}
+              "sine": ("amplitude", "frequency", "phase", "offset", "ramp"), "table": ("times", "values", "file")}
 # sub-tables an override may create when absent
 _OUTPUT_KEYS = ("every", "interval", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
 _TRACK_KEYS = ("beam", "at", "body")
@@ -1461,7 +1464,8 @@ def _parse_time_function(t: _Table, base_dir: str = ".") -> TimeFunction:
     kind = t.choice("type", tuple(_TF_PARAMS))
     t.check_keys(("type",) + _TF_PARAMS[kind])
     if kind == "sine":
-        return TimeFunction(kind, amplitude=t.number("amplitude", 1.0),
+        ramp = t.number("ramp", 0.0, check=lambda r: r >= 0, requirement=">= 0 (s)")
+        return TimeFunction(kind, t1=ramp if ramp > 0 else math.inf, amplitude=t.number("amplitude", 1.0),
                             frequency=t.number("frequency", check=lambda f: f > 0, requirement="> 0 (Hz)"),
                             phase=t.number("phase", 0.0), offset=t.number("offset", 0.0))
     if kind == "table":

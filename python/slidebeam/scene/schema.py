@@ -210,7 +210,9 @@ TIME_FUNCTION = Table("time_function", "time_function = { type = ..., ... }",
                       "until t0, linear to 1 at t1, then 1; smooth_ramp: the same with the blend "
                       "10u^3 - 15u^4 + 6u^5 (u from 0 at t0 to 1 at t1), whose rate and acceleration are "
                       "continuous (a driven support started without a jolt); hat: 0 until t0, up to 1 at t1, down to 0 at t2; "
-                      "step: 1 on [t0, t1), else 0; sine: offset + amplitude sin(2 pi frequency t + phase); "
+                      "step: 1 on [t0, t1), else 0; sine: offset + amplitude sin(2 pi frequency t + phase), its "
+                      "amplitude faded in by the smooth blend over its first `ramp` seconds if given (a motion "
+                      "that starts from rest); "
                       "table: piecewise linear through (times, values), constant beyond the ends.", (
     Key("type", "the kind of function", "", REQUIRED,
         '"constant", "ramp", "smooth_ramp", "hat", "step", "sine", "table"'),
@@ -221,12 +223,14 @@ TIME_FUNCTION = Table("time_function", "time_function = { type = ..., ... }",
     Key("frequency", "sine: frequency", "Hz", REQUIRED, "> 0"),
     Key("phase", "sine: phase", "rad", "0.0", ""),
     Key("offset", "sine: offset", "", "0.0", ""),
+    Key("ramp", "sine: the time over which the amplitude grows from 0 (10u^3 - 15u^4 + 6u^5; 0: none)", "s", "0.0",
+        ">= 0"),
     Key("times", "table: the times", "s", "required unless file", "strictly increasing"),
     Key("values", "table: the values", "", "required unless file", "as many as times"),
     Key("file", "table: a CSV file of lines \"t,value\" relative to the scene (an optional header line, # "
                 "comments and blank lines allowed), instead of times and values", "", "", "a file name"),
 ), variants=(("constant", ()), ("ramp", ("t0", "t1")), ("smooth_ramp", ("t0", "t1")), ("hat", ("t0", "t1", "t2")), ("step", ("t0", "t1")),
-             ("sine", ("amplitude", "frequency", "phase", "offset")), ("table", ("times", "values", "file"))))
+             ("sine", ("amplitude", "frequency", "phase", "offset", "ramp")), ("table", ("times", "values", "file"))))
 
 MOTION = Table("motion", "motion = { displacement = ..., rotation = ..., time_function = { ... } }",
                "A prescribed motion of a support ([[support]] spherical, clamp or fixed): the point moves by "
