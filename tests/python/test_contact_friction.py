@@ -334,26 +334,28 @@ def compare_mooring():
     return module
 
 
-@pytest.mark.skip_in_parallel  # 20 s; friction's 1 = 2 ranks is checked above
+@pytest.mark.skip_in_parallel  # 12 s; friction's 1 = 2 ranks is checked above
 def test_a_mooring_line_pulled_over_a_seabed_with_friction_rests_as_the_closed_form():
-    """The mooring chain (runs/cables/mooring_line.toml) on a seabed with mu = 0.5, pulled out from
-    175 m to 205 m and left at rest: fairlead tension, the anchor's pull (H less mu w times the
-    grounded length) and the length on the seabed against the catenary with seabed friction
-    (MoorPy's model; slidebeam.scene.catenary.MooringLine, equal to MoorPy's Catenary to 1e-14).
-    Shortened for the suite (4 m spans, dt = 0.1 s, 10 s at rest: 8 s): fairlead 2e-4, anchor
-    4.3e-3 of H, length on the seabed 2.5e-3; scripts/compare_mooring.py --friction has the
-    figures at 2 m spans (docs/verification.md)."""
+    """The mooring chain (runs/cables/mooring_line.toml) on a seabed with mu = 0.5, its anchor
+    where it rests (sunk w / k into the bed), pulled out from 175 m to 205 m and left at rest:
+    fairlead tension, the anchor's pull (H less mu w times the grounded length) and the length on
+    the seabed against the catenary with seabed friction (MoorPy's model;
+    slidebeam.scene.catenary.MooringLine, equal to MoorPy's Catenary to 1e-14).
+    Shortened for the suite (4 m spans, dt = 0.1 s, 10 s at rest: 12 s): fairlead 2e-4, anchor
+    1.2e-4 of H, length on the seabed 2e-4 (1e-3 allowed for both, the issue's);
+    scripts/compare_mooring.py --friction has the figures at 2 and 1 m spans
+    (docs/verification.md)."""
     from slidebeam.scene.catenary import MooringLine
 
     m = compare_mooring()
-    sim = slidebeam.Simulation(m.pulled_scene(0.5, 55, ramp=30.0, settle=10.0, dt=0.1))
+    sim = slidebeam.Simulation(m.pulled_scene(0.5, 55, settle=10.0, dt=0.1))
     records = sim.run_dynamic().records
     fairlead, anchor, grounded = m.line_at_rest(sim, records[-1])
     exact = MooringLine(span=205.0, height=m.DEPTH, length=m.LENGTH, EA=m.EA, w=m.W, friction=0.5)
     assert fairlead == pytest.approx(exact.fairlead_tension, rel=5e-4)
-    assert abs(anchor - exact.anchor_tension) < 6e-3 * exact.H
+    assert abs(anchor - exact.anchor_tension) < 1e-3 * exact.H
     assert anchor < 0.6 * exact.H  # friction carries 48 % of H
-    assert grounded == pytest.approx(m.LENGTH - exact.suspended_length, rel=4e-3)
+    assert grounded == pytest.approx(m.LENGTH - exact.suspended_length, rel=1e-3)
     assert_balance_and_dissipation(records, rtol=1e-10)
 
 
