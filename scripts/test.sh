@@ -15,7 +15,7 @@ echo "== pytest, serial (two test processes: pytest-xdist)"
 basetemp="$(mktemp -d "${TMPDIR:-/tmp}/slidebeam-tests.XXXXXX")"
 trap 'rm -rf "$basetemp"' EXIT
 # each test runs one model on one rank; two at a time keep both cores busy
-/usr/bin/python3 -m pytest -q -p no:cacheprovider -n 2 --basetemp "$basetemp/serial" tests/python
+/usr/bin/python3 -m pytest -q -p no:cacheprovider -n 2 --durations=20 --basetemp "$basetemp/serial" tests/python
 echo "== pytest, mpirun -n 2"
 mpirun -n 2 /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
 echo "== all tests passed"
