@@ -6,12 +6,16 @@ and, when installed, as MoorPy does (its Catenary function: the line model of Mo
 MoorDyn's static solve). Prints one table: fairlead tension, the anchor's horizontal pull, the
 length of chain on the seabed, and the errors against MoorPy. With --friction, the same chain on a
 seabed with friction, pulled out and left at rest, against the closed form with seabed friction.
+--chains: MoorDyn's quasi-static chain cases; --moving: the line moved by its fairlead beside
+MoorDyn; --jumper, --jumper-moving: Lowe & Langley's jumper at rest and under its top's motions
+(beside MoorDyn; --figure draws the three cases).
 
-MoorPy is not a dependency of the project. To compare with it, use a throwaway venv that sees
-Debian's packages:
+MoorPy and MoorDyn are not dependencies of the project. To compare with them, use a throwaway
+venv that sees Debian's packages:
 
-    /usr/bin/python3 -m venv --system-site-packages /tmp/peers && /tmp/peers/bin/pip install moorpy
+    /usr/bin/python3 -m venv --system-site-packages /tmp/peers && /tmp/peers/bin/pip install moorpy moordyn
     /tmp/peers/bin/python scripts/compare_mooring.py [--spans 110 220] [--friction 0 0.1 0.5 1.5]
+    /tmp/peers/bin/python scripts/compare_mooring.py --jumper-moving --spans 68 136 --dt 0.05 0.0125
 """
 from __future__ import annotations
 
@@ -480,11 +484,15 @@ JUMPER_DATA = ROOT / "tests" / "data" / "lowe_and_langley_2006"
 JUMPER_WATER = {"cd_normal": 1.0, "cd_tangential": 0.0, "ca_normal": 1.0, "ca_tangential": 0.0}  # Cd, CdAx, Ca, CaAx
 
 
-def jumper_moving_scene_data(case: int, spans: int, dt: float, added_mass: bool = True) -> dict:
+def jumper_moving_scene_data(case: int, spans: int, dt: float, added_mass: bool = True, ancf: bool = False) -> dict:
     """The jumper's dynamic case 1, 2 or 3: from its equilibrium start, the top moved along x, y or
-    z; drag and added mass as the reference's (Cd = Ca = 1 across, none along); modified Newton."""
+    z; drag and added mass as the reference's (Cd = Ca = 1 across, none along); modified Newton.
+    A director beam, or an ANCF cable (its EA, EI and mass; no shear, torsion or rotary inertia)."""
     j = JUMPER
     data = jumper_scene_data(spans)
+    if ancf:
+        data["beam"] = [{**data["beam"][0], "formulation": "ancf",
+                         "section": {"EA": j["EA"], "EI": j["EI"], "rhoA": j["rhoA"]}}]
     data["analysis"] = {**data["analysis"], "t_end": JUMPER_PERIOD + JUMPER_COMPARED, "dt": dt}
     displacement = [0.0, 0.0, 0.0]
     displacement[case - 1] = JUMPER_AMPLITUDE
@@ -497,7 +505,7 @@ def jumper_moving_scene_data(case: int, spans: int, dt: float, added_mass: bool 
     return data
 
 
-def jumper_moving(case: int, spans: int, dt: float, added_mass: bool = True) -> dict:
+def jumper_moving(case: int, spans: int, dt: float, added_mass: bool = True, ancf: bool = False) -> dict:
     """The reference's times (after the ramp) and top tensions, slidebeam's top tension there (kN),
     the run's wall time, steps and Newton iterations."""
     import petsc4py
@@ -507,7 +515,7 @@ def jumper_moving(case: int, spans: int, dt: float, added_mass: bool = True) -> 
 
     import slidebeam
 
-    sim = slidebeam.Simulation(slidebeam.scene_from_dict(jumper_moving_scene_data(case, spans, dt, added_mass)))
+    sim = slidebeam.Simulation(slidebeam.scene_from_dict(jumper_moving_scene_data(case, spans, dt, added_mass, ancf)))
     start = time.perf_counter()
     run = sim.run_dynamic()
     wall = time.perf_counter() - start
@@ -521,19 +529,130 @@ def jumper_moving(case: int, spans: int, dt: float, added_mass: bool = True) -> 
             "wall": wall, "steps": run.steps, "newton": run.newton_iterations}
 
 
+# Lowe & Langley's jumper as MoorDyn's test runs it (tests/Mooring/lowe_and_langley_2006/line.txt;
+# its internal damping, BA = -0.5: half the critical damping of a segment's axial mode)
+MOORDYN_JUMPER = """MoorDyn input file for a flexible jumper (Lowe and Langley, 2006)
+----------------------- LINE TYPES ------------------------------------------
+TypeName   Diam     Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
+(name)     (m)      (kg/m)     (N)        (N-s/-)     (N-m^2)    (-)    (-)    (-)     (-)
+main       0.396    165.0      500.0e6    -0.5        120.8e3    1.0    {ca}    0.0     0.0
+---------------------- CONNECTION PROPERTIES --------------------------------
+ID    Type      X       Y       Z       Mass    Volume      CdA    Ca
+(#)   (-)       (m)     (m)     (m)     (kg)    (m^3)       (m^2)  (-)
+1     Fixed     -100    0       -55     0       0           0      0
+2     Coupled   0       0       -5      0       0           0      0
+---------------------- LINES ----------------------------------------
+ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#)   (name)     (#)      (#)       (m)       (-)     (-)
+1      main      1        2         170       {n}       -
+---------------------- OPTIONS -----------------------------------------
+{dtM}         dtM           Model time step (s)
+3.0e6         kBot          bottom stiffness (Pa/m)
+3.0e5         cBot          bottom damping (Pa-s/m)
+100           WtrDpth       water depth (m)
+1000.0        WtrDnsty      water density (kg/m^3)
+9.807         g             gravity (m/s^2)
+midpoint5     tScheme       Time integration scheme
+5.0           CdScaleIC     Initial Condition generation drag factor
+30            TmaxIC        Initial Condition generation maximum time (s)
+1.0           dtIC          Initial Condition generation convergence tests (s)
+5e-3          threshIC      Initial Condition generation convergence threshold
+0             writeLog      Write a log file
+1       disableOutTime
+------------------------- need this line --------------------------------------
+"""
+
+
+def moordyn_jumper(case: int, segments: int, dtM: float, work: Path) -> dict | None:
+    """The jumper's case in MoorDyn (the scheme of its test, midpoint5), as its own test drives it:
+    the coupled top moved every 5 ms; its top tension at the reference's times. None if it blew
+    up (a NaN, or a tension ten times the reference's largest)."""
+    import os
+    import time
+
+    import moordyn  # type: ignore[import-not-found]
+
+    path = work / f"moordyn_jumper_{segments}_{dtM:g}.txt"
+    path.write_text(MOORDYN_JUMPER.format(n=segments, dtM=dtM, ca=JUMPER_WATER["ca_normal"]))
+    ref = np.loadtxt(JUMPER_DATA / f"case{case}.csv", delimiter=",")
+    sys.stdout.flush()
+    saved, quiet = os.dup(1), os.open(os.devnull, os.O_WRONLY)
+    os.dup2(quiet, 1)  # MoorDyn reports on the C library's stdout
+    try:
+        system = moordyn.Create(str(path))
+        r0 = [0.0, 0.0, -5.0]
+        moordyn.Init(system, r0, [0.0, 0.0, 0.0])
+        line = moordyn.GetLine(system, 1)
+        dt, T, A = 0.005, JUMPER_PERIOD, JUMPER_AMPLITUDE
+        steps = int(round((T + JUMPER_COMPARED) / dt))
+        times, top = [], []
+        started = time.perf_counter()
+        for k in range(steps):
+            t1 = (k + 1) * dt
+            u = min(t1 / T, 1.0)
+            fade = u**3 * (10.0 + u * (-15.0 + 6.0 * u))
+            dfade = 30.0 * u * u * (1.0 - u) ** 2 / T if t1 < T else 0.0
+            w = 2.0 * math.pi / T
+            r, v = list(r0), [0.0, 0.0, 0.0]
+            r[case - 1] += A * fade * math.sin(w * t1)
+            v[case - 1] = A * (dfade * math.sin(w * t1) + fade * w * math.cos(w * t1))
+            moordyn.Step(system, r, v, k * dt, dt)
+            if t1 >= T - 1e-9:
+                times.append(t1 - T)
+                top.append(np.linalg.norm(moordyn.GetLineNodeForce(line, segments)) / 1e3)
+        wall = time.perf_counter() - started
+        moordyn.Close(system)
+    except Exception:  # MoorDyn raises on NaN states
+        return None
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(quiet)
+    mine = np.interp(ref[:, 0], times, top)
+    if not np.all(np.isfinite(mine)) or mine.max() > 10.0 * ref[:, 1].max():
+        return None
+    return {"t": ref[:, 0], "reference": ref[:, 1], "moordyn": mine, "wall": wall}
+
+
+ANCF_STEPS = (0.05, 0.1, 0.2)  # --jumper-moving: the jumper as an ANCF cable at these steps
+
+
 def jumper_moving_table(spans: list[int], dts: list[float]) -> None:
-    print("| case: top moved along | spans | dt, s | added mass | top tension, kN: reference | slidebeam | "
+    import tempfile
+
+    try:
+        import moordyn  # noqa: F401  # type: ignore[import-not-found]
+
+        moordyn_ok = True
+    except ImportError:
+        moordyn_ok = False
+        print("MoorDyn is not installed here: see this script's docstring to compare with it", file=sys.stderr)
+    work = Path(tempfile.mkdtemp(prefix="jumper_"))
+    print("| case: top moved along | line | dt, s | added mass | top tension, kN: reference | computed | "
           "largest error, kN | mean error, kN | wall, s | Newton per step |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for case in (1, 2, 3):
-        runs = [(n, dt, True) for n in spans for dt in dts] + [(spans[0], dts[0], False)]
-        for n, dt, added in runs:
-            r = jumper_moving(case, n, dt, added)
+        runs = [(n, dt, True, False) for n in spans for dt in dts] + [(spans[0], dts[0], False, False)]
+        runs += [(spans[0], dt, True, True) for dt in ANCF_STEPS]
+        for n, dt, added, ancf in runs:
+            r = jumper_moving(case, n, dt, added, ancf)
             err = r["slidebeam"] - r["reference"]
-            print(f"| {case}: {'xyz'[case - 1]} | {n} | {dt:g} | {'Ca = 1' if added else 'none'} | "
+            line = f"slidebeam, {n} {'ANCF elements' if ancf else 'spans'}"
+            print(f"| {case}: {'xyz'[case - 1]} | {line} | {dt:g} | {'Ca = 1' if added else 'none'} | "
                   f"{r['reference'].min():.2f}-{r['reference'].max():.2f} | "
                   f"{r['slidebeam'].min():.2f}-{r['slidebeam'].max():.2f} | {np.abs(err).max():.2f} | "
                   f"{err.mean():+.2f} | {r['wall']:.1f} | {r['newton'] / r['steps']:.1f} |", flush=True)
+        if moordyn_ok:
+            for dtM in (1e-3, 2e-3):  # its test's step, and twice that
+                m = moordyn_jumper(case, 68, dtM, work)
+                if m is None:
+                    print(f"| {case}: {'xyz'[case - 1]} | MoorDyn, 68 segments | {dtM:g} | Ca = 1 | | blew up | | | | |")
+                    continue
+                err = m["moordyn"] - m["reference"]
+                print(f"| {case}: {'xyz'[case - 1]} | MoorDyn, 68 segments | {dtM:g} | Ca = 1 | "
+                      f"{m['reference'].min():.2f}-{m['reference'].max():.2f} | "
+                      f"{m['moordyn'].min():.2f}-{m['moordyn'].max():.2f} | {np.abs(err).max():.2f} | "
+                      f"{err.mean():+.2f} | {m['wall']:.1f} | |", flush=True)
 
 
 def jumper_figure(path: str, spans: int, dt: float) -> None:
