@@ -10,7 +10,8 @@
 ///
 /// Under energy-momentum (and midpoint) the step's forces conserve the added kinetic energy
 /// exactly (a discrete gradient); under Newmark and HHT they are the equations of motion at the
-/// step's end. Their tangent comes by automatic differentiation of the point kernel. The initial
+/// step's end. Their tangent is differentiated by hand under energy-momentum and midpoint and by
+/// automatic differentiation of the point kernel under Newmark and HHT. The initial
 /// acceleration of Newmark and HHT is solved with the added mass at the start (mass_at), from the
 /// forces alone: the velocity's terms of Lagrange's equations are left out there (exact for a
 /// start at rest).
@@ -119,7 +120,12 @@ class AddedMass final : public CentreLineEffect<W>, public ConfigurationKinetic 
       Eigen::Matrix<double, 3, 6> dfr, dfb;
       if (!K) {  // the residual alone: plain doubles
         forces(r1d, b1d, fr, fb);
-      } else {  // and its derivatives with respect to the point's end position and tangent
+      } else if (midpoint) {  // and its derivatives with respect to the point's end position and tangent
+        const am::PointTangent d =
+            am::midpoint_tangent(c_, ctx.h, position(q, y0), tangent(q, y0), position(q, v0), r1d, b1d, fr, fb);
+        dfr << d.fr_r, d.fr_b;
+        dfb << d.fb_r, d.fb_b;
+      } else {  // Newmark, HHT: by automatic differentiation
         Vec3AD r1, b1, f_r, f_b;
         for (int k = 0; k < 3; ++k) {
           r1(k) = AD(r1d(k), 6, k);

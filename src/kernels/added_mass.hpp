@@ -69,6 +69,43 @@ void midpoint_forces(const Coefficients& c, double h, const Vec3<double>& r0, co
   f_b = -0.5 * (c.m_t - c.m_n) * g;
 }
 
+/// midpoint_forces with its derivatives with respect to the end's position r1 and tangent b1,
+/// by hand (the residual's kernel, differentiated; checked against finite differences with the
+/// step's Jacobian).
+struct PointTangent {
+  Eigen::Matrix3d fr_r, fr_b, fb_r, fb_b;
+};
+
+inline PointTangent midpoint_tangent(const Coefficients& c, double h, const Vec3<double>& r0, const Vec3<double>& b0,
+                                     const Vec3<double>& v0, const Vec3<double>& r1, const Vec3<double>& b1,
+                                     Vec3<double>& f_r, Vec3<double>& f_b) {
+  using M3 = Eigen::Matrix3d;
+  const M3 I = M3::Identity();
+  const double dm = c.m_t - c.m_n;
+  const Vec3<double> v1 = (2.0 / h) * (r1 - r0) - v0;
+  const double d0 = b0.squaredNorm(), d1 = b1.squaredNorm(), bv1 = b1.dot(v1);
+  f_r = (apply(c, b1, v1) - apply(c, b0, v0)) / h;
+  const Vec3<double> bm = 0.5 * (b0 + b1);
+  const double n0 = b0.dot(v0) * b0.dot(v1), n1 = b1.dot(v0) * b1.dot(v1);
+  const Vec3<double> grad_n = v0 * v1.dot(bm) + v1 * v0.dot(bm);
+  const double D = d0 * d1;
+  const Vec3<double> num = 0.5 * (d0 + d1) * grad_n - (n0 + n1) * bm;
+  const Vec3<double> g = num / D;
+  f_b = -0.5 * dm * g;
+  PointTangent t;
+  const M3 A1 = c.m_n * I + (dm / d1) * b1 * b1.transpose();
+  t.fr_r = (2.0 / (h * h)) * A1;  // d v1 / d r1 = 2 / h
+  t.fr_b = (dm / h) * (b1 * v1.transpose() / d1 + (bv1 / d1) * I - (2.0 * bv1 / (d1 * d1)) * b1 * b1.transpose());
+  // g through v1 (d/dr1 = 2/h d/dv1) and through b1 (bm, n1, d1)
+  const M3 num_v = 0.5 * (d0 + d1) * (v0 * bm.transpose() + v0.dot(bm) * I) -
+                   bm * (b0.dot(v0) * b0.transpose() + b1.dot(v0) * b1.transpose());
+  const M3 num_b = grad_n * b1.transpose() + 0.25 * (d0 + d1) * (v0 * v1.transpose() + v1 * v0.transpose()) -
+                   bm * (b1.dot(v1) * v0.transpose() + b1.dot(v0) * v1.transpose()) - 0.5 * (n0 + n1) * I;
+  t.fb_r = (-0.5 * dm * (2.0 / h) / D) * num_v;
+  t.fb_b = (-0.5 * dm / D) * (num_b - g * (2.0 * d0) * b1.transpose());
+  return t;
+}
+
 /// The start of a Newmark step at a point: position, velocity and acceleration of the centre
 /// line (r, v, a) and of its tangent (b, vb, ab).
 struct NewmarkStart {

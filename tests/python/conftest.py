@@ -96,6 +96,11 @@ def run_cli(tmp_path: Path):
         env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_COMM", "PMIX", "OMPI_MCA_ess", "OMPI_FILE"))}
         if np > 1 and not any("sb_serial_below" in a for a in args):
             env["PETSC_OPTIONS"] = " ".join([env.get("PETSC_OPTIONS", ""), *DISTRIBUTE]).strip()
+        if np > 1:
+            # ranks that wait yield the core: beside the suite's other worker the cores are
+            # oversubscribed without mpirun knowing it, and busy-polling ranks starved each
+            # other (the 3-rank history test took 82 s instead of 5)
+            env["OMPI_MCA_mpi_yield_when_idle"] = "1"
         return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd or tmp_path, env=env, timeout=timeout)
 
     return run

@@ -353,9 +353,9 @@ def test_cost_table_counts_the_same_with_petsc_whole_log(run_cli, root, tmp_path
 
 
 @pytest.mark.parametrize("scene, sets", [
-    # S2-incl on a 16-span carrier: C slides from s = 0.4 to 1.9 across the control points of
+    # S2-incl on a 16-span carrier: C slides from s = 0.4 to 1.5 across the control points of
     # every rank (the joint lives with the slider, its carrier points are ghosts)
-    (("seed", "free_fall_inclined_1+4.toml"), ["beam.AB.spans=16", "analysis.t_end=0.78"]),
+    (("seed", "free_fall_inclined_1+4.toml"), ["beam.AB.spans=16", "analysis.t_end=0.66"]),
     # from the straight drawing: the equilibrium start is defined only to its roundoff floor
     # (test_cables checks it across ranks at that level)
     (("cables", "ropeway.toml"), ["analysis.t_end=0.1", "analysis.start=reference"]),

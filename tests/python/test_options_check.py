@@ -89,10 +89,17 @@ def test_shipped_scenes_with_petsc_options_give_no_warning(run_cli, root, tmp_pa
     assert not warnings(out.stderr), out.stderr
 
 
+# on 2 ranks, one scene of each kind the Schwarz path's options meet: a director rope, sliding
+# joints on carriers, an ANCF cable on a seabed (each scene is an mpirun of its own)
+PARALLEL_CABLES = ("hanging_rope", "ropeway", "mooring_heave")
+
+
 @pytest.mark.parametrize("ranks", (1, 2))
 def test_shipped_options_file_gives_no_warning(run_cli, root, ranks):
-    """runs/cables/iterative.opts (the Schwarz path) on the cable scenes, serial and parallel."""
-    for scene in sorted((root / "runs" / "cables").glob("*.toml")):
+    """runs/cables/iterative.opts (the Schwarz path) on the cable scenes, serially on all of
+    them and on 2 ranks on PARALLEL_CABLES."""
+    scenes = sorted((root / "runs" / "cables").glob("*.toml"))
+    for scene in scenes if ranks == 1 else [p for p in scenes if p.stem in PARALLEL_CABLES]:
         out = run_cli("run", str(scene), "--out", scene.stem, "-q", "--set", "analysis.t_end=0.002",
                       "--set", "output.xdmf=false", "--", "-options_file",
                       str(root / "runs" / "cables" / "iterative.opts"), np=ranks)
