@@ -20,7 +20,9 @@ venv that sees Debian's packages:
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -136,10 +138,23 @@ END
 """
 
 
+@contextlib.contextmanager
+def c_stdout_silenced():
+    """MoorDyn reports on the C library's stdout: send it to /dev/null for the block."""
+    sys.stdout.flush()
+    saved, quiet = os.dup(1), os.open(os.devnull, os.O_WRONLY)
+    os.dup2(quiet, 1)
+    try:
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(quiet)
+
+
 def moordyn_chain_at_rest(depth: float, work: Path) -> tuple[float, float, float]:
     """(fairlead tension, anchor tension, wall time) of MoorDyn's own static initialisation of
     the case (its Python module), at MoorDyn's segments."""
-    import os
     import time
 
     import moordyn  # type: ignore[import-not-found]
@@ -148,20 +163,13 @@ def moordyn_chain_at_rest(depth: float, work: Path) -> tuple[float, float, float
     path = work / f"moordyn_chain_{int(depth)}.txt"
     path.write_text(MOORDYN_CHAIN.format(d=CHAIN_D, m=CHAIN_RHO_A, EA=CHAIN_EA, z=-depth, x=span, L=length,
                                          n=segments, rho=SEA, depth=depth, g=G))
-    sys.stdout.flush()
-    saved, quiet = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-    os.dup2(quiet, 1)  # MoorDyn reports on the C library's stdout
-    try:
+    with c_stdout_silenced():
         started = time.perf_counter()
         system = moordyn.Create(str(path))
         moordyn.Init(system, [span, 0.0, 0.0], [0.0, 0.0, 0.0])
         wall = time.perf_counter() - started
         fh, fv, ah, av = moordyn.GetFASTtens(system, 1)
         moordyn.Close(system)
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(quiet)
     return math.hypot(fh[0], fv[0]), math.hypot(ah[0], av[0]), wall
 
 
@@ -286,7 +294,6 @@ def slidebeam_moving(spans: int, sets: list[str], ancf: bool = False) -> dict:
 def moordyn_moving(segments: int, dtM: float, work: Path) -> dict | None:
     """The same line in MoorDyn (RK4, no drag or added mass, the bed as stiff as slidebeam's): the
     coupled fairlead moved by the same smooth ramp, coupled every 0.01 s. None if it blew up."""
-    import os
     import time
 
     import moordyn  # type: ignore[import-not-found]
@@ -295,38 +302,32 @@ def moordyn_moving(segments: int, dtM: float, work: Path) -> dict | None:
     path = work / f"moordyn_moving_{segments}_{dtM:g}.txt"
     path.write_text(MOORDYN_MOVING.format(d=d, m=117.24598880562183, EA=EA, n=segments, dtM=dtM, kbot=1e7 / d,
                                           cbot=0.0))
-    sys.stdout.flush()
-    saved, quiet = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-    os.dup2(quiet, 1)  # MoorDyn reports on the C library's stdout
     try:
-        system = moordyn.Create(str(path))
-        moordyn.Init(system, [200.0, 0.0, 0.0], [0.0, 0.0, 0.0])
-        point = moordyn.GetPoint(system, 2)
+        with c_stdout_silenced():
+            system = moordyn.Create(str(path))
+            moordyn.Init(system, [200.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+            point = moordyn.GetPoint(system, 2)
 
-        def tension() -> float:
-            return math.sqrt(sum(f * f for f in moordyn.GetPointForce(point)))
+            def tension() -> float:
+                return math.sqrt(sum(f * f for f in moordyn.GetPointForce(point)))
 
-        tensions = {0.0: tension()}
-        dt = 0.01
-        steps = int(round(MOVING_END / dt))
-        started = time.perf_counter()
-        for k in range(steps):
-            t1 = (k + 1) * dt
-            u = min(t1 / MOVE_TIME, 1.0)
-            x = 200.0 + MOVE * u**3 * (10.0 + u * (-15.0 + 6.0 * u))
-            v = MOVE / MOVE_TIME * 30.0 * u * u * (1.0 - u) ** 2
-            moordyn.Step(system, [x, 0.0, 0.0], [v, 0.0, 0.0], k * dt, dt)
-            for t in (MOVE_TIME, MOVING_END):
-                if abs(t1 - t) < 1e-9:
-                    tensions[t] = tension()
-        wall = time.perf_counter() - started
-        moordyn.Close(system)
+            tensions = {0.0: tension()}
+            dt = 0.01
+            steps = int(round(MOVING_END / dt))
+            started = time.perf_counter()
+            for k in range(steps):
+                t1 = (k + 1) * dt
+                u = min(t1 / MOVE_TIME, 1.0)
+                x = 200.0 + MOVE * u**3 * (10.0 + u * (-15.0 + 6.0 * u))
+                v = MOVE / MOVE_TIME * 30.0 * u * u * (1.0 - u) ** 2
+                moordyn.Step(system, [x, 0.0, 0.0], [v, 0.0, 0.0], k * dt, dt)
+                for t in (MOVE_TIME, MOVING_END):
+                    if abs(t1 - t) < 1e-9:
+                        tensions[t] = tension()
+            wall = time.perf_counter() - started
+            moordyn.Close(system)
     except Exception:  # MoorDyn raises on NaN states
         return None
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(quiet)
     if not all(math.isfinite(T) and T < 1e7 for T in tensions.values()):
         return None
     return {"tension": tensions, "wall": wall}
@@ -567,7 +568,6 @@ def moordyn_jumper(case: int, segments: int, dtM: float, work: Path) -> dict | N
     """The jumper's case in MoorDyn (the scheme of its test, midpoint5), as its own test drives it:
     the coupled top moved every 5 ms; its top tension at the reference's times. None if it blew
     up (a NaN, or a tension ten times the reference's largest)."""
-    import os
     import time
 
     import moordyn  # type: ignore[import-not-found]
@@ -575,39 +575,33 @@ def moordyn_jumper(case: int, segments: int, dtM: float, work: Path) -> dict | N
     path = work / f"moordyn_jumper_{segments}_{dtM:g}.txt"
     path.write_text(MOORDYN_JUMPER.format(n=segments, dtM=dtM, ca=JUMPER_WATER["ca_normal"]))
     ref = np.loadtxt(JUMPER_DATA / f"case{case}.csv", delimiter=",")
-    sys.stdout.flush()
-    saved, quiet = os.dup(1), os.open(os.devnull, os.O_WRONLY)
-    os.dup2(quiet, 1)  # MoorDyn reports on the C library's stdout
     try:
-        system = moordyn.Create(str(path))
-        r0 = [0.0, 0.0, -5.0]
-        moordyn.Init(system, r0, [0.0, 0.0, 0.0])
-        line = moordyn.GetLine(system, 1)
-        dt, T, A = 0.005, JUMPER_PERIOD, JUMPER_AMPLITUDE
-        steps = int(round((T + JUMPER_COMPARED) / dt))
-        times, top = [], []
-        started = time.perf_counter()
-        for k in range(steps):
-            t1 = (k + 1) * dt
-            u = min(t1 / T, 1.0)
-            fade = u**3 * (10.0 + u * (-15.0 + 6.0 * u))
-            dfade = 30.0 * u * u * (1.0 - u) ** 2 / T if t1 < T else 0.0
-            w = 2.0 * math.pi / T
-            r, v = list(r0), [0.0, 0.0, 0.0]
-            r[case - 1] += A * fade * math.sin(w * t1)
-            v[case - 1] = A * (dfade * math.sin(w * t1) + fade * w * math.cos(w * t1))
-            moordyn.Step(system, r, v, k * dt, dt)
-            if t1 >= T - 1e-9:
-                times.append(t1 - T)
-                top.append(np.linalg.norm(moordyn.GetLineNodeForce(line, segments)) / 1e3)
-        wall = time.perf_counter() - started
-        moordyn.Close(system)
+        with c_stdout_silenced():
+            system = moordyn.Create(str(path))
+            r0 = [0.0, 0.0, -5.0]
+            moordyn.Init(system, r0, [0.0, 0.0, 0.0])
+            line = moordyn.GetLine(system, 1)
+            dt, T, A = 0.005, JUMPER_PERIOD, JUMPER_AMPLITUDE
+            steps = int(round((T + JUMPER_COMPARED) / dt))
+            times, top = [], []
+            started = time.perf_counter()
+            for k in range(steps):
+                t1 = (k + 1) * dt
+                u = min(t1 / T, 1.0)
+                fade = u**3 * (10.0 + u * (-15.0 + 6.0 * u))
+                dfade = 30.0 * u * u * (1.0 - u) ** 2 / T if t1 < T else 0.0
+                w = 2.0 * math.pi / T
+                r, v = list(r0), [0.0, 0.0, 0.0]
+                r[case - 1] += A * fade * math.sin(w * t1)
+                v[case - 1] = A * (dfade * math.sin(w * t1) + fade * w * math.cos(w * t1))
+                moordyn.Step(system, r, v, k * dt, dt)
+                if t1 >= T - 1e-9:
+                    times.append(t1 - T)
+                    top.append(np.linalg.norm(moordyn.GetLineNodeForce(line, segments)) / 1e3)
+            wall = time.perf_counter() - started
+            moordyn.Close(system)
     except Exception:  # MoorDyn raises on NaN states
         return None
-    finally:
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(quiet)
     mine = np.interp(ref[:, 0], times, top)
     if not np.all(np.isfinite(mine)) or mine.max() > 10.0 * ref[:, 1].max():
         return None
