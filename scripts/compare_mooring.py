@@ -138,6 +138,11 @@ END
 """
 
 
+def smooth_blend(u: float) -> tuple[float, float]:
+    """10u^3 - 15u^4 + 6u^5 (the core's smooth ramp) and its rate d/du, u in [0, 1]."""
+    return u**3 * (10.0 + u * (-15.0 + 6.0 * u)), 30.0 * u * u * (1.0 - u) ** 2
+
+
 @contextlib.contextmanager
 def c_stdout_silenced():
     """MoorDyn reports on the C library's stdout: send it to /dev/null for the block."""
@@ -318,8 +323,9 @@ def moordyn_moving(segments: int, dtM: float, work: Path) -> dict | None:
             for k in range(steps):
                 t1 = (k + 1) * dt
                 u = min(t1 / MOVE_TIME, 1.0)
-                x = 200.0 + MOVE * u**3 * (10.0 + u * (-15.0 + 6.0 * u))
-                v = MOVE / MOVE_TIME * 30.0 * u * u * (1.0 - u) ** 2
+                f, df = smooth_blend(u)
+                x = 200.0 + MOVE * f
+                v = MOVE / MOVE_TIME * df
                 moordyn.Step(system, [x, 0.0, 0.0], [v, 0.0, 0.0], k * dt, dt)
                 for t in (MOVE_TIME, MOVING_END):
                     if abs(t1 - t) < 1e-9:
@@ -588,8 +594,8 @@ def moordyn_jumper(case: int, segments: int, dtM: float, work: Path) -> dict | N
             for k in range(steps):
                 t1 = (k + 1) * dt
                 u = min(t1 / T, 1.0)
-                fade = u**3 * (10.0 + u * (-15.0 + 6.0 * u))
-                dfade = 30.0 * u * u * (1.0 - u) ** 2 / T if t1 < T else 0.0
+                fade, dfade = smooth_blend(u)
+                dfade /= T
                 w = 2.0 * math.pi / T
                 r, v = list(r0), [0.0, 0.0, 0.0]
                 r[case - 1] += A * fade * math.sin(w * t1)

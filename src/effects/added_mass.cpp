@@ -40,6 +40,8 @@ class AddedMass final : public CentreLineEffect<W>, public ConfigurationKinetic 
   using Base::gather;
   using Base::n_points;
   using Base::point;
+  using Base::position;
+  using Base::tangent;
   using AD = Eigen::AutoDiffScalar<Eigen::Matrix<double, 6, 1>>;
   using Vec3AD = Eigen::Matrix<AD, 3, 1>;
 
@@ -73,9 +75,7 @@ class AddedMass final : public CentreLineEffect<W>, public ConfigurationKinetic 
       MatY K = MatY::Zero();
       for (int g = 0; g < n_points(b); ++g) {
         const CentreLinePoint<W> q = point(b, e, g);
-        const Vec3 t = tangent(q, y);
-        const Eigen::Matrix3d A =
-            c_.m_n * Eigen::Matrix3d::Identity() + ((c_.m_t - c_.m_n) / t.squaredNorm()) * t * t.transpose();
+        const Eigen::Matrix3d A = am::matrix(c_, tangent(q, y));
         for (int i = 0; i < W; ++i)
           for (int j = 0; j < W; ++j)
             K.template block<3, 3>(3 * i, 3 * j) += (q.w * q.N[static_cast<size_t>(i)] * q.N[static_cast<size_t>(j)]) * A;
@@ -88,17 +88,6 @@ class AddedMass final : public CentreLineEffect<W>, public ConfigurationKinetic 
 
  private:
   bool acts(const EvalContext& ctx) const override { return ctx.h > 0.0 && ctx.v_old != nullptr; }
-
-  static Vec3 position(const CentreLinePoint<W>& q, const VecY& y) {
-    Vec3 x = Vec3::Zero();
-    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return x;
-  }
-  static Vec3 tangent(const CentreLinePoint<W>& q, const VecY& y) {
-    Vec3 x = Vec3::Zero();
-    for (int i = 0; i < W; ++i) x += q.dN[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return x;
-  }
 
   void element(const EvalContext& ctx, const Beam& b, int e, VecY& r, MatY* K) const override {
     const VecY y0 = gather(ctx, ctx.x_old, b, e), y1 = gather(ctx, ctx.x, b, e), v0 = gather(ctx, *ctx.v_old, b, e);
@@ -165,11 +154,7 @@ void register_added_mass_effects(EffectRegistry& r) {
                                    "A = rho pi D^2 / 4 (C_n across the line, C_t along it)",
                                    "kinetic");
   s.rate_force = true;
-  r.add(s, [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
-    const int beam = beam_param(m, p);
-    if (m.beam(beam).is_ancf()) return std::make_unique<AddedMass<4>>(beam, m, p);
-    return std::make_unique<AddedMass<3>>(beam, m, p);
-  });
+  r.add(s, make_centre_line_effect<AddedMass>);
 }
 
 }  // namespace slidebeam::effects

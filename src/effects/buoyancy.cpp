@@ -96,11 +96,7 @@ void register_buoyancy_effects(EffectRegistry& r) {
        {"g", K::Vector, "m/s^2", "the gravity the water weighs under; [0, 0, 0]: [gravity]'s", "[0.0, 0.0, 0.0]", -inf,
         inf, false, 3}},
       "potential");
-  r.add(s, [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
-    const int beam = beam_param(m, p);
-    if (m.beam(beam).is_ancf()) return std::make_unique<Buoyancy<4>>(beam, m, p);
-    return std::make_unique<Buoyancy<3>>(beam, m, p);
-  });
+  r.add(s, make_centre_line_effect<Buoyancy>);
 }
 
 }  // namespace slidebeam::effects

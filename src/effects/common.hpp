@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -495,6 +496,17 @@ class CentreLineEffect : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
   }
   static int n_points(const Beam& b) { return centre_line_points(b); }
   static CentreLinePoint<W> point(const Beam& b, int e, int g) { return centre_line_point<W>(b, e, g); }
+  /// The centre line's position and tangent x' at point q of an element in state y (gather).
+  static Eigen::Vector3d position(const CentreLinePoint<W>& q, const VecY& y) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    return x;
+  }
+  static Eigen::Vector3d tangent(const CentreLinePoint<W>& q, const VecY& y) {
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    for (int i = 0; i < W; ++i) t += q.dN[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    return t;
+  }
 
  private:
   // block i of the element: director, the phi of control point i; ANCF, r (even i) or r' (odd i)
@@ -502,5 +514,14 @@ class CentreLineEffect : public ElementEffect<W == 3 ? 3 : 2, 3 * W> {
   static int node(int i) { return W == 3 ? i : i / 2; }
   static int offset(int i) { return W == 3 ? 0 : 3 * (i % 2); }
 };
+
+/// The factory of a CentreLineEffect E<W>(beam, model, params) on the entry's beam: E<4> on an
+/// ANCF cable, E<3> on a director beam.
+template <template <int> class E>
+std::unique_ptr<Effect> make_centre_line_effect(const Model& m, const EffectParams& p) {
+  const int beam = beam_param(m, p);
+  if (m.beam(beam).is_ancf()) return std::make_unique<E<4>>(beam, m, p);
+  return std::make_unique<E<3>>(beam, m, p);
+}
 
 }  // namespace slidebeam::effects

@@ -39,6 +39,7 @@ double damping_depth(const Beam& b, const EffectParams& p) {
 template <int W, class Shape>
 class ContactDamping final : public CentreLineEffect<W> {
   using Base = CentreLineEffect<W>;
+  using Base::position;
   using VecY = typename Base::VecY;
   using MatY = typename Base::MatY;
 
@@ -76,12 +77,6 @@ class ContactDamping final : public CentreLineEffect<W> {
   }
 
  private:
-  static Eigen::Vector3d position(const CentreLinePoint<W>& q, const VecY& y) {
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return x;
-  }
-
   Shape shape_;
   double c_, depth_;
   std::string label_;

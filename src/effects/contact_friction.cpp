@@ -124,6 +124,7 @@ bool friction_point(const Penalty& law, const Shape& shape, const Coefficients& 
 template <int W, class Shape>
 class ContactFriction final : public CentreLineEffect<W>, public PointHistory<4>, public OutputSource {
   using Base = CentreLineEffect<W>;
+  using Base::position;
   using VecY = typename Base::VecY;
   using MatY = typename Base::MatY;
   // per point: the anchor's 3 coordinates, then its state (kFree, kStuck, kSlipped)
@@ -232,17 +233,11 @@ class ContactFriction final : public CentreLineEffect<W>, public PointHistory<4>
       }
     }
   }
-  static Eigen::Vector3d position(const CentreLinePoint<W>& q, const VecY& y) {
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return x;
-  }
   /// The beam's unit direction in the shape's surface at the point in state y (the centre line's
   /// tangent less its normal part); zero when the coefficients are equal (not read then).
   Eigen::Vector3d direction(const CentreLinePoint<W>& q, const VecY& y) const {
-    Eigen::Vector3d t = Eigen::Vector3d::Zero();
-    if (mu_.isotropic()) return t;
-    for (int i = 0; i < W; ++i) t += q.dN[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
+    if (mu_.isotropic()) return Eigen::Vector3d::Zero();
+    Eigen::Vector3d t = Base::tangent(q, y);
     const Eigen::Vector3d n = shape_.gradient(position(q, y));
     t -= n.dot(t) * n;
     const double norm = t.norm();

@@ -216,11 +216,7 @@ void register_drag_effects(EffectRegistry& r) {
        "eps of |w| ~ sqrt(w . w + eps^2): the force is smooth at rest (relative error eps^2 / (2 |w|^2))", "1e-3", 0.0,
        inf, true},
   };
-  r.add(s, [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
-    const int beam = beam_param(m, p);
-    if (m.beam(beam).is_ancf()) return std::make_unique<FluidDrag<4>>(beam, m, p);
-    return std::make_unique<FluidDrag<3>>(beam, m, p);
-  });
+  r.add(s, make_centre_line_effect<FluidDrag>);
 }
 
 }  // namespace slidebeam::effects

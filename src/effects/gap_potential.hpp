@@ -136,6 +136,7 @@ bool gap_force(const Law& law, const Shape& shape, const EvalContext& ctx, const
 template <int W, class Law, class Shape = PlaneGap>
 class GapPotential : public CentreLineEffect<W>, public OutputSource {
   using Base = CentreLineEffect<W>;
+  using Base::position;
 
  public:
   GapPotential(int beam, const Model& m, const Shape& shape, const Law& law) : Base(beam, m), shape_(shape), law_(law) {}
@@ -188,11 +189,6 @@ class GapPotential : public CentreLineEffect<W>, public OutputSource {
         f(q.w, position(q, y));
       }
     }
-  }
-  static Eigen::Vector3d position(const CentreLinePoint<W>& q, const typename Base::VecY& y) {
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int i = 0; i < W; ++i) x += q.N[static_cast<size_t>(i)] * y.template segment<3>(3 * i);
-    return x;
   }
 
   Shape shape_;

@@ -48,9 +48,9 @@ Vec3<S> apply(const Coefficients& c, const Vec3<T>& b, const Vec3<S>& v) {
   return c.m_n * v + ((c.m_t - c.m_n) * bv / bb) * b.template cast<S>();
 }
 
-/// 1/2 v^T A(b) v.
-inline double energy(const Coefficients& c, const Vec3<double>& b, const Vec3<double>& v) {
-  return 0.5 * v.dot(apply(c, b, v));
+/// A(b) itself.
+inline Eigen::Matrix3d matrix(const Coefficients& c, const Vec3<double>& b) {
+  return c.m_n * Eigen::Matrix3d::Identity() + ((c.m_t - c.m_n) / b.squaredNorm()) * b * b.transpose();
 }
 
 /// The point forces of one step under energy-momentum or midpoint: from the start's position
@@ -93,8 +93,7 @@ inline PointTangent midpoint_tangent(const Coefficients& c, double h, const Vec3
   const Vec3<double> g = num / D;
   f_b = -0.5 * dm * g;
   PointTangent t;
-  const M3 A1 = c.m_n * I + (dm / d1) * b1 * b1.transpose();
-  t.fr_r = (2.0 / (h * h)) * A1;  // d v1 / d r1 = 2 / h
+  t.fr_r = (2.0 / (h * h)) * matrix(c, b1);  // d v1 / d r1 = 2 / h
   t.fr_b = (dm / h) * (b1 * v1.transpose() / d1 + (bv1 / d1) * I - (2.0 * bv1 / (d1 * d1)) * b1 * b1.transpose());
   // g through v1 (d/dr1 = 2/h d/dv1) and through b1 (bm, n1, d1)
   const M3 num_v = 0.5 * (d0 + d1) * (v0 * bm.transpose() + v0.dot(bm) * I) -

@@ -39,7 +39,7 @@ struct TimeFunction {
         return t <= t1 ? (t - t0) / (t1 - t0) : (t2 - t) / (t2 - t1);
       case Kind::Step: return (t >= t0 && t < t1) ? 1.0 : 0.0;
       case Kind::Sine: {
-        const double fade = !(t < t1) || std::isinf(t1) ? 1.0 : t <= 0.0 ? 0.0 : smooth(t / t1);
+        const double fade = std::isinf(t1) || t >= t1 ? 1.0 : t <= 0.0 ? 0.0 : smooth(t / t1);
         return offset + amplitude * fade * std::sin(6.283185307179586 * frequency * t + phase);
       }
       case Kind::Table: {

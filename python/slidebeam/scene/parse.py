@@ -184,6 +184,11 @@ class Support:
     at: float | None  # None for "fixed"
 
 
+def _smooth_blend(u: float) -> float:
+    """10u^3 - 15u^4 + 6u^5: from 0 at u = 0 to 1 at u = 1, its rate and acceleration 0 at both."""
+    return u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
+
+
 @dataclass(frozen=True)
 class TimeFunction:
     """Load multiplier; unused parameters are math.inf (or 0 for t0).
@@ -208,8 +213,7 @@ class TimeFunction:
             return 1.0
         if self.type == "sine":  # faded in over [0, t1] (the ramp) if t1 is finite
             u = 1.0 if math.isinf(self.t1) else min(max(t / self.t1, 0.0), 1.0)
-            fade = u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
-            return self.offset + self.amplitude * fade * math.sin(2.0 * math.pi * self.frequency * t + self.phase)
+            return self.offset + self.amplitude * _smooth_blend(u) * math.sin(2.0 * math.pi * self.frequency * t + self.phase)
         if self.type == "table":
             return float(np.interp(t, self.times, self.values))
         if self.type == "step":
@@ -221,8 +225,7 @@ class TimeFunction:
         if self.type == "smooth_ramp":
             if t >= self.t1:
                 return 1.0
-            u = (t - self.t0) / (self.t1 - self.t0)
-            return u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
+            return _smooth_blend((t - self.t0) / (self.t1 - self.t0))
         if self.type == "hat":
             if t >= self.t2:
                 return 0.0
