@@ -680,12 +680,12 @@ def jumper_figure(path: str, spans: int, dt: float) -> None:
 
 
 def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETTLE, dt: float | None = None,
-                 start_span: float = START_SPAN, EI: float | None = None, stick: float = 10.0):
+                 stick: float = 10.0):
     """The scene's chain on a seabed with friction mu: from the frictionless equilibrium start with
-    the fairlead at start_span (START_SPAN: 1.6 kN of horizontal tension), pulled out to
-    START_SPAN + PULL over `ramp` seconds and left to settle for `settle` more (EI: the chain's
-    bending stiffness instead of the scene's; stick: the sticking springs' stiffness over the bed's) (the bed damped, the chain's swing damped by
-    mass-proportional damping, which vanishes at rest). A line pulled out mobilises the seabed's
+    the fairlead at START_SPAN (1.6 kN of horizontal tension), pulled out by PULL over `ramp`
+    seconds and left to settle for `settle` more (the bed damped, the chain's swing damped by
+    mass-proportional damping, which vanishes at rest; stick: the sticking springs' stiffness
+    over the bed's). A line pulled out mobilises the seabed's
     friction against the pull along its grounded part, as MoorPy's model of seabed friction
     assumes, wherever its tension grew."""
     import slidebeam
@@ -696,7 +696,7 @@ def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETT
                                   "output.every=20", *([f"analysis.dt={dt}"] if dt else [])])
     data = dict(scene.data)
     # drawn along the frictionless catenary at START_SPAN (the start then has little to do)
-    start = MooringLine(span=start_span, height=DEPTH, length=LENGTH, EA=EA, w=W)
+    start = MooringLine(span=START_SPAN, height=DEPTH, length=LENGTH, EA=EA, w=W)
     H, hanging = start.H, start.suspended_length
     # the anchor where the chain rests, sunk w / k into the bed: pinned at the bed's surface it
     # would hold the chain's end up and carry the weight of its first 0.3 m, which the bed's
@@ -707,14 +707,11 @@ def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETT
         a = W * u / H
         points.append([start.touchdown + H / W * math.asinh(a) + H * u / EA, 0.0,
                        -DEPTH + H / W * (math.sqrt(1.0 + a * a) - 1.0) + W * u * u / (2.0 * EA)])
-    points[-1] = [start_span, 0.0, 0.0]
-    section = data["beam"][0]["section"]
-    if EI is not None:
-        section = {**section, "EI2": EI, "EI3": EI, "GJ": EI}
-    data["beam"] = [{**data["beam"][0], "polyline": points, "section": section}]
+    points[-1] = [START_SPAN, 0.0, 0.0]
+    data["beam"] = [{**data["beam"][0], "polyline": points}]
     fairlead = data["support"][1]
     data["support"] = [data["support"][0], {**fairlead, "motion": {
-        "displacement": [START_SPAN + PULL - start_span, 0.0, 0.0], "time_function": {"type": "smooth_ramp", "t0": 0.0, "t1": ramp}}}]
+        "displacement": [PULL, 0.0, 0.0], "time_function": {"type": "smooth_ramp", "t0": 0.0, "t1": ramp}}}]
     k = data["contact"][0]["stiffness"]
     rhoA = data["beam"][0]["section"]["rhoA"]
     # sticking points held 10x stiffer than the bed's default: a point gives mu N / k_t before it
