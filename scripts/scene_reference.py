@@ -95,6 +95,8 @@ def _allowed(p: ParamSpec) -> str:
         return ", ".join(f'"{c}"' for c in p.choices)
     if k == "beam":
         return "a beam's name" + (f" ({' or '.join(_FORMULATION[c] for c in p.choices)})" if p.choices else "")
+    if k == "track":
+        return "a beam's name, or a list of beams' names joined end to end"
     if k == "beams":
         return f"{p.size} beam names" + (f" ({' or '.join(_FORMULATION[c].split(' ', 1)[1] + 's' for c in p.choices)})"
                                          if p.choices else "")

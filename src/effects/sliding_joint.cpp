@@ -68,7 +68,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (carrier_ < 0 || carrier_ >= nb) throw std::invalid_argument("guide: no beam with index " + std::to_string(carrier_));
     const Beam& C = m.beam(carrier_);
     if (C.is_rigid()) throw ParamError("rope", "'" + C.name() + "' is a [[body]]: a guide takes a rope (a beam)");
-    curve_ = {C.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, C.n_spans(), C.length()};
+    carriers_ = {carrier_};
+    track_.append(curve_of(C), false);
     const std::vector<double>& at = p.vector("point", 3);
     std::copy(at.begin(), at.end(), point_);
     if (slider_ >= 0) {
@@ -91,12 +92,9 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   SlidingJoint(const Model& m, const EffectParams& p)
       : slider_(static_cast<int>(p.number("slider"))), carrier_(static_cast<int>(p.number("carrier"))) {
     const int nb = static_cast<int>(m.beams().size());
-    for (int beam : {slider_, carrier_})
-      if (beam < 0 || beam >= nb) throw std::invalid_argument("sliding_joint: no beam with index " + std::to_string(beam));
-    if (slider_ == carrier_)
-      throw ParamError("carrier", "a beam cannot slide on itself ('" + m.beam(slider_).name() + "')");
-    const Beam &S = m.beam(slider_), &C = m.beam(carrier_);
-    curve_ = {C.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, C.n_spans(), C.length()};
+    if (slider_ < 0 || slider_ >= nb) throw std::invalid_argument("sliding_joint: no beam with index " + std::to_string(slider_));
+    const Beam& S = m.beam(slider_);
+    build_track(m, p);
     const double sigma = p.number("slider_s");
     if (sigma < -1e-12 * S.length() || sigma > S.length() * (1 + 1e-12))
       throw std::invalid_argument("sliding_joint: slider point s = " + std::to_string(sigma) + " outside beam '" + S.name() + "'");
@@ -127,30 +125,41 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     for (int j = 0; j < stencil_.n; ++j)
       for (int k = 0; k < 3; ++k)
         point_[k] += stencil_.w[j] * S.q_ref()[static_cast<size_t>(S.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
-    tolerance_ = p.number("tolerance", 1e-6 * C.length());
+    tolerance_ = p.number("tolerance", 1e-6 * m.beam(carrier_).length());
     fail_at_end_ = p.string("at_carrier_end", "stop") == "fail";
     held_at_start_ = p.string("static", "held") == "held";
-    label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + C.name() + "]";
-    prefix_ = S.name() + "_on_" + C.name();
+    std::string track = m.beam(carrier_).name();
+    for (size_t k = 1; k < carriers_.size(); ++k) track += "+" + m.beam(carriers_[k]).name();
+    label_ = "sliding_joint[" + S.name() + "@" + std::to_string(sigma) + " on " + track + "]";
+    prefix_ = S.name() + "_on_" + m.beam(carrier_).name();
   }
+  /// One query per carrier of the track; the nearest wins.
   void closest_point_queries(const Model&, std::vector<ClosestPointQuery>& q) const override {
-    ClosestPointQuery query;
-    query.carrier = carrier_;
-    std::copy(point_, point_ + 3, query.point);
-    q.push_back(query);
+    for (int c : carriers_) {
+      ClosestPointQuery query;
+      query.carrier = c;
+      std::copy(point_, point_ + 3, query.point);
+      q.push_back(query);
+    }
   }
   void set_closest_points(const Model& m, const ClosestPoint* found) override {
-    s0_ = found[0].s;
-    if (found[0].distance > tolerance_) {
+    size_t best = 0;
+    for (size_t i = 1; i < carriers_.size(); ++i)
+      if (found[i].distance < found[best].distance) best = i;
+    const sliding::Track::Piece& piece = track_.pieces[best];
+    s0_ = track_.single() ? found[0].s : piece.begin + (piece.reversed ? piece.curve.L - found[best].s : found[best].s);
+    const int carrier = carriers_[best];
+    if (found[best].distance > tolerance_) {
       std::ostringstream msg;
       if (is_guide())
         msg << "guide: guide '" << name_ << "' at (" << point_[0] << ", " << point_[1] << ", " << point_[2] << ") is "
-            << found[0].distance << " from rope '" << m.beam(carrier_).name() << "' (closest at s = " << s0_
+            << found[best].distance << " from rope '" << m.beam(carrier).name() << "' (closest at s = " << s0_
             << "); tolerance " << tolerance_;
       else
         msg << "sliding_joint: the slider point of beam '" << m.beam(slider_).name() << "' (" << point_[0] << ", "
-            << point_[1] << ", " << point_[2] << ") is " << found[0].distance << " from carrier '"
-            << m.beam(carrier_).name() << "' (closest at s = " << s0_ << "); tolerance " << tolerance_;
+            << point_[1] << ", " << point_[2] << ") is " << found[best].distance << " from carrier '"
+            << m.beam(carrier).name() << "' (closest at s = " << s0_ << (track_.single() ? "" : " on its track")
+            << "); tolerance " << tolerance_;
       throw std::invalid_argument(msg.str());
     }
   }
@@ -168,10 +177,10 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     rows.push_back(s_index());
     vals.push_back(s0_);
   }
-  void bounds(const Model& m, std::vector<PetscInt>& rows, std::vector<double>& lo, std::vector<double>& hi) const override {
+  void bounds(const Model&, std::vector<PetscInt>& rows, std::vector<double>& lo, std::vector<double>& hi) const override {
     rows.push_back(s_index());
     lo.push_back(0.0);
-    hi.push_back(m.beam(carrier_).length());
+    hi.push_back(track_.length());
   }
   void held_at_start(std::vector<PetscInt>& rows) const override {
     if (held_at_start_) rows.push_back(s_index());
@@ -179,20 +188,21 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
 
   /// The slider's last stencil point; a fixed guide's: the rope's point nearest it.
   PetscInt elimination_anchor(const Model& m) const override {
-    return stencil_.n > 0 ? slider_cp(m, stencil_.n - 1) : m.beam(carrier_).first_cp() + nearest_carrier_cp(m);
+    return stencil_.n > 0 ? slider_cp(m, stencil_.n - 1) : nearest_carrier_cp(m);
   }
   void anchor_points(const Model& m, std::vector<PetscInt>& cps) const override {
     for (int j = 0; j < stencil_.n; ++j) cps.push_back(slider_cp(m, j));
   }
   void elimination_precedence(std::vector<std::pair<int, int>>& pairs) const override {
-    if (slider_ >= 0) pairs.emplace_back(slider_, carrier_);
+    if (slider_ >= 0)
+      for (int c : carriers_) pairs.emplace_back(slider_, c);
   }
   void reference_couplings(const Model& m, std::vector<std::pair<PetscInt, PetscInt>>& pairs) const override {
-    if (stencil_.n > 0) pairs.emplace_back(slider_cp(m, stencil_.n - 1), m.beam(carrier_).first_cp() + nearest_carrier_cp(m));
+    if (stencil_.n > 0) pairs.emplace_back(slider_cp(m, stencil_.n - 1), nearest_carrier_cp(m));
   }
   void distribute(const Model& m) override {
     owned_ = m.dof_map().owns_cp(stencil_.n > 0 ? slider_cp(m, 0) : elimination_anchor(m));
-    const auto r = curve_.touched_blocks(s0_, s0_);
+    const auto r = track_.touched_blocks(s0_, s0_);
     move_window(r[0], r[1]);
     set_ghost_window(s0_, s0_);
   }
@@ -202,13 +212,19 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   void needed_dofs(const Model& m, std::vector<PetscInt>& dofs) const override {
     if (!owned_) return;
     if (stencil_.n > 0) add_cp_blocks(m.dof_map(), slider_cp(m, 0), stencil_.cp[stencil_.n - 1] - stencil_.cp[0] + 1, dofs);
-    add_cp_blocks(m.dof_map(), m.beam(carrier_).first_cp() + ghost_lo_, ghost_hi_ - ghost_lo_ + 1, dofs);
+    for (size_t k = 0; k < carriers_.size(); ++k) {  // the window's control points on each carrier
+      const sliding::Track::Piece& piece = track_.pieces[k];
+      const int lo = std::max(ghost_lo_, piece.first_cp), hi = std::min(ghost_hi_, piece.first_cp + piece.curve.n_cp() - 1);
+      if (lo > hi) continue;
+      const int first = std::min(track_.local_cp(lo), track_.local_cp(hi));
+      add_cp_blocks(m.dof_map(), m.beam(carriers_[k]).first_cp() + first, hi - lo + 1, dofs);
+    }
     for (int k = 0; k < 4; ++k) dofs.push_back(extra_offset() + k);
   }
   bool refresh_needed_dofs(const Model&, const LocalValues& x, const LocalValues& x_old) const override {
     if (!owned_) return false;
     const double s0 = x_old.at(s_index()), s1 = x.at(s_index());
-    const auto r = curve_.touched_cps(s0, s1);
+    const auto r = track_.touched_cps(s0, s1);
     if (r[0] >= ghost_lo_ && r[1] <= ghost_hi_) return false;
     set_ghost_window(s0, s1);
     return true;
@@ -241,11 +257,10 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (frame_) PetscFunctionReturn(frame_residual(ctx, r));
     const Terms t = terms(ctx);
     const Eigen::Vector3d& mu = t.mu;
-    const Beam& C = *t.carrier;
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (int A = t.lo; A <= t.hi; ++A) {
-      Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, C, A)) += t.Wq.at(A) * mu;
-      g += t.N1.at(A) * position(ctx.x, ctx.map, C, A);
+      Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, ctx.model, A)) += t.Wq.at(A) * mu;
+      g += t.N1.at(A) * position(ctx.x, ctx.map, ctx.model, A);
     }
     subtract_slider_point(g, ctx.x, ctx.map, ctx.model);
     if (stencil_.n > 0) scatter_stencil(r, ctx.map, ctx.model.beam(slider_), stencil_, -mu);
@@ -260,7 +275,6 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     if (frame_) PetscFunctionReturn(frame_jacobian(ctx, J));
     const Terms t = terms(ctx);
     const Eigen::Vector3d& mu = t.mu;
-    const Beam& C = *t.carrier;
     // The (s, mu) columns of the position rows and the (s, mu) rows over the slider and the
     // window of carrier points (see pattern()), filled directly: O(window) per joint.
     move_window(t.lo, t.hi);
@@ -274,8 +288,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     Eigen::Vector3d dg_ds = Eigen::Vector3d::Zero();
     for (int a = t.lo; a <= t.hi; ++a) {
       const int ia = np + 3 * (a - win_lo_);
-      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C, a);
-      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C, a) + (1.0 - t.blend_old) * x1;
+      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, ctx.model, a);
+      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, ctx.model, a) + (1.0 - t.blend_old) * x1;
       for (int k = 0; k < 3; ++k) {
         col(ia + k, 1 + k) = t.Wq.at(a);           // carrier force  / d mu
         col(ia + k, 0) = t.dWq.at(a) * mu(k);      // carrier force  / d s
@@ -347,18 +361,17 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   bool normal_force(const EvalContext& ctx, double& N, std::vector<PetscInt>& dofs, std::vector<double>& dN) const override {
     if (!owned_) return false;
     const DofMap& map = ctx.map;
-    const Beam& C = ctx.model.beam(carrier_);
     const double th = ctx.theta, sf = ctx.xf.at(s_index());
-    const auto range = curve_.touched_blocks(sf, sf);
+    const auto range = track_.touched_blocks(sf, sf);
     sliding::Weights d1, d2;
     d1.reset(range[0], range[1] - range[0] + 1);
     d2.reset(range[0], range[1] - range[0] + 1);
-    const int e = curve_.span_of(sf);
-    curve_.add_basis(e, sf, 1, 1.0, d1);
-    curve_.add_basis(e, sf, 2, 1.0, d2);
+    const int e = track_.span_of(sf);
+    track_.add_basis(e, sf, 1, 1.0, d1);
+    track_.add_basis(e, sf, 2, 1.0, d2);
     Eigen::Vector3d c = Eigen::Vector3d::Zero(), dc_ds = Eigen::Vector3d::Zero();
     for (int a = range[0]; a <= range[1]; ++a) {
-      const Eigen::Vector3d xa = position(ctx.xf, map, C, a);
+      const Eigen::Vector3d xa = position(ctx.xf, map, ctx.model, a);
       c += d1.at(a) * xa;
       dc_ds += d2.at(a) * xa;
     }
@@ -384,10 +397,9 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     }
     dofs.push_back(s_index());
     dN.push_back(th * gc.dot(dc_ds));
-    const PetscInt first = C.first_cp();
     for (int a = range[0]; a <= range[1]; ++a)
       for (int k = 0; k < 3; ++k) {
-        dofs.push_back(map.q(first + curve_.cp_of_block(a), curve_.offset_of_block(a) + k));
+        dofs.push_back(map.q(carrier_cp(ctx.model, a), track_.offset_of_block(a) + k));
         dN.push_back(th * d1.at(a) * gc(k));
       }
     if (frame_)  // Lambda = sum_i lam_i e_i(x_f), e_i = sum_j w_j d_i,j
@@ -421,16 +433,13 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     Eigen::Vector3d Gs = Eigen::Vector3d::Zero();
     double blend_old = 0.0;     // xhat = blend_old x_old + (1 - blend_old) x
     Eigen::Vector3d mu = Eigen::Vector3d::Zero();  // the multipliers
-    const Beam* carrier = nullptr;
   };
 
   Terms terms(const EvalContext& ctx) const {
-    const Beam& C = ctx.model.beam(carrier_);
-    const sliding::Curve& cv = curve_;
+    const sliding::Track& cv = track_;
     const double s1 = ctx.x.at(s_index()), s0 = ctx.x_old.at(s_index());
     Terms t;
     t.mu = multipliers(ctx.x);
-    t.carrier = &C;
     const auto range = cv.touched_blocks(s0, s1);
     t.lo = range[0];
     t.hi = range[1];
@@ -459,7 +468,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
       t.blend_old = 1.0 - th;
     }
     for (int a = t.lo; a <= t.hi; ++a) {
-      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, C, a) + (1.0 - t.blend_old) * position(ctx.x, ctx.map, C, a);
+      const Eigen::Vector3d xh = t.blend_old * position(ctx.x_old, ctx.map, ctx.model, a) + (1.0 - t.blend_old) * position(ctx.x, ctx.map, ctx.model, a);
       t.Gs += t.Ds.at(a) * xh;
     }
     return t;
@@ -489,9 +498,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     const Beam& S = m.beam(slider_);
     FrameDofs d;
     d.P = stencil_dofs(map, S, frame_st_);
-    const PetscInt first = m.beam(carrier_).first_cp();
     for (int a = c0; a < c1; ++a)
-      for (int k = 0; k < 3; ++k) d.P.push_back(map.q(first + curve_.cp_of_block(a), curve_.offset_of_block(a) + k));
+      for (int k = 0; k < 3; ++k) d.P.push_back(map.q(carrier_cp(m, a), track_.offset_of_block(a) + k));
     for (int j = 0; j < frame_st_.n; ++j)
       for (int k = 0; k < 9; ++k) d.D.push_back(map.q(S.first_cp() + frame_st_.cp[j], 3 + k));
     d.E.push_back(s_index());
@@ -532,8 +540,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   }
 
   FrameTerms frame_terms(const EvalContext& ctx) const {
-    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
-    const sliding::Curve& cv = curve_;
+    const Beam& S = ctx.model.beam(slider_);
+    const sliding::Track& cv = track_;
     const double s1 = ctx.x.at(s_index()), s0 = ctx.x_old.at(s_index());
     FrameTerms t;
     const auto range = cv.touched_blocks(s0, s1);
@@ -576,14 +584,14 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     t.dGs_ds.setZero();
     t.Xpi.setZero();
     for (int a = t.lo; a <= t.hi; ++a) {
-      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, C, a), xf = position(ctx.xf, ctx.map, C, a);
+      const Eigen::Vector3d x1 = position(ctx.x, ctx.map, ctx.model, a), xf = position(ctx.xf, ctx.map, ctx.model, a);
       t.v += t.W.at(a) * xf;
       t.dv_ds += t.dW.at(a) * xf;
       t.gap += t.N1.at(a) * x1;
       t.dc_ds += t.dN1.at(a) * x1;
       Eigen::Vector3d pi;  // pi_iA, i = 1..3
       if (em) {
-        const Eigen::Vector3d x0 = position(ctx.x_old, ctx.map, C, a);
+        const Eigen::Vector3d x0 = position(ctx.x_old, ctx.map, ctx.model, a);
         pi = 0.5 * (E0.transpose() * x0 + t.E1.transpose() * x1);
         t.Xpi += t.D.at(a) * x1;
       } else {
@@ -601,8 +609,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     const FrameTerms t = frame_terms(ctx);
     const Eigen::Vector3d lam = multipliers(ctx.x);
     const Eigen::Vector3d Lambda = t.E * lam;
-    const Beam &C = ctx.model.beam(carrier_), &S = ctx.model.beam(slider_);
-    for (int A = t.lo; A <= t.hi; ++A) Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, C, A)) += t.W.at(A) * Lambda;
+    const Beam& S = ctx.model.beam(slider_);
+    for (int A = t.lo; A <= t.hi; ++A) Eigen::Map<Eigen::Vector3d>(block(r, ctx.map, ctx.model, A)) += t.W.at(A) * Lambda;
     for (int j = 0; j < frame_st_.n; ++j) {
       double* c = r.cp(ctx.map, S.first_cp() + frame_st_.cp[j]);
       Eigen::Map<Eigen::Vector3d>(c) -= frame_st_.w[j] * Lambda;
@@ -687,22 +695,21 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
 
   /// The constraint rows at the end state x, summed in the order residual() sums them.
   Eigen::Vector3d end_gap(const EvalContext& ctx) const {
-    const Beam& C = ctx.model.beam(carrier_);
     const double s1 = ctx.x.at(s_index());
-    const auto range = curve_.touched_blocks(s1, s1);
+    const auto range = track_.touched_blocks(s1, s1);
     sliding::Weights N1;
     N1.reset(range[0], range[1] - range[0] + 1);
-    curve_.add_basis(curve_.span_of(s1), s1, 0, 1.0, N1);
+    track_.add_basis(track_.span_of(s1), s1, 0, 1.0, N1);
     if (frame_) {
       Eigen::Matrix3d E1;
       Eigen::Vector3d p1;
       slider_frame(ctx.x, ctx.map, ctx.model.beam(slider_), E1, p1);
       Eigen::Vector3d gap = -p1;
-      for (int a = range[0]; a <= range[1]; ++a) gap += N1.at(a) * position(ctx.x, ctx.map, C, a);
+      for (int a = range[0]; a <= range[1]; ++a) gap += N1.at(a) * position(ctx.x, ctx.map, ctx.model, a);
       return E1.transpose() * gap;
     }
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    for (int a = range[0]; a <= range[1]; ++a) g += N1.at(a) * position(ctx.x, ctx.map, C, a);
+    for (int a = range[0]; a <= range[1]; ++a) g += N1.at(a) * position(ctx.x, ctx.map, ctx.model, a);
     subtract_slider_point(g, ctx.x, ctx.map, ctx.model);
     return g;
   }
@@ -719,27 +726,97 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
       g -= stencil_.w[j] * Eigen::Map<const Eigen::Vector3d>(x.cp(map, first + stencil_.cp[j]) + stencil_.comp[j]);
   }
   bool is_guide() const { return !name_.empty(); }
-  /// The carrier control point nearest the slider point as drawn (a scan of one beam's points).
-  int nearest_carrier_cp(const Model& m) const {
-    const Beam& C = m.beam(carrier_);
-    const int nq = C.coordinates_per_cp();
-    int nearest = 0;
+  static sliding::Curve curve_of(const Beam& C) {
+    return {C.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, C.n_spans(), C.length()};
+  }
+  /// A beam's centre-line point at arc length s as drawn.
+  static Eigen::Vector3d drawn_point(const Beam& B, double s) {
+    const PositionStencil st = B.position_at(s);
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int j = 0; j < st.n; ++j)
+      for (int k = 0; k < 3; ++k)
+        x(k) += st.w[j] * B.q_ref()[static_cast<size_t>(B.coordinates_per_cp() * st.cp[j] + st.comp[j] + k)];
+    return x;
+  }
+  /// The carrier, or the track of carriers `carrier_track` (beam indices along s): each one's end
+  /// meets the next one's start or end as drawn, which decides the way each is run through.
+  void build_track(const Model& m, const EffectParams& p) {
+    carriers_ = {carrier_};
+    if (p.vec.count("carrier_track")) {
+      carriers_.clear();
+      for (double b : p.vec.at("carrier_track")) carriers_.push_back(static_cast<int>(b));
+    }
+    const int nb = static_cast<int>(m.beams().size());
+    for (size_t k = 0; k < carriers_.size(); ++k) {
+      const int c = carriers_[k];
+      if (c < 0 || c >= nb) throw std::invalid_argument("sliding_joint: no beam with index " + std::to_string(c));
+      if (c == slider_) throw ParamError("carrier", "a beam cannot slide on itself ('" + m.beam(c).name() + "')");
+      if (m.beam(c).is_rigid())
+        throw ParamError("carrier", "'" + m.beam(c).name() + "' is a [[body]]: a slider runs on beams");
+      for (size_t j = 0; j < k; ++j)
+        if (carriers_[j] == c) throw ParamError("carrier", "beam '" + m.beam(c).name() + "' is twice on the track");
+    }
+    carrier_ = carriers_[0];
+    if (carriers_.size() == 1) {
+      track_.append(curve_of(m.beam(carrier_)), false);
+      return;
+    }
+    // the ends of consecutive carriers that meet decide each one's way along the track
+    auto ends = [&](int c) {
+      const Beam& B = m.beam(c);
+      return std::array<Eigen::Vector3d, 2>{drawn_point(B, 0.0), drawn_point(B, B.length())};
+    };
+    std::vector<bool> reversed(carriers_.size(), false);
+    for (size_t k = 0; k + 1 < carriers_.size(); ++k) {
+      const Beam &A = m.beam(carriers_[k]), &B = m.beam(carriers_[k + 1]);
+      const auto ea = ends(carriers_[k]), eb = ends(carriers_[k + 1]);
+      const double tol = 1e-6 * std::max(A.length(), B.length());
+      int best_a = -1, best_b = -1;
+      double best = std::numeric_limits<double>::infinity();
+      for (int ia = 0; ia < 2; ++ia) {
+        if (k > 0 && ia == (reversed[k] ? 1 : 0)) continue;  // its entry end is taken
+        for (int ib = 0; ib < 2; ++ib)
+          if ((ea[ia] - eb[ib]).norm() < best) best = (ea[ia] - eb[ib]).norm(), best_a = ia, best_b = ib;
+      }
+      if (best > tol) {
+        std::ostringstream msg;
+        msg << "carrier '" << B.name() << "' does not begin where '" << A.name() << "' ends: the nearest of their ends are "
+            << best << " apart as drawn (tolerance " << tol << "); a track's carriers follow each other end to end";
+        throw ParamError("carrier", msg.str());
+      }
+      if (k == 0) reversed[0] = best_a == 0;
+      reversed[k + 1] = best_b == 1;
+    }
+    for (size_t k = 0; k < carriers_.size(); ++k) track_.append(curve_of(m.beam(carriers_[k])), reversed[k]);
+  }
+  /// The carrier control point (global index) nearest the slider point as drawn (a scan of the
+  /// track's carriers' points).
+  PetscInt nearest_carrier_cp(const Model& m) const {
+    PetscInt nearest = 0;
     double best = std::numeric_limits<double>::infinity();
-    for (int c = 0; c < C.n_cp(); ++c) {
-      const double* x = C.q_ref().data() + static_cast<size_t>(nq) * static_cast<size_t>(c);
-      const double d = (x[0] - point_[0]) * (x[0] - point_[0]) + (x[1] - point_[1]) * (x[1] - point_[1]) +
-                       (x[2] - point_[2]) * (x[2] - point_[2]);
-      if (d < best) best = d, nearest = c;
+    for (int carrier : carriers_) {
+      const Beam& C = m.beam(carrier);
+      const int nq = C.coordinates_per_cp();
+      for (int c = 0; c < C.n_cp(); ++c) {
+        const double* x = C.q_ref().data() + static_cast<size_t>(nq) * static_cast<size_t>(c);
+        const double d = (x[0] - point_[0]) * (x[0] - point_[0]) + (x[1] - point_[1]) * (x[1] - point_[1]) +
+                         (x[2] - point_[2]) * (x[2] - point_[2]);
+        if (d < best) best = d, nearest = C.first_cp() + c;
+      }
     }
     return nearest;
   }
 
-  /// Curve block A of the carrier in the state x, and a pointer to its 3 entries in r.
-  Eigen::Vector3d position(const LocalValues& x, const DofMap& map, const Beam& C, int A) const {
-    return Eigen::Map<const Eigen::Vector3d>(x.cp(map, C.first_cp() + curve_.cp_of_block(A)) + curve_.offset_of_block(A));
+  /// The global control point of track block A (on whichever carrier holds it).
+  PetscInt carrier_cp(const Model& m, int A) const {
+    return m.beam(carriers_[static_cast<size_t>(track_.piece_of_block(A))]).first_cp() + track_.cp_of_block(A);
   }
-  double* block(const LocalValues& r, const DofMap& map, const Beam& C, int A) const {
-    return r.cp(map, C.first_cp() + curve_.cp_of_block(A)) + curve_.offset_of_block(A);
+  /// Track block A in the state x, and a pointer to its 3 entries in r.
+  Eigen::Vector3d position(const LocalValues& x, const DofMap& map, const Model& m, int A) const {
+    return Eigen::Map<const Eigen::Vector3d>(x.cp(map, carrier_cp(m, A)) + track_.offset_of_block(A));
+  }
+  double* block(const LocalValues& r, const DofMap& map, const Model& m, int A) const {
+    return r.cp(map, carrier_cp(m, A)) + track_.offset_of_block(A);
   }
   Eigen::Vector3d multipliers(const LocalValues& x) const {
     return {x.at(extra_offset()), x.at(extra_offset() + 1), x.at(extra_offset() + 2)};
@@ -749,24 +826,28 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   /// Events: the slider passes the carrier's start (g = s) or its end (g = L - s), L the
   /// carrier's reference length.
   int n_events() const override { return 2; }
-  void event_values(const Model& m, const PetscScalar* x, PetscInt lo, PetscInt hi, double* g) const override {
+  void event_values(const Model&, const PetscScalar* x, PetscInt lo, PetscInt hi, double* g) const override {
     const PetscInt row = s_index();
     if (row < lo || row >= hi) return;
     g[0] = x[row - lo];
-    g[1] = m.beam(carrier_).length() - x[row - lo];
+    g[1] = track_.length() - x[row - lo];
   }
-  double event_scale(const Model& m, int) const override { return m.beam(carrier_).length(); }
+  double event_scale(const Model&, int) const override { return track_.length(); }
   Action event_action(int) const override { return fail_at_end_ ? Action::Fail : Action::Stop; }
   std::string event_message(const Model& m, int i, double g, const std::string& when) const override {
-    const double s = i == 0 ? g : m.beam(carrier_).length() - g;
+    const double s = i == 0 ? g : track_.length() - g;
     char value[32];
     std::snprintf(value, sizeof value, "%.9g", s);
     if (is_guide())
       return "the " + std::string(i == 0 ? "start" : "end") + " of rope '" + m.beam(carrier_).name() +
              "' reached guide '" + name_ + "' (s = " + value + ") " + when + "; run stopped (at_rope_end = '" +
              (fail_at_end_ ? "fail" : "stop") + "')";
-    return "the slider of beam '" + m.beam(slider_).name() + "' reached the " + (i == 0 ? "start" : "end") +
-           " of carrier '" + m.beam(carrier_).name() + "' (s = " + value + ") " + when +
+    // the carrier at that end of the track, and the end of it there
+    const size_t k = i == 0 ? 0 : carriers_.size() - 1;
+    const bool carriers_start = (i == 0) != track_.pieces[k].reversed;
+    return "the slider of beam '" + m.beam(slider_).name() + "' reached the " + (carriers_start ? "start" : "end") +
+           " of carrier '" + m.beam(carriers_[k]).name() + "'" + (track_.single() ? "" : ", the " + std::string(i == 0 ? "start" : "end") + " of its track") +
+           " (s = " + value + ") " + when +
            "; run stopped (at_carrier_end = '" + (fail_at_end_ ? "fail" : "stop") + "')";
   }
 
@@ -777,9 +858,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     const DofMap& map = m.dof_map();
     std::vector<PetscInt> d = stencil_.n > 0 ? stencil_dofs(map, m.beam(slider_), stencil_) : std::vector<PetscInt>{};
     d.reserve(static_cast<size_t>(3 * stencil_.n + 3 * (c1 - c0) + 4));
-    const PetscInt first = m.beam(carrier_).first_cp();
     for (int a = c0; a < c1; ++a)
-      for (int k = 0; k < 3; ++k) d.push_back(map.q(first + curve_.cp_of_block(a), curve_.offset_of_block(a) + k));
+      for (int k = 0; k < 3; ++k) d.push_back(map.q(carrier_cp(m, a), track_.offset_of_block(a) + k));
     d.push_back(s_index());  // the local block's order: s, then mu
     for (int k = 0; k < 3; ++k) d.push_back(extra_offset() + k);
     return d;
@@ -790,15 +870,17 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   /// margin is whole nodes, so the window holds whole nodes.
   void move_window(int lo, int hi) const {
     if (lo >= win_lo_ && hi <= win_hi_) return;
-    const int margin = kWindowMargin * curve_.blocks_per_cp();
+    int per_cp = 1;
+    for (const auto& piece : track_.pieces) per_cp = std::max(per_cp, piece.curve.blocks_per_cp());
+    const int margin = kWindowMargin * per_cp;
     win_lo_ = std::max(0, lo - margin);
-    win_hi_ = std::min(curve_.n_blocks() - 1, hi + margin);
+    win_hi_ = std::min(track_.n_blocks() - 1, hi + margin);
   }
   /// Ghost the carrier points touched by [s0, s1] plus kGhostMargin on either side.
   void set_ghost_window(double s0, double s1) const {
-    const auto r = curve_.touched_cps(s0, s1);
+    const auto r = track_.touched_cps(s0, s1);
     ghost_lo_ = std::max(0, r[0] - kGhostMargin);
-    ghost_hi_ = std::min(curve_.n_cp() - 1, r[1] + kGhostMargin);
+    ghost_hi_ = std::min(track_.n_cp() - 1, r[1] + kGhostMargin);
   }
   static constexpr int kWindowMargin = 2;  ///< carrier points (nodes) beyond the touched ones
   /// Ghosted carrier points beyond the touched ones: wider than the Jacobian's window, which
@@ -808,7 +890,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   int slider_, carrier_;
   mutable int win_lo_ = 0, win_hi_ = -1;  ///< carrier curve blocks in the Jacobian pattern
   mutable int ghost_lo_ = 0, ghost_hi_ = -1;  ///< carrier points ghosted
-  sliding::Curve curve_;        ///< the carrier's centre-line basis
+  std::vector<int> carriers_;   ///< the track's carriers, along s (carrier_ the first)
+  sliding::Track track_;        ///< their centre lines joined: the basis over s
   PositionStencil stencil_;     ///< the slider point on the slider beam
   PositionStencil frame_st_;    ///< its entries of nonzero weight (the frame form)
   bool exact_ = true;
@@ -835,7 +918,11 @@ void register_sliding_effects(EffectRegistry& r) {
             "it and to turn",
             {{"slider", K::Beam, "", "the beam whose point slides", ""},
              at,
-             {"carrier", K::Beam, "", "the beam it slides on", ""},
+             {"carrier", K::Track, "",
+              "the beam it slides on, or a track: a list of beams each beginning where the one before ends (a "
+              "carriage passing from one track rope onto the next; join them with a [[joint]] or [[rigid_joint]] "
+              "there); s runs along the list",
+              ""},
              {"discrete_gradient", K::Choice, "",
               "\"exact\": energy conserved across knots; \"midpoint\": the seed paper's form", "\"exact\"", -kInf,
               kInf, false, 0, {"exact", "midpoint"}},

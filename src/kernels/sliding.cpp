@@ -114,4 +114,167 @@ std::array<double, 2> Curve::project(const double* x, int stride, const double p
   return {best_s, best_d};
 }
 
+void Track::append(const Curve& c, bool reversed) {
+  Piece p;
+  p.curve = c;
+  p.reversed = reversed;
+  if (!pieces.empty()) {
+    const Piece& last = pieces.back();
+    p.begin = last.begin + last.curve.L;
+    p.first_block = last.first_block + last.curve.n_blocks();
+    p.first_span = last.first_span + last.curve.n_spans;
+    p.first_cp = last.first_cp + last.curve.n_cp();
+  }
+  pieces.push_back(p);
+}
+
+int Track::piece_of(double s) const {
+  const int n = static_cast<int>(pieces.size());
+  for (int p = 0; p + 1 < n; ++p)
+    if (s <= pieces[static_cast<size_t>(p)].begin + pieces[static_cast<size_t>(p)].curve.L) return p;
+  return n - 1;
+}
+
+int Track::piece_of_span(int span) const {
+  int p = 0;
+  while (p + 1 < static_cast<int>(pieces.size()) && span >= pieces[static_cast<size_t>(p) + 1].first_span) ++p;
+  return p;
+}
+
+int Track::piece_of_block(int block) const {
+  int p = 0;
+  while (p + 1 < static_cast<int>(pieces.size()) && block >= pieces[static_cast<size_t>(p) + 1].first_block) ++p;
+  return p;
+}
+
+int Track::piece_of_cp(int cp) const {
+  int p = 0;
+  while (p + 1 < static_cast<int>(pieces.size()) && cp >= pieces[static_cast<size_t>(p) + 1].first_cp) ++p;
+  return p;
+}
+
+double Track::local_s(int piece, double s) const {
+  const Piece& p = pieces[static_cast<size_t>(piece)];
+  return p.reversed ? p.begin + p.curve.L - s : s - p.begin;
+}
+
+int Track::track_block(int piece, int local) const {
+  const Piece& p = pieces[static_cast<size_t>(piece)];
+  return p.reversed ? p.first_block + p.curve.n_blocks() - 1 - local : p.first_block + local;
+}
+
+namespace {
+int local_index(const Track::Piece& p, int track_index, int first, int count) {
+  return p.reversed ? count - 1 - (track_index - first) : track_index - first;
+}
+}  // namespace
+
+int Track::cp_of_block(int block) const {
+  const Piece& p = pieces[static_cast<size_t>(piece_of_block(block))];
+  return p.curve.cp_of_block(local_index(p, block, p.first_block, p.curve.n_blocks()));
+}
+
+int Track::offset_of_block(int block) const {
+  const Piece& p = pieces[static_cast<size_t>(piece_of_block(block))];
+  return p.curve.offset_of_block(local_index(p, block, p.first_block, p.curve.n_blocks()));
+}
+
+int Track::local_cp(int cp) const {
+  const Piece& p = pieces[static_cast<size_t>(piece_of_cp(cp))];
+  return local_index(p, cp, p.first_cp, p.curve.n_cp());
+}
+
+int Track::span_of(double s) const {
+  if (single()) return pieces[0].curve.span_of(s);
+  const int p = piece_of(s);
+  return pieces[static_cast<size_t>(p)].first_span + pieces[static_cast<size_t>(p)].curve.span_of(local_s(p, s));
+}
+
+void Track::scatter(int piece, const Weights& local, double f, Weights& w) const {
+  for (size_t i = 0; i < local.w.size(); ++i) {
+    const int t = track_block(piece, local.lo + static_cast<int>(i));
+    w.w[static_cast<size_t>(t - w.lo)] += f * local.w[i];
+  }
+}
+
+void Track::add_basis(int span, double s, int k, double f, Weights& w) const {
+  if (single()) {
+    pieces[0].curve.add_basis(span, s, k, f, w);
+    return;
+  }
+  const int p = piece_of_span(span);
+  const Piece& piece = pieces[static_cast<size_t>(p)];
+  const int e = span - piece.first_span;
+  const auto r = piece.curve.span_blocks(e);
+  Weights local;
+  local.reset(r[0], r[1] - r[0] + 1);
+  piece.curve.add_basis(e, local_s(p, s), k, 1.0, local);
+  scatter(p, local, piece.reversed && k % 2 == 1 ? -f : f, w);  // d/ds = -d/dsigma on a reversed piece
+}
+
+std::array<int, 2> Track::touched_blocks(double s0, double s1) const {
+  if (single()) return pieces[0].curve.touched_blocks(s0, s1);
+  std::array<int, 2> out{std::numeric_limits<int>::max(), std::numeric_limits<int>::min()};
+  for (double s : {s0, s1}) {
+    const int p = piece_of(s);
+    const double sigma = local_s(p, s);
+    const auto r = pieces[static_cast<size_t>(p)].curve.touched_blocks(sigma, sigma);
+    const int a = track_block(p, r[0]), b = track_block(p, r[1]);
+    out[0] = std::min({out[0], a, b});
+    out[1] = std::max({out[1], a, b});
+  }
+  return out;
+}
+
+std::array<int, 2> Track::touched_cps(double s0, double s1) const {
+  if (single()) return pieces[0].curve.touched_cps(s0, s1);
+  const auto r = touched_blocks(s0, s1);
+  auto track_cp = [&](int block) {
+    const int p = piece_of_block(block);
+    const Piece& piece = pieces[static_cast<size_t>(p)];
+    const int c = cp_of_block(block);
+    return piece.reversed ? piece.first_cp + piece.curve.n_cp() - 1 - c : piece.first_cp + c;
+  };
+  return {track_cp(r[0]), track_cp(r[1])};
+}
+
+void Track::difference_quotient(double s0, double s1, Weights& D, Weights& dD) const {
+  if (single()) {
+    pieces[0].curve.difference_quotient(s0, s1, D, dD);
+    return;
+  }
+  const auto r = touched_blocks(s0, s1);
+  D.reset(r[0], r[1] - r[0] + 1);
+  dD.reset(r[0], r[1] - r[0] + 1);
+  const int pa = piece_of(s0), pb = piece_of(s1);
+  Weights Dl, dDl;
+  if (pa == pb) {
+    const Piece& piece = pieces[static_cast<size_t>(pa)];
+    piece.curve.difference_quotient(local_s(pa, s0), local_s(pa, s1), Dl, dDl);
+    scatter(pa, Dl, piece.reversed ? -1.0 : 1.0, D);
+    scatter(pa, dDl, 1.0, dD);
+    return;
+  }
+  // [s0, s1] split at the junctions into parts [u, v] (u on s0's side): D = sum_p w_p D_p with
+  // w_p = (v - u) / ds; d D_A / d s1 = -D_A / ds on the parts before s1's piece, and
+  // D_p (u - s0) / ds^2 + w_p dD_p/dv on that piece
+  const double ds = s1 - s0;
+  const int step = pb > pa ? 1 : -1;
+  for (int p = pa;; p += step) {
+    const Piece& piece = pieces[static_cast<size_t>(p)];
+    const double start = piece.begin, end = piece.begin + piece.curve.L;
+    const double u = p == pa ? s0 : (step > 0 ? start : end);
+    const double v = p == pb ? s1 : (step > 0 ? end : start);
+    piece.curve.difference_quotient(local_s(p, u), local_s(p, v), Dl, dDl);
+    const double w = (v - u) / ds, sign = piece.reversed ? -1.0 : 1.0;
+    scatter(p, Dl, sign * w, D);
+    if (p == pb) {
+      scatter(p, Dl, sign * (u - s0) / (ds * ds), dD);
+      scatter(p, dDl, w, dD);
+      break;
+    }
+    scatter(p, Dl, -sign * w / ds, dD);
+  }
+}
+
 }  // namespace slidebeam::sliding

@@ -105,6 +105,10 @@ struct Curve {
   int offset_of_block(int j) const { return kind == Kind::Hermite ? 3 * (j % 2) : 0; }
 
   int span_of(double s) const;
+  /// First and last block of span e.
+  std::array<int, 2> span_blocks(int e) const {
+    return kind == Kind::Hermite ? std::array<int, 2>{2 * e, 2 * e + 3} : std::array<int, 2>{e, e + 2};
+  }
   /// w += f * d^k N_j / ds^k (s) over the blocks of span `span` (k = 0, 1, 2).
   void add_basis(int span, double s, int k, double f, Weights& w) const;
   /// First and last block touched by [min(s0,s1), max(s0,s1)].
@@ -119,6 +123,64 @@ struct Curve {
   /// (director: phi first; ANCF: r, r'). Returns {s, distance}.
   std::array<double, 2> project_on_span(const double* x, int stride, int e, const double p[3]) const;
   std::array<double, 2> project(const double* x, int stride, const double p[3]) const;
+};
+
+
+/// A track: the centre lines of several carriers joined end to end, one curve in the arc length
+/// s over the track (a carriage running from one track rope onto the next). Piece p is the
+/// curve of one carrier over s in [begin_p, begin_p + L_p], drawn forwards (local sigma =
+/// s - begin_p) or reversed (sigma = begin_p + L_p - s: the carrier's end meets the track's
+/// start side). Curve blocks are numbered along s: piece after piece, a reversed piece's in
+/// reverse, so any interval of s touches a contiguous range of track blocks.
+///
+/// Basis functions of different pieces are distinct (the pieces' end blocks are unknowns of
+/// their own, held together by the joint between the carriers). The discrete derivative is the
+/// length-weighted mean of the pieces' own over the parts of [s0, s1] they hold, so that
+/// sum_A D_A y_A (s1 - s0) = c(s1) - c(s0) exactly wherever the pieces' ends meet; it is
+/// bounded (no division by s1 - s0 beyond the pieces' own). A single forward piece is its
+/// Curve, bit for bit.
+struct Track {
+  struct Piece {
+    Curve curve;
+    double begin = 0.0;  ///< s of the piece's start on the track
+    bool reversed = false;
+    int first_block = 0;  ///< track index of the piece's first block along s
+    int first_span = 0;   ///< track index of the piece's first span (spans keep the curve's numbering)
+    int first_cp = 0;     ///< track index of the piece's first control point along s
+  };
+  std::vector<Piece> pieces;
+
+  /// Append a carrier's curve; reversed: drawn from the track's far side.
+  void append(const Curve& c, bool reversed);
+  bool single() const { return pieces.size() == 1 && !pieces[0].reversed; }
+  double length() const { return pieces.back().begin + pieces.back().curve.L; }
+  int n_blocks() const { return pieces.back().first_block + pieces.back().curve.n_blocks(); }
+  int n_cp() const { return pieces.back().first_cp + pieces.back().curve.n_cp(); }
+  /// Piece of s (clamped: beyond the ends the end pieces extend; a junction belongs to the piece
+  /// before it), of a track span, of a track block, of a track control point.
+  int piece_of(double s) const;
+  int piece_of_span(int span) const;
+  int piece_of_block(int block) const;
+  int piece_of_cp(int cp) const;
+  /// The carrier's own coordinates of a track block: control point (node) and the offset of the
+  /// 3-block in that point's coordinates.
+  int cp_of_block(int block) const;
+  int offset_of_block(int block) const;
+  /// The carrier's own control point of a track control point.
+  int local_cp(int cp) const;
+  double local_s(int piece, double s) const;
+
+  int span_of(double s) const;
+  void add_basis(int span, double s, int k, double f, Weights& w) const;
+  std::array<int, 2> touched_blocks(double s0, double s1) const;
+  std::array<int, 2> touched_cps(double s0, double s1) const;
+  void difference_quotient(double s0, double s1, Weights& D, Weights& dD) const;
+
+ private:
+  /// Track block of a piece's local block.
+  int track_block(int piece, int local) const;
+  /// w += weights given over local blocks of piece p.
+  void scatter(int piece, const Weights& local, double f, Weights& w) const;
 };
 
 }  // namespace slidebeam::sliding

@@ -210,6 +210,7 @@ const char* kind_name(ParamSpec::Kind k) {
     case ParamSpec::Kind::Vector: return "vector";
     case ParamSpec::Kind::Choice: return "choice";
     case ParamSpec::Kind::Beam: return "beam";
+    case ParamSpec::Kind::Track: return "track";
     case ParamSpec::Kind::Point: return "point";
     case ParamSpec::Kind::End: return "end";
     case ParamSpec::Kind::Position: return "position";

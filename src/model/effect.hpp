@@ -137,6 +137,8 @@ struct ParamSpec {
     Vector,        ///< `size` floats
     Choice,        ///< one of `choices`
     Beam,          ///< a beam's name (EffectParams::num gets its index)
+    Track,         ///< a beam's name, or a list of beams' names joined end to end (num: the
+                   ///< first one's index; a list also vec: <key>_track, the indices in order)
     Point,         ///< arc length on the beam `on`: "start", "end" or a number (num: s, or <on>_s)
     End,           ///< as Point, at one end of the beam only
     Position,      ///< a point the entry's Point must match (checked, not passed on)

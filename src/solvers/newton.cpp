@@ -104,7 +104,7 @@ PetscErrorCode RoundoffTest::test(SNES snes, PetscInt it, PetscReal xnorm, Petsc
   if (*reason == SNES_CONVERGED_ITERATING && it > 0) {
     double level = 0.0;
     PetscCall(self->rounding_level(snes, &level));
-    if (fnorm <= level) {
+    if (fnorm <= level && fnorm <= kDivergedShare * self->fnorm0) {
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g <= eps || |J| |x| || = %g\n", (double)fnorm, level));
       *reason = SNES_CONVERGED_FNORM_ABS;
     }

@@ -18,6 +18,10 @@ struct SolveResult {
   bool converged() const { return reason > 0; }
 };
 
+/// A residual this many times the solve's initial one is never roundoff, however large the
+/// roundoff level eps || |J| |x| || of the iterate: an iterate that ran away lifts it with itself.
+constexpr double kDivergedShare = 10.0;
+
 /// Memory of the roundoff convergence test (one per SNES).
 struct RoundoffTest {
   double fnorm0 = 0.0, fnorm_prev = 0.0;

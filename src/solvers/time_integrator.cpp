@@ -589,12 +589,13 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
       self->floor_sample_ = fnorm;
-    } else if (stagnates && fnorm > relative_floor && self->rounding_level(snes) > 1e-6 * rt.fnorm0 &&
-               fnorm <= self->rounding_level(snes)) {
+    } else if (stagnates && fnorm > relative_floor && fnorm <= kDivergedShare * rt.fnorm0 &&
+               self->rounding_level(snes) > 1e-6 * rt.fnorm0 && fnorm <= self->rounding_level(snes)) {
       // (at small steps the residual's own roundoff, c0 M |x| eps, lies above the fraction of a
       // large initial residual that the test above asks for even of a fresh Jacobian, and the
       // multipliers' noise keeps the Newton step above 1e-9: a fresh Jacobian would only confirm
-      // the floor)
+      // the floor. Not so for an iterate that ran away: its |x|, and with it the roundoff level,
+      // grow without bound, and |F| with them)
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g stagnates at eps || |J| |x| ||\n", (double)fnorm));
       *reason = SNES_CONVERGED_FNORM_ABS;
       self->floor_sample_ = fnorm;

@@ -106,3 +106,95 @@ TEST(TouchedBlocks, CoverBothEndsWhenSIsNotFinite) {
     EXPECT_GE(a[1], 2 * std::max(5, hermite::element_of(8, 2.0, s1)) + 3);
   }
 }
+
+namespace {
+/// Three carriers joined end to end: a B-spline beam of 3 spans (drawn forwards), an ANCF cable of
+/// 2 elements drawn from the far side (reversed) and a B-spline beam of 4 spans (forwards).
+Track three_piece_track() {
+  Track t;
+  t.append({Curve::Kind::BSpline, 3, 1.5}, false);
+  t.append({Curve::Kind::Hermite, 2, 1.0}, true);
+  t.append({Curve::Kind::BSpline, 4, 2.0}, false);
+  return t;
+}
+
+/// Track blocks y_A whose junction blocks meet (the first piece's last block, the cable's r at
+/// its end node, which the reversed piece meets first; its r at node 0 and the last piece's
+/// first block): random otherwise.
+std::vector<double> joined_blocks(const Track& t) {
+  std::vector<double> y(static_cast<size_t>(t.n_blocks()));
+  for (size_t i = 0; i < y.size(); ++i) y[i] = std::sin(1.7 * static_cast<double>(i) + 0.3) + 0.1 * static_cast<double>(i);
+  // piece 0: blocks 0..4; piece 1 (reversed): track blocks 5..10 = local 5..0 (r'2, r2, r'1, r1, r'0, r0);
+  // piece 2: blocks 11..16
+  y[6] = y[4];    // the cable's end node r2 meets the first beam's end
+  y[11] = y[10];  // the last beam's start meets the cable's r0
+  return y;
+}
+
+double curve_at(const Track& t, const std::vector<double>& y, double s, int k) {
+  Weights w;
+  w.reset(0, t.n_blocks());
+  t.add_basis(t.span_of(s), s, k, 1.0, w);
+  double c = 0.0;
+  for (int A = 0; A < t.n_blocks(); ++A) c += w.at(A) * y[static_cast<size_t>(A)];
+  return c;
+}
+}  // namespace
+
+/// A track of one forward piece is its curve.
+TEST(Track, OnePieceIsItsCurve) {
+  Track t;
+  const Curve c{Curve::Kind::BSpline, kSpans, kL};
+  t.append(c, false);
+  Weights D, dD, Dc, dDc;
+  t.difference_quotient(0.3, 1.7, D, dD);
+  c.difference_quotient(0.3, 1.7, Dc, dDc);
+  EXPECT_EQ(D.lo, Dc.lo);
+  EXPECT_EQ(D.w, Dc.w);
+  EXPECT_EQ(dD.w, dDc.w);
+}
+
+/// The pieces meet: the curve is continuous across the junctions, its slope runs the way of s on
+/// the reversed piece, and the basis is a partition of unity everywhere.
+TEST(Track, IsContinuousAcrossJunctionsAndReversesTheReversedPiece) {
+  const Track t = three_piece_track();
+  EXPECT_DOUBLE_EQ(t.length(), 4.5);
+  const std::vector<double> y = joined_blocks(t);
+  for (double s : {1.5, 2.5}) EXPECT_NEAR(curve_at(t, y, s - 1e-12, 0), curve_at(t, y, s + 1e-12, 0), 1e-10);
+  const double h = 1e-6;
+  for (double s : {0.4, 1.8, 2.2, 3.9})
+    EXPECT_NEAR(curve_at(t, y, s, 1), (curve_at(t, y, s + h, 0) - curve_at(t, y, s - h, 0)) / (2 * h), 1e-7) << s;
+  std::vector<double> ones(static_cast<size_t>(t.n_blocks()), 0.0);
+  for (int A = 0; A < t.n_blocks(); ++A)
+    if (t.offset_of_block(A) == 0) ones[static_cast<size_t>(A)] = 1.0;  // positions 1, slopes 0
+  for (double s : {0.2, 1.5, 1.9, 2.5, 4.4}) EXPECT_NEAR(curve_at(t, ones, s, 0), 1.0, 1e-14) << s;
+  EXPECT_EQ(t.cp_of_block(5), 2);      // the reversed cable's last node comes first along s
+  EXPECT_EQ(t.offset_of_block(5), 3);  // its slope block r'2, then r2
+  EXPECT_EQ(t.offset_of_block(6), 0);
+  EXPECT_EQ(t.local_cp(t.touched_cps(1.6, 1.6)[0]), 2);
+}
+
+/// sum_A D_A y_A (s1 - s0) = c(s1) - c(s0) across one and two junctions, either way, and dD/ds1
+/// against central differences of D.
+TEST(Track, DifferenceQuotientIsTheSecantAcrossJunctions) {
+  const Track t = three_piece_track();
+  const std::vector<double> y = joined_blocks(t);
+  for (const Interval iv : {Interval{1.2, 1.9}, Interval{1.9, 1.2}, Interval{0.7, 3.3}, Interval{4.1, 1.4},
+                            Interval{1.4999, 1.5002}, Interval{2.3, 2.45}}) {
+    Weights D, dD, Dp, dDp, Dm, dDm;
+    t.difference_quotient(iv.s0, iv.s1, D, dD);
+    double secant = 0.0, sum = 0.0;
+    for (int A = D.lo; A < D.lo + static_cast<int>(D.w.size()); ++A) {
+      secant += D.at(A) * y[static_cast<size_t>(A)];
+      if (t.offset_of_block(A) == 0) sum += D.at(A);
+    }
+    EXPECT_NEAR(secant * (iv.s1 - iv.s0), curve_at(t, y, iv.s1, 0) - curve_at(t, y, iv.s0, 0), 1e-12) << iv.s0 << " " << iv.s1;
+    EXPECT_NEAR(sum, 0.0, 1e-11);
+    const double h = std::min(1e-6, 1e-4 * std::abs(iv.s1 - iv.s0));
+    t.difference_quotient(iv.s0, iv.s1 + h, Dp, dDp);
+    t.difference_quotient(iv.s0, iv.s1 - h, Dm, dDm);
+    for (int A = 0; A < t.n_blocks(); ++A)
+      EXPECT_NEAR(dD.at(A), (Dp.at(A) - Dm.at(A)) / (2 * h), 2e-5 * std::max(1.0, std::abs(dD.at(A))))
+          << iv.s0 << " " << iv.s1 << " block " << A;
+  }
+}

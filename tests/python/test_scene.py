@@ -643,10 +643,20 @@ def _slider(joint: dict) -> dict:
 
 def test_sliding_joint_parses_and_checks_its_input():
     sc = scene.scene_from_dict(_slider({"slider": "hanger", "carrier": "carrier"}))
-    assert sc.sliding_joints == (scene.SlidingJoint(1, 0.0, 0, "exact", "stop", None),)
+    assert sc.sliding_joints == (scene.SlidingJoint(1, 0.0, 0, "exact", "stop", None, carriers=(0,)),)
     sc = scene.scene_from_dict(_slider({"slider": "hanger", "at": "end", "carrier": "carrier",
                                         "discrete_gradient": "midpoint", "at_carrier_end": "fail", "tolerance": 1e-3}))
-    assert sc.sliding_joints == (scene.SlidingJoint(1, 1.0, 0, "midpoint", "fail", 1e-3, form="spatial"),)
+    assert sc.sliding_joints == (scene.SlidingJoint(1, 1.0, 0, "midpoint", "fail", 1e-3, form="spatial",
+                                                    carriers=(0,)),)
+    data = _slider({"slider": "hanger", "carrier": ["carrier", "next"]})
+    data["beam"].append(dict(data["beam"][0], name="next", start=[2, 0, 0], end=[3, 0, 0]))
+    assert scene.scene_from_dict(data).sliding_joints[0].carriers == (0, 2)  # a track
+    data["sliding_joint"][0]["carrier"] = ["carrier", 3]
+    with pytest.raises(scene.SceneError, match=r"carrier.*a beam's name or a list of beams' names"):
+        scene.scene_from_dict(data)
+    data["sliding_joint"][0]["carrier"] = ["carrier", "nope"]
+    with pytest.raises(scene.SceneError, match=r"carrier.*beam 'nope' does not exist"):
+        scene.scene_from_dict(data)
     assert sc.sliding_joints[0].form == "spatial"  # the seed's midpoint form: the spatial constraint
     sc = scene.scene_from_dict(_slider({"slider": "hanger", "carrier": "carrier"}))
     assert sc.sliding_joints[0].form == "frame"  # director sliders: the frame-projected joint

@@ -106,6 +106,7 @@ def _placement_error(scene: Scene, message: str) -> Exception:
     if not match:
         return ValueError(message)
     for i, sj in enumerate(scene.sliding_joints):
-        if (scene.beams[sj.slider].name, scene.beams[sj.carrier].name) == match.groups():
+        slider, carrier = match.groups()
+        if scene.beams[sj.slider].name == slider and carrier in (scene.beams[c].name for c in sj.carriers or (sj.carrier,)):
             return SceneError(message.removeprefix("sliding_joint: "), scene.file, f"[[sliding_joint]] #{i + 1}")
     return ValueError(message)

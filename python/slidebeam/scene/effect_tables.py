@@ -23,8 +23,8 @@ SPECS_FILE = Path(__file__).parents[1] / "effect_specs.json"  # the package's, b
 @dataclass(frozen=True)
 class ParamSpec:
     key: str
-    kind: str          # number, integer, vector, choice, beam, point, end, position, motion, beams, ends, points,
-                       # time_function, name (see ParamSpec::Kind in src/model/effect.hpp)
+    kind: str          # number, integer, vector, choice, beam, track, point, end, position, motion, beams, ends,
+                       # points, time_function, name (see ParamSpec::Kind in src/model/effect.hpp)
     unit: str
     meaning: str
     default: str       # TOML text; "" = required

@@ -271,6 +271,8 @@ class SlidingJoint:
     # 'spatial': c(s) - p = 0 (ANCF sliders, which have no directors, and the seed's midpoint
     # form discrete_gradient = 'midpoint' by default: angular momentum not exact)
     form: str = "frame"
+    # the track: the carriers along s (carrier first), each beginning where the one before ends
+    carriers: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -395,8 +397,10 @@ class Scene:
             slider = int(e.num["slider"])
             gradient = e.text["discrete_gradient"]
             default_form = "spatial" if self.beams[slider].formulation == "ancf" or gradient == "midpoint" else "frame"
-            out.append(SlidingJoint(slider, e.num["slider_s"], int(e.num["carrier"]), gradient, e.text["at_carrier_end"],
-                                    e.num.get("tolerance"), e.text["static"], e.text.get("form", default_form)))
+            carriers = tuple(int(b) for b in e.vec.get("carrier_track", [e.num["carrier"]]))
+            out.append(SlidingJoint(slider, e.num["slider_s"], carriers[0], gradient, e.text["at_carrier_end"],
+                                    e.num.get("tolerance"), e.text["static"], e.text.get("form", default_form),
+                                    carriers))
         return tuple(out)
 
     @functools.cached_property
@@ -1674,6 +1678,19 @@ def _parse_registry_entry(t: _Table, spec: EffectSpec, beams: tuple[Beam, ...], 
             on[p.key] = index_b
             num[p.key] = float(index_b)
             label_parts[p.key] = beams[index_b].name
+        elif p.kind == "track":
+            names = t.raw(p.key)
+            if isinstance(names, list):
+                if len(names) < 1 or not all(isinstance(n, str) for n in names):
+                    raise t.error(p.key, f"must be a beam's name or a list of beams' names, got {_show(names)}")
+                track = [_named_beam(t, p.key, beams, n) for n in names]
+                if len(track) > 1:
+                    vec[f"{p.key}_track"] = [float(b) for b in track]
+            else:
+                track = [_named_beam(t, p.key, beams)]
+            on[p.key] = track[0]
+            num[p.key] = float(track[0])
+            label_parts[p.key] = "+".join(beams[b].name for b in track)
         elif p.kind in ("point", "end"):
             host = p.on or "beam"
             beam = beams[on[host]]
