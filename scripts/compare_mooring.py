@@ -480,6 +480,7 @@ def jumper_table(spans: list[int]) -> None:
 
 # the friction runs: from 175 m (1.6 kN of horizontal tension) out to 205 m over 60 s, 30 s at rest
 START_SPAN, PULL, RAMP, SETTLE = 175.0, 30.0, 60.0, 30.0
+LAID_CORNER = 5.0  # m: the radius of the slack chain's turn from the bed up to the fairlead (laid_slack)
 
 
 # Lowe & Langley's dynamic cases 1-3 (MoorDyn's tests/lowe_and_langley_2006.cpp): the top moved
@@ -679,15 +680,32 @@ def jumper_figure(path: str, spans: int, dt: float) -> None:
     print(f"wrote {path}")
 
 
+def laid_slack(corner: float = LAID_CORNER) -> tuple[list[list[float]], float]:
+    """The chain laid slack as drawn: along the seabed from the anchor (sunk w / k into the bed),
+    round a quarter circle of radius `corner` and straight up to the fairlead, its drawn length
+    LENGTH exactly (the circle's chords included), so that it starts unstretched. Returns the
+    polyline and the fairlead's x."""
+    sink = W / 1e7  # the scene's bed stiffness
+    arc = [(corner * math.sin(t), corner * (1.0 - math.cos(t))) for t in np.linspace(0.0, math.pi / 2, 9)]
+    chords = sum(math.dist(arc[i], arc[i + 1]) for i in range(len(arc) - 1))
+    along = LENGTH - chords - (DEPTH + sink - corner)  # the part on the bed
+    points = [[0.0, 0.0, -DEPTH - sink]] + [[along + u, 0.0, -DEPTH - sink + v] for u, v in arc]
+    points.append([along + corner, 0.0, 0.0])
+    return points, along + corner
+
+
 def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETTLE, dt: float | None = None,
-                 stick: float = 10.0):
+                 stick: float = 10.0, laid: bool = False, ancf: bool = False):
     """The scene's chain on a seabed with friction mu: from the frictionless equilibrium start with
     the fairlead at START_SPAN (1.6 kN of horizontal tension), pulled out by PULL over `ramp`
     seconds and left to settle for `settle` more (the bed damped, the chain's swing damped by
     mass-proportional damping, which vanishes at rest; stick: the sticking springs' stiffness
     over the bed's). A line pulled out mobilises the seabed's
     friction against the pull along its grounded part, as MoorPy's model of seabed friction
-    assumes, wherever its tension grew."""
+    assumes, wherever its tension grew. laid: the chain starts instead laid slack on the bed
+    (laid_slack: no tension along the bed), at rest as drawn, and is pulled out from there to the
+    same fairlead, so that no tension of an earlier state stays at the anchor. ancf: the chain as an
+    ANCF cable (its EA, EI and mass)."""
     import slidebeam
     from slidebeam.scene.catenary import MooringLine
 
@@ -721,6 +739,19 @@ def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETT
     data["contact"] = [{**data["contact"][0], "mu": mu, "damping": 2 * 0.3 * math.sqrt(k * rhoA),
                         "tangential_stiffness": stick * k}]
     data["damping"] = [{**data["damping"][0], "mass_proportional": 1.0}]
+    if laid:
+        points, fairlead_x = laid_slack()
+        # the drawing stress free: its corner's bend stays in the chain where it hangs (3e-4 of the
+        # tensions); a straight stress-free state would start the corner springing straight, and the
+        # start would cut a thousand steps (docs/verification.md)
+        beam = {k: v for k, v in data["beam"][0].items() if k != "unstretched_length"}
+        data["beam"] = [{**beam, "polyline": points}]
+        data["support"][1]["motion"]["displacement"] = [START_SPAN + PULL - fairlead_x, 0.0, 0.0]
+        data["analysis"] = {**data["analysis"], "start": "reference"}
+    if ancf:  # (a cable's stress-free state is straight: the drawing is only where it starts)
+        section = data["beam"][0]["section"]
+        data["beam"] = [{**data["beam"][0], "formulation": "ancf", "unstretched_length": LENGTH,
+                         "section": {"EA": section["EA"], "EI": section["EI2"], "rhoA": section["rhoA"]}}]
     return slidebeam.scene_from_dict(data)
 
 
@@ -736,7 +767,7 @@ def line_at_rest(sim, record) -> tuple[float, float, float]:
     return float(np.linalg.norm(f["spherical[chain@end]"])), float(-f["spherical[chain@start]"][0]), float(bed / W)
 
 
-def pulled_line(mu: float, spans: int) -> tuple[float, float, float, float]:
+def pulled_line(mu: float, spans: int, laid: bool = False) -> tuple[float, float, float, float]:
     """line_at_rest of pulled_scene at its end, and the run's wall time."""
     import time
 
@@ -746,14 +777,14 @@ def pulled_line(mu: float, spans: int) -> tuple[float, float, float, float]:
     import slidebeam
 
     started = time.perf_counter()
-    sim = slidebeam.Simulation(pulled_scene(mu, spans))
+    sim = slidebeam.Simulation(pulled_scene(mu, spans, laid=laid))
     record = sim.run_dynamic().records[-1]
     return (*line_at_rest(sim, record), time.perf_counter() - started)
 
 
-def friction_table(spans: list[int], coefficients: list[float]) -> None:
+def friction_table(spans: list[int], coefficients: list[float], laid: bool = False) -> None:
     """The pulled-out line against the closed form with seabed friction (MooringLine, friction) and
-    MoorPy's Catenary with CB = mu."""
+    MoorPy's Catenary with CB = mu; laid: also the line laid slack before the pull (pulled_scene)."""
     from slidebeam.scene.catenary import MooringLine
 
     span = START_SPAN + PULL
@@ -783,6 +814,11 @@ def friction_table(spans: list[int], coefficients: list[float]) -> None:
             T, H, bed, wall = pulled_line(mu, n)
             print(f"| {mu} | slidebeam, {n} spans | {T:.2f} | {T / ref[0] - 1:+.1e} | {H:.2f} | "
                   f"{(H - ref[1]) / exact.H:+.1e} | {bed:.2f} | {wall:.1f} |", flush=True)
+        for n in spans if laid else []:  # no earlier tension kept: against the closed form itself
+            T, H, bed, wall = pulled_line(mu, n, laid=True)
+            print(f"| {mu} | slidebeam, {n} spans, laid slack first | {T:.2f} | "
+                  f"{T / exact.fairlead_tension - 1:+.1e} | {H:.2f} | {(H - exact.anchor_tension) / exact.H:+.1e} | "
+                  f"{bed:.2f} | {wall:.1f} |", flush=True)
 
 
 def main() -> int:
@@ -791,6 +827,9 @@ def main() -> int:
     p.add_argument("--friction", type=float, nargs="*",
                    help="seabed friction coefficients: the line pulled out from 175 m to 205 m, then at rest, "
                         "against the closed form with friction (e.g. --friction 0 0.1 0.5 1.5)")
+    p.add_argument("--laid", action="store_true",
+                   help="--friction: also the line laid slack on the bed first (from a fairlead 172 m out), "
+                        "so that no tension of a start stays at the anchor")
     p.add_argument("--chains", action="store_true",
                    help="the quasi-static chain cases MoorDyn validates against (50, 200 and 600 m deep)")
     p.add_argument("--moving", action="store_true",
@@ -818,7 +857,7 @@ def main() -> int:
         chain_table(2)
         return 0
     if args.friction:
-        friction_table(args.spans, args.friction)
+        friction_table(args.spans, args.friction, args.laid)
         return 0
     from slidebeam.scene.catenary import MooringLine
 

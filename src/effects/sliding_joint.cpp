@@ -41,6 +41,11 @@
 /// director beam (quadratic B-spline), or r and r' of each node of a cable (cubic Hermite,
 /// kernels/ancf_sliding.hpp); the same formulas hold blockwise, because c(s) is linear in the
 /// blocks. The slider point is a PositionStencil (Beam::position_at) of either formulation.
+///
+/// A slider's carrier may be a track: several carriers joined end to end, each run through either
+/// way, one s along them (sliding::Track; docs/theory.md, "Tracks"). Curve blocks are then the
+/// track's, each mapped to its carrier's control point (carrier_cp); everything above holds over
+/// them unchanged, the discrete derivative taken piece by piece.
 
 #include "effects/common.hpp"
 #include "kernels/sliding.hpp"
@@ -125,7 +130,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     for (int j = 0; j < stencil_.n; ++j)
       for (int k = 0; k < 3; ++k)
         point_[k] += stencil_.w[j] * S.q_ref()[static_cast<size_t>(S.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
-    tolerance_ = p.number("tolerance", 1e-6 * m.beam(carrier_).length());
+    tolerance_ = p.number("tolerance", 1e-6 * track_.length());
     fail_at_end_ = p.string("at_carrier_end", "stop") == "fail";
     held_at_start_ = p.string("static", "held") == "held";
     std::string track = m.beam(carrier_).name();
@@ -936,7 +941,7 @@ void register_sliding_effects(EffectRegistry& r) {
               "\"stop\"", -kInf, kInf, false, 0, {"stop", "fail"}},
              optional_param({"tolerance", K::Number, "m",
                              "largest slider-carrier distance allowed at the start (default: 1e-6 of the carrier's "
-                             "length)",
+                             "length, or the track's)",
                              "", 0.0, kInf, true}),
              {"static", K::Choice, "",
               "in the equilibrium start: \"held\" keeps s, \"free\" lets the slider slide to equilibrium",

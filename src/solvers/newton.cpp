@@ -101,10 +101,11 @@ PetscErrorCode RoundoffTest::test(SNES snes, PetscInt it, PetscReal xnorm, Petsc
   auto* self = static_cast<RoundoffTest*>(ctx);
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
   if (it == 0) self->fnorm0 = fnorm;
+  if (it == 1) self->xnorm1 = xnorm;
   if (*reason == SNES_CONVERGED_ITERATING && it > 0) {
     double level = 0.0;
     PetscCall(self->rounding_level(snes, &level));
-    if (fnorm <= level && fnorm <= kDivergedShare * self->fnorm0) {
+    if (fnorm <= level && !self->ran_away(xnorm, fnorm)) {
       PetscCall(PetscInfo(snes, "Converged at roundoff: ||F|| %g <= eps || |J| |x| || = %g\n", (double)fnorm, level));
       *reason = SNES_CONVERGED_FNORM_ABS;
     }

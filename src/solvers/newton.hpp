@@ -18,13 +18,14 @@ struct SolveResult {
   bool converged() const { return reason > 0; }
 };
 
-/// A residual this many times the solve's initial one is never roundoff, however large the
-/// roundoff level eps || |J| |x| || of the iterate: an iterate that ran away lifts it with itself.
-constexpr double kDivergedShare = 10.0;
-
 /// Memory of the roundoff convergence test (one per SNES).
 struct RoundoffTest {
   double fnorm0 = 0.0, fnorm_prev = 0.0;
+  double xnorm1 = 0.0;  ///< |x| of the first iterate (SNES passes no |x| at iteration 0)
+  /// Whether the iterate ran away: its |F| 10x the initial one and its |x| 1000x the first
+  /// iterate's. The roundoff level eps || |J| |x| || of such an iterate grows with it, so |F|
+  /// below that level says nothing there.
+  bool ran_away(double xnorm, double fnorm) const { return fnorm > 10.0 * fnorm0 && xnorm > 1e3 * xnorm1; }
   RoundoffTest() = default;
   ~RoundoffTest();
   RoundoffTest(const RoundoffTest&) = delete;

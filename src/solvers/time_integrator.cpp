@@ -568,6 +568,7 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
   auto* self = static_cast<TimeIntegrator*>(ctx);
   RoundoffTest& rt = self->test_;
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, nullptr));
+  if (it == 1) rt.xnorm1 = xnorm;
   if (it == 0) {
     rt.fnorm0 = rt.fnorm_prev = fnorm;
     self->rate_prev_ = 1.0;
@@ -589,7 +590,7 @@ PetscErrorCode TimeIntegrator::converged(SNES snes, PetscInt it, PetscReal xnorm
                           (double)rt.fnorm0));
       *reason = SNES_CONVERGED_FNORM_RELATIVE;
       self->floor_sample_ = fnorm;
-    } else if (stagnates && fnorm > relative_floor && fnorm <= kDivergedShare * rt.fnorm0 &&
+    } else if (stagnates && fnorm > relative_floor && !rt.ran_away(xnorm, fnorm) &&
                self->rounding_level(snes) > 1e-6 * rt.fnorm0 && fnorm <= self->rounding_level(snes)) {
       // (at small steps the residual's own roundoff, c0 M |x| eps, lies above the fraction of a
       // large initial residual that the test above asks for even of a fresh Jacobian, and the

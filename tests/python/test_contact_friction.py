@@ -360,6 +360,30 @@ def test_a_mooring_line_pulled_over_a_seabed_with_friction_rests_as_the_closed_f
     assert_balance_and_dissipation(records, rtol=1e-10)
 
 
+@pytest.mark.skip_in_parallel  # 7 s
+def test_a_mooring_line_laid_slack_then_pulled_leaves_its_anchor_unloaded():
+    """The same chain laid slack on a seabed with mu = 1.5 (drawn along the bed and straight up,
+    unstrained, at rest: compare_mooring.laid_slack) and pulled out to 205 m: friction takes the
+    whole pull along the bed, as the closed form of a line laid slack says (the anchor carries no
+    horizontal load). Shortened for the suite as an ANCF cable (4 m elements, dt = 0.1 s, 10 s at
+    rest, springs as stiff as the bed): fairlead 6.8e-5, anchor 7.2e-4 of H, length on the
+    seabed 5.3e-5; the director chain at 2 m spans in docs/verification.md."""
+    from slidebeam.scene.catenary import MooringLine
+
+    m = compare_mooring()
+    sim = slidebeam.Simulation(m.pulled_scene(1.5, 55, settle=10.0, dt=0.1, stick=1.0, laid=True, ancf=True))
+    records = sim.run_dynamic().records
+    fairlead, anchor, grounded = m.line_at_rest(sim, records[-1])
+    exact = MooringLine(span=205.0, height=m.DEPTH, length=m.LENGTH, EA=m.EA, w=m.W, friction=1.5)
+    assert exact.anchor_tension == 0.0
+    assert fairlead == pytest.approx(exact.fairlead_tension, rel=5e-4)
+    assert abs(anchor) < 1e-3 * exact.H
+    assert grounded == pytest.approx(m.LENGTH - exact.suspended_length, rel=1e-3)
+    # (2.8e-9 here: the chain falls from its drawing into the catenary, and the potential energy it
+    # gives up passes through the balance at the Newton tolerance in each of 700 steps)
+    assert_balance_and_dissipation(records, rtol=1e-8)
+
+
 @pytest.mark.skip_in_parallel
 @pytest.mark.parametrize("shape", SHAPES)
 @pytest.mark.parametrize("formulation", ("director", "ancf"))
