@@ -66,6 +66,7 @@ CASES = [(f, i, False, ds) for f in ("director", "ancf") for i in INTEGRATORS fo
         [(f, i, True, 0.71) for f in ("director", "ancf") for i in INTEGRATORS]
 
 
+@pytest.mark.one_case_in_parallel
 @pytest.mark.parametrize("formulation,integrator,reversed_second,ds", CASES)
 def test_step_jacobian_is_exact_across_the_junction(formulation, integrator, reversed_second, ds):
     """s_n = 0.4 and s_n+1 = s_n + ds on the track of two 1 m carriers: within the first (0.03),
@@ -76,6 +77,7 @@ def test_step_jacobian_is_exact_across_the_junction(formulation, integrator, rev
     check_joint_step_jacobian(sim, ds, f"{formulation} {integrator} reversed={reversed_second}")
 
 
+@pytest.mark.one_case_in_parallel
 @pytest.mark.parametrize("integrator", INTEGRATORS)
 def test_friction_on_a_track_has_an_exact_step_jacobian(integrator):
     """[[friction]] on the slider: its normal force reads the carrier blocks of whichever carrier
@@ -106,12 +108,13 @@ def test_an_iterate_that_ran_away_is_not_accepted():
     """A slider driven at 2 m/s that stops dead (no ramp) on the reversed second carrier: the
     stop's steps are hard (one Newton iterate ran away to |F| ~ 1e154, where the roundoff level
     eps || |J| |x| || of the iterate is as large, and the roundoff test took it as converged).
-    Every accepted step has a residual at the Newton tolerance, and the run reaches its end."""
-    data = track_data("director", True, {"t_end": 0.6, "dt": 2e-3})
+    Every accepted step has a residual at the Newton tolerance, and the run reaches its end
+    (past the run-away at t = 0.511)."""
+    data = track_data("director", True, {"t_end": 0.53, "dt": 2e-3})
     data["slider_drive"] = [{"beam": "CM", "speed": 2.0, "start": 0.0, "stop": 0.5}]
     data["output"] = dict(data.get("output", {}), every=1)
     result = slidebeam.Simulation(scene(data, "dead stop")).run_dynamic()
-    assert result.records[-1].t == pytest.approx(0.6)
+    assert result.records[-1].t == pytest.approx(0.53)
     worst = max(r.residual_norm for r in result.records if r.converged)
     assert worst < 1e-6, worst
 
