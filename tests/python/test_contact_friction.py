@@ -366,8 +366,9 @@ def test_a_mooring_line_laid_slack_then_pulled_leaves_its_anchor_unloaded():
     unstrained, at rest: compare_mooring.laid_slack) and pulled out to 205 m: friction takes the
     whole pull along the bed, as the closed form of a line laid slack says (the anchor carries no
     horizontal load). Shortened for the suite as an ANCF cable (4 m elements, dt = 0.1 s, 10 s at
-    rest, springs as stiff as the bed): fairlead 6.8e-5, anchor 7.2e-4 of H, length on the
-    seabed 5.3e-5; the director chain at 2 m spans in docs/verification.md."""
+    rest, springs as stiff as the bed): fairlead 6.8e-5, anchor 7.2e-4 of H (the soft springs'
+    give: 1e-8 with springs 10x stiffer, at 4x the time), length on the seabed 5.3e-5; the
+    director chain at 2 m spans in docs/verification.md."""
     from slidebeam.scene.catenary import MooringLine
 
     m = compare_mooring()
