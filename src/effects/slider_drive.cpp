@@ -8,9 +8,11 @@
 /// multiplier enforces s = s(t) at the end of each step: it is the drive force along the carrier,
 /// and its work over the step, -lambda ds, is counted as driving work (W; `<label>.work`).
 ///
-/// (A prescribed force on s instead of a travel was tried: s has no mass of its own, and Newton
-/// needed 5-15 iterations per step and failed on 2 ranks; a force on the slider's mass points
-/// would be the way to it.)
+/// Or a force: `force` = F (N) times a time function f(t) (1 without one) along the track, between
+/// slider and carrier (a self-propelled trolley, a winch on the carriage; at a guide, a drive
+/// wheel pulling the rope through it): the term -F f(t) in the equation of s, so that the joint's
+/// force along the carrier's tangent is F f(t). It does the work F f(t) ds over a step, exactly
+/// under energy-momentum (f at the step's force time), and depends on time alone: no Jacobian.
 
 #include "effects/common.hpp"
 #include "model/time_function.hpp"
@@ -131,6 +133,40 @@ class SliderDrive final : public Effect, public ExtraUnknowns, public Prescribed
   bool owned_ = false;
 };
 
+/// [[slider_drive]] force = F: a force along the track on the slider (see the file comment).
+class SliderForce final : public Effect, public SlidingJointLink {
+ public:
+  SliderForce(const Model& m, const EffectParams& p)
+      : SlidingJointLink(m, p, "slider_drive"),
+        force_(p.number("force")),
+        f_(p.string("tf_type", "").empty() ? TimeFunction{} : TimeFunction::from(p)) {
+    for (const char* key : {"speed", "distance"})
+      if (p.num.count(key)) throw ParamError(key, "give a `force`, or a travel (`speed` or `distance`), not both");
+  }
+  std::string type() const override { return "slider_drive"; }
+  std::string label() const override { return label_; }
+  bool time_dependent() const override { return true; }
+  void distribute(const Model& m) override {
+    label_ = link_label(m);
+    owned_ = s_index() >= m.dof_map().owned_lo() && s_index() < m.dof_map().owned_hi();
+  }
+  void needed_dofs(const Model&, std::vector<PetscInt>& dofs) const override {
+    if (owned_) dofs.push_back(s_index());
+  }
+  PetscErrorCode pattern(const Model&, const MatSink&) const override { return 0; }
+  PetscErrorCode residual(const EvalContext& ctx, const LocalValues& r) const override {
+    if (owned_) r.at(s_index()) -= force_ * f_(ctx.t);
+    return 0;
+  }
+  PetscErrorCode jacobian(const EvalContext&, const MatSink&) const override { return 0; }
+
+ private:
+  double force_;
+  TimeFunction f_;
+  std::string label_ = "slider_drive";
+  bool owned_ = false;
+};
+
 void register_slider_drive_effects(EffectRegistry& r) {
   using K = ParamSpec::Kind;
   EffectSpec s;
@@ -138,7 +174,7 @@ void register_slider_drive_effects(EffectRegistry& r) {
   s.table = "slider_drive";
   s.meaning =
       "a driven slider, or a rope driven through a guide (a winch): its sliding coordinate follows a speed profile "
-      "with start and stop ramps, or a distance times a time function";
+      "with start and stop ramps, or a distance times a time function; or a force along the track pushes it";
   s.role = EnergyRole::Driving;
   s.params = {
       optional_param({"beam", K::Beam, "", "the slider's beam (the slider of a [[sliding_joint]])", ""}),
@@ -151,14 +187,22 @@ void register_slider_drive_effects(EffectRegistry& r) {
                       "or: the travel along the carrier at f = 1 (negative: toward its start), s = s0 + distance "
                       "f(t)",
                       ""}),
+      optional_param({"force", K::Number, "N",
+                      "or: a force F f(t) along the track between slider and carrier, towards growing s (a "
+                      "self-propelled trolley; at a guide, a drive wheel pulling the rope through): s is then free",
+                      ""}),
       optional_param({"time_function", K::TimeFunction, "",
-                      "with `distance`: f(t), starting at 0 (e.g. { type = \"smooth_ramp\", t0 = 0.5, t1 = 5.5 })",
+                      "with `distance`: f(t), starting at 0 (e.g. { type = \"smooth_ramp\", t0 = 0.5, t1 = 5.5 }); "
+                      "with `force`: f(t) (default 1)",
                       ""}),
       {"start", K::Number, "s", "when the travel starts", "0.0", 0.0},
       {"stop", K::Number, "s", "when it has stopped (the ramp down ends here)", "inf"},
       {"ramp", K::Number, "s", "duration of the speed's rise and fall (0: a jump)", "0.0", 0.0},
   };
-  r.add(s, [](const Model& m, const EffectParams& p) { return std::make_unique<SliderDrive>(m, p); });
+  r.add(s, [](const Model& m, const EffectParams& p) -> std::unique_ptr<Effect> {
+    if (p.num.count("force")) return std::make_unique<SliderForce>(m, p);
+    return std::make_unique<SliderDrive>(m, p);
+  });
 }
 
 }  // namespace slidebeam::effects
