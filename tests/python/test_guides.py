@@ -148,6 +148,27 @@ def test_a_winch_at_a_guide_pays_the_rope_out_and_its_work_closes_the_balance(tm
     assert max(abs(r.energy_balance_error) for r in run.records) <= 1e-9 * K
 
 
+def test_a_drive_wheel_at_a_guide_pushes_the_rope_through_it(tmp_path):
+    """[[slider_drive]] force = 2 N at the guide, no gravity: the straight rope (1.4 kg with its end
+    masses) is pushed through the fixed guide towards its start, its momentum along it -F t to
+    1e-4 (F acts per unit of the rope's drawn arc length: the force on the rope is F / |c'|, the
+    rope stretched by its own ringing), and the wheel's work F (s - s0) is what the rope holds,
+    kinetic and strain energy."""
+    path = rope_scene(tmp_path, extra='[[slider_drive]]\nguide = "ring"\nforce = 2.0\n')
+    sim = slidebeam.Simulation(slidebeam.load_scene(path, ["analysis.t_end=0.5", "analysis.dt=0.005",
+                                                           "gravity.g=[0.0, 0.0, 0.0]"]))
+    run = sim.run_dynamic()
+    assert run.complete, run.message
+    k = guide_effect(sim)
+    s = np.array([float(np.asarray(r.outputs)[sim.output_slice(k)][0]) for r in run.records])
+    for r in run.records[1:]:
+        assert r.linear_momentum[0] == pytest.approx(-2.0 * r.t, rel=1e-4), r.t
+    last = run.records[-1]
+    assert s[-1] - s[0] == pytest.approx(2.0 * 0.5 ** 2 / (2 * 1.4), rel=2e-2)  # within the rope's ringing
+    assert last.work == pytest.approx(2.0 * (s[-1] - s[0]), rel=1e-10)
+    assert last.work == pytest.approx(last.kinetic_energy + last.strain_energy, rel=1e-9)
+
+
 @pytest.mark.parametrize("mu", [0.3, 5.0])
 def test_friction_at_a_guide_sticks_below_its_limit_and_dissipates_when_it_slips(tmp_path, mu):
     """[[friction]] on a guide: with mu = 5 the rope slips only while its deflection at the guide
