@@ -14,8 +14,13 @@ echo "== pytest, serial (two test processes: pytest-xdist)"
 # runs' folders and deletes older ones, those of another test run going on at the same time too
 basetemp="$(mktemp -d "${TMPDIR:-/tmp}/slidebeam-tests.XXXXXX")"
 trap 'rm -rf "$basetemp"' EXIT
-# each test runs one model on one rank; two at a time keep both cores busy
-/usr/bin/python3 -m pytest -q -p no:cacheprovider -n 2 --durations=20 --basetemp "$basetemp/serial" tests/python
+# each test runs one model on one rank; two at a time keep both cores busy. The tests that start
+# an mpirun of their own run after them, one at a time: beside another test their ranks starve
+/usr/bin/python3 -m pytest -q -p no:cacheprovider -n 2 --durations=20 --basetemp "$basetemp/serial" \
+    -m "not spawns_ranks" tests/python
+echo "== pytest, the tests that start their own mpirun (one at a time)"
+/usr/bin/python3 -m pytest -q -p no:cacheprovider --durations=10 --basetemp "$basetemp/ranks" \
+    -m spawns_ranks tests/python
 echo "== pytest, mpirun -n 2"
 mpirun -n 2 /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
 echo "== all tests passed"

@@ -49,6 +49,8 @@ def pytest_configure(config: pytest.Config) -> None:
         config.option.basetemp = f"/tmp/slidebeam-pytest-{os.getpid()}-rank{MPI.COMM_WORLD.Get_rank()}"
     config.addinivalue_line("markers", "skip_in_parallel: only meaningful on one rank (spawns its own processes, "
                                        "or checks a closed form that other tests run on 2 ranks)")
+    config.addinivalue_line("markers", "spawns_ranks: starts an mpirun of its own; scripts/test.sh runs these apart "
+                                       "from the others, whose processes would starve its ranks")
     config.addinivalue_line("markers", "stability: the hard-case suite of runs/hard/ (issue 8; a few minutes)")
     config.addinivalue_line("markers", "one_case_in_parallel: of a parametrized test, only the first case runs "
                                        "under mpirun (the cases differ in what the serial pass checks, not in "

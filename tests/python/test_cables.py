@@ -238,6 +238,7 @@ def test_static_start_runs_distributed_when_rank_0_cannot_hold_the_model(monkeyp
 
 
 @pytest.mark.skip_in_parallel
+@pytest.mark.spawns_ranks
 def test_iterative_solver_path_gives_the_direct_solvers_history(run_cli, tmp_path):
     """runs/cables/iterative.opts (GMRES + Schwarz on the model's subdomains), on one rank and
     on two (two subdomains, joints across them), reproduces the direct LU's run to the Newton

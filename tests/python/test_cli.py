@@ -80,6 +80,7 @@ def test_options_file_beside_scene(run_cli, root, tmp_path):
     assert out.returncode == 2 and "rollup.opts" in out.stderr and "Traceback" not in out.stderr
 
 
+@pytest.mark.spawns_ranks
 def test_mpi_run_matches_serial(run_cli, root, tmp_path):
     """The distributed static solve (a static analysis runs on rank 0 alone unless told not to)
     gives the serial history."""
@@ -352,6 +353,7 @@ def test_cost_table_counts_the_same_with_petsc_whole_log(run_cli, root, tmp_path
     assert "VecNorm" in whole.stdout and "VecNorm" not in light.stdout
 
 
+@pytest.mark.spawns_ranks
 @pytest.mark.parametrize("scene, sets", [
     # S2-incl on a 16-span carrier: C slides from s = 0.4 to 1.5 across the control points of
     # every rank (the joint lives with the slider, its carrier points are ghosts)

@@ -94,7 +94,7 @@ def test_shipped_scenes_with_petsc_options_give_no_warning(run_cli, root, tmp_pa
 PARALLEL_CABLES = ("hanging_rope", "ropeway", "mooring_heave")
 
 
-@pytest.mark.parametrize("ranks", (1, 2))
+@pytest.mark.parametrize("ranks", (1, pytest.param(2, marks=pytest.mark.spawns_ranks)))
 def test_shipped_options_file_gives_no_warning(run_cli, root, ranks):
     """runs/cables/iterative.opts (the Schwarz path) on the cable scenes, serially on all of
     them and on 2 ranks on PARALLEL_CABLES."""
@@ -107,6 +107,7 @@ def test_shipped_options_file_gives_no_warning(run_cli, root, ranks):
         assert not warnings(out.stderr), (scene.name, out.stderr)
 
 
+@pytest.mark.spawns_ranks
 def test_under_mpirun_each_warning_once(run_cli, root, tmp_path):
     out = run_cli("run", str(root / "runs" / "bend45.toml"), "--out", "res", *STATIC, "--", "-snes_monitr", np=2)
     assert out.returncode == 0, out.stderr

@@ -43,6 +43,7 @@ def test_the_threshold_and_its_off_switch():
 
 
 @pytest.mark.skip_in_parallel
+@pytest.mark.spawns_ranks
 def test_small_scenes_under_mpirun_are_owned_by_rank_0(run_cli, tmp_path):
     """The CLI on 2 ranks with the default threshold: the seed scene's history equals the serial one."""
     common = ["--set", "analysis.t_end=0.1", "--set", "output.xdmf=false", "-q"]
@@ -63,6 +64,7 @@ def test_small_scenes_under_mpirun_are_owned_by_rank_0(run_cli, tmp_path):
 
 
 @pytest.mark.skip_in_parallel
+@pytest.mark.spawns_ranks
 def test_a_static_analysis_under_mpirun_runs_on_rank_0(run_cli, tmp_path):
     """A static analysis has no distributed path that pays: under mpirun rank 0 runs it alone
     at any size (here distributed otherwise: -sb_serial_below 0), and its history is the serial
@@ -83,6 +85,7 @@ def test_a_static_analysis_under_mpirun_runs_on_rank_0(run_cli, tmp_path):
 
 
 @pytest.mark.skip_in_parallel
+@pytest.mark.spawns_ranks
 def test_sigterm_to_mpirun_stops_a_run_on_rank_0_alone_cleanly(tmp_path):
     """mpirun passes SIGTERM to every rank: the waiting rank ignores it, rank 0 stops after its
     step and writes a consistent folder, and every rank ends."""
@@ -110,6 +113,7 @@ def test_sigterm_to_mpirun_stops_a_run_on_rank_0_alone_cleanly(tmp_path):
 
 
 @pytest.mark.skip_in_parallel
+@pytest.mark.spawns_ranks
 def test_a_checkpoint_of_a_run_on_rank_0_alone_restarts_distributed(run_cli, tmp_path):
     """Rank 0 alone writes the checkpoint with its own communicator; a distributed restart on 2
     ranks reads it and goes on as the serial run that never stopped (to 1e-8: the solve paths

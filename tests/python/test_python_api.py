@@ -93,7 +93,7 @@ def test_jacobian_matches_finite_differences_through_petsc4py():
 
 
 @pytest.mark.skip_in_parallel
-@pytest.mark.parametrize("np_", [1, 2])
+@pytest.mark.parametrize("np_", [1, pytest.param(2, marks=pytest.mark.spawns_ranks)])
 def test_scripting_example_runs(root, np_, tmp_path):
     cmd = [sys.executable, str(root / "runs" / "scripting_example.py"), str(tmp_path / "out"),
            "-sb_static_snes_max_it", "30"]

@@ -39,6 +39,7 @@ def test_a_billion_spans_is_refused_at_once(run_cli, tmp_path, command):
 
 
 @pytest.mark.skip_in_parallel
+@pytest.mark.spawns_ranks
 def test_refused_once_under_mpirun(run_cli, tmp_path):
     out = run_cli("run", str(ROLLUP), "--out", "res", "--set", "beam.0.spans=1000000000", np=2, timeout=60)
     assert out.returncode == 2, out.stderr
