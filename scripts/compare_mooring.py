@@ -680,12 +680,11 @@ def jumper_figure(path: str, spans: int, dt: float) -> None:
     print(f"wrote {path}")
 
 
-def laid_slack(corner: float = LAID_CORNER) -> tuple[list[list[float]], float]:
-    """The chain laid slack as drawn: along the seabed from the anchor (sunk w / k into the bed),
+def laid_slack(sink: float, corner: float = LAID_CORNER) -> tuple[list[list[float]], float]:
+    """The chain laid slack as drawn: along the seabed from the anchor (sunk `sink` into the bed),
     round a quarter circle of radius `corner` and straight up to the fairlead, its drawn length
     LENGTH exactly (the circle's chords included), so that it starts unstretched. Returns the
     polyline and the fairlead's x."""
-    sink = W / 1e7  # the scene's bed stiffness
     arc = [(corner * math.sin(t), corner * (1.0 - math.cos(t))) for t in np.linspace(0.0, math.pi / 2, 9)]
     chords = sum(math.dist(arc[i], arc[i + 1]) for i in range(len(arc) - 1))
     along = LENGTH - chords - (DEPTH + sink - corner)  # the part on the bed
@@ -713,23 +712,34 @@ def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETT
                                  [f"beam.chain.spans={spans}", f"analysis.t_end={ramp + settle}", "output.xdmf=false",
                                   "output.every=20", *([f"analysis.dt={dt}"] if dt else [])])
     data = dict(scene.data)
-    # drawn along the frictionless catenary at START_SPAN (the start then has little to do)
-    start = MooringLine(span=START_SPAN, height=DEPTH, length=LENGTH, EA=EA, w=W)
-    H, hanging = start.H, start.suspended_length
     # the anchor where the chain rests, sunk w / k into the bed: pinned at the bed's surface it
     # would hold the chain's end up and carry the weight of its first 0.3 m, which the bed's
     # friction then lacks (mu times 312 N at the anchor; the closed form's anchor carries none)
     sink = W / data["contact"][0]["stiffness"]
-    points = [[0.0, 0.0, -DEPTH - sink], [start.touchdown, 0.0, -DEPTH - sink]]
-    for u in np.linspace(0.0, hanging, 25)[1:]:
-        a = W * u / H
-        points.append([start.touchdown + H / W * math.asinh(a) + H * u / EA, 0.0,
-                       -DEPTH + H / W * (math.sqrt(1.0 + a * a) - 1.0) + W * u * u / (2.0 * EA)])
-    points[-1] = [START_SPAN, 0.0, 0.0]
-    data["beam"] = [{**data["beam"][0], "polyline": points}]
+    if laid:
+        points, fairlead_x = laid_slack(sink)
+        # the drawing stress free: its corner's bend stays in the chain where it hangs (3e-4 of the
+        # tensions); a straight stress-free state would start the corner springing straight, and the
+        # start would cut a thousand steps (docs/verification.md)
+        beam = {key: v for key, v in data["beam"][0].items() if key != "unstretched_length"}
+        data["analysis"] = {**data["analysis"], "start": "reference"}
+    else:
+        # drawn along the frictionless catenary at START_SPAN (the start then has little to do)
+        start = MooringLine(span=START_SPAN, height=DEPTH, length=LENGTH, EA=EA, w=W)
+        H, hanging = start.H, start.suspended_length
+        points = [[0.0, 0.0, -DEPTH - sink], [start.touchdown, 0.0, -DEPTH - sink]]
+        for u in np.linspace(0.0, hanging, 25)[1:]:
+            a = W * u / H
+            points.append([start.touchdown + H / W * math.asinh(a) + H * u / EA, 0.0,
+                           -DEPTH + H / W * (math.sqrt(1.0 + a * a) - 1.0) + W * u * u / (2.0 * EA)])
+        points[-1] = [START_SPAN, 0.0, 0.0]
+        fairlead_x = START_SPAN
+        beam = data["beam"][0]
+    data["beam"] = [{**beam, "polyline": points}]
     fairlead = data["support"][1]
     data["support"] = [data["support"][0], {**fairlead, "motion": {
-        "displacement": [PULL, 0.0, 0.0], "time_function": {"type": "smooth_ramp", "t0": 0.0, "t1": ramp}}}]
+        "displacement": [START_SPAN + PULL - fairlead_x, 0.0, 0.0],
+        "time_function": {"type": "smooth_ramp", "t0": 0.0, "t1": ramp}}}]
     k = data["contact"][0]["stiffness"]
     rhoA = data["beam"][0]["section"]["rhoA"]
     # sticking points held 10x stiffer than the bed's default: a point gives mu N / k_t before it
@@ -739,15 +749,6 @@ def pulled_scene(mu: float, spans: int, ramp: float = RAMP, settle: float = SETT
     data["contact"] = [{**data["contact"][0], "mu": mu, "damping": 2 * 0.3 * math.sqrt(k * rhoA),
                         "tangential_stiffness": stick * k}]
     data["damping"] = [{**data["damping"][0], "mass_proportional": 1.0}]
-    if laid:
-        points, fairlead_x = laid_slack()
-        # the drawing stress free: its corner's bend stays in the chain where it hangs (3e-4 of the
-        # tensions); a straight stress-free state would start the corner springing straight, and the
-        # start would cut a thousand steps (docs/verification.md)
-        beam = {k: v for k, v in data["beam"][0].items() if k != "unstretched_length"}
-        data["beam"] = [{**beam, "polyline": points}]
-        data["support"][1]["motion"]["displacement"] = [START_SPAN + PULL - fairlead_x, 0.0, 0.0]
-        data["analysis"] = {**data["analysis"], "start": "reference"}
     if ancf:  # (a cable's stress-free state is straight: the drawing is only where it starts)
         section = data["beam"][0]["section"]
         data["beam"] = [{**data["beam"][0], "formulation": "ancf", "unstretched_length": LENGTH,

@@ -136,6 +136,14 @@ inline void knot_spans(const Beam& b, int i, int& left, int& right) {
   left = i >= 1 ? i - 1 : -1;
   right = i < b.n_spans() ? i : -1;
 }
+/// The point of beam b that the stencil interpolates, in the beam's reference (drawn) state.
+inline Eigen::Vector3d drawn_point(const Beam& b, const PositionStencil& st) {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  for (int j = 0; j < st.n; ++j)
+    for (int k = 0; k < 3; ++k)
+      x[k] += st.w[j] * b.q_ref()[static_cast<size_t>(b.coordinates_per_cp() * st.cp[j] + st.comp[j] + k)];
+  return x;
+}
 /// A 3-vector parameter of an effect.
 inline Eigen::Vector3d vector3_param(const EffectParams& p, const char* key) {
   const auto& v = p.vector(key, 3);

@@ -127,9 +127,8 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
 
     // initial s: the closest point of the slider point on the carrier (reference configuration),
     // found by the model's parallel search (closest_point_queries / set_closest_points)
-    for (int j = 0; j < stencil_.n; ++j)
-      for (int k = 0; k < 3; ++k)
-        point_[k] += stencil_.w[j] * S.q_ref()[static_cast<size_t>(S.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
+    const Eigen::Vector3d drawn = drawn_point(S, stencil_);
+    std::copy(drawn.data(), drawn.data() + 3, point_);
     tolerance_ = p.number("tolerance", 1e-6 * track_.length());
     fail_at_end_ = p.string("at_carrier_end", "stop") == "fail";
     held_at_start_ = p.string("static", "held") == "held";
@@ -734,15 +733,6 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   static sliding::Curve curve_of(const Beam& C) {
     return {C.is_ancf() ? sliding::Curve::Kind::Hermite : sliding::Curve::Kind::BSpline, C.n_spans(), C.length()};
   }
-  /// A beam's centre-line point at arc length s as drawn.
-  static Eigen::Vector3d drawn_point(const Beam& B, double s) {
-    const PositionStencil st = B.position_at(s);
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int j = 0; j < st.n; ++j)
-      for (int k = 0; k < 3; ++k)
-        x(k) += st.w[j] * B.q_ref()[static_cast<size_t>(B.coordinates_per_cp() * st.cp[j] + st.comp[j] + k)];
-    return x;
-  }
   /// The carrier, or the track of carriers `carrier_track` (beam indices along s): each one's end
   /// meets the next one's start or end as drawn, which decides the way each is run through.
   void build_track(const Model& m, const EffectParams& p) {
@@ -769,7 +759,7 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
     // the ends of consecutive carriers that meet decide each one's way along the track
     auto ends = [&](int c) {
       const Beam& B = m.beam(c);
-      return std::array<Eigen::Vector3d, 2>{drawn_point(B, 0.0), drawn_point(B, B.length())};
+      return std::array<Eigen::Vector3d, 2>{drawn_point(B, B.position_at(0.0)), drawn_point(B, B.position_at(B.length()))};
     };
     std::vector<bool> reversed(carriers_.size(), false);
     for (size_t k = 0; k + 1 < carriers_.size(); ++k) {

@@ -213,10 +213,7 @@ class Spherical final : public Effect, public MovableSupport, public ExtraUnknow
     }
     // the discretised reference centre line's point (a spline through a polyline's corner or
     // along an arc passes beside the drawn one): the reference state meets the support
-    X_.setZero();
-    for (int j = 0; j < stencil_.n; ++j)
-      for (int k = 0; k < 3; ++k)
-        X_[k] += stencil_.w[j] * b.q_ref()[static_cast<size_t>(b.coordinates_per_cp() * stencil_.cp[j] + stencil_.comp[j] + k)];
+    X_ = drawn_point(b, stencil_);
   }
   std::string type() const override { return "spherical"; }
   std::string label() const override { return "spherical[" + std::to_string(beam_) + "@" + std::to_string(s_) + "]"; }

@@ -135,21 +135,9 @@ int Track::piece_of(double s) const {
   return n - 1;
 }
 
-int Track::piece_of_span(int span) const {
+int Track::piece_holding(int Piece::*first, int index) const {
   int p = 0;
-  while (p + 1 < static_cast<int>(pieces.size()) && span >= pieces[static_cast<size_t>(p) + 1].first_span) ++p;
-  return p;
-}
-
-int Track::piece_of_block(int block) const {
-  int p = 0;
-  while (p + 1 < static_cast<int>(pieces.size()) && block >= pieces[static_cast<size_t>(p) + 1].first_block) ++p;
-  return p;
-}
-
-int Track::piece_of_cp(int cp) const {
-  int p = 0;
-  while (p + 1 < static_cast<int>(pieces.size()) && cp >= pieces[static_cast<size_t>(p) + 1].first_cp) ++p;
+  while (p + 1 < static_cast<int>(pieces.size()) && index >= pieces[static_cast<size_t>(p) + 1].*first) ++p;
   return p;
 }
 

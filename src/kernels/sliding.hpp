@@ -159,9 +159,9 @@ struct Track {
   /// Piece of s (clamped: beyond the ends the end pieces extend; a junction belongs to the piece
   /// before it), of a track span, of a track block, of a track control point.
   int piece_of(double s) const;
-  int piece_of_span(int span) const;
-  int piece_of_block(int block) const;
-  int piece_of_cp(int cp) const;
+  int piece_of_span(int span) const { return piece_holding(&Piece::first_span, span); }
+  int piece_of_block(int block) const { return piece_holding(&Piece::first_block, block); }
+  int piece_of_cp(int cp) const { return piece_holding(&Piece::first_cp, cp); }
   /// The carrier's own coordinates of a track block: control point (node) and the offset of the
   /// 3-block in that point's coordinates.
   int cp_of_block(int block) const;
@@ -177,6 +177,8 @@ struct Track {
   void difference_quotient(double s0, double s1, Weights& D, Weights& dD) const;
 
  private:
+  /// The last piece whose first index (span, block or control point) is at most `index`.
+  int piece_holding(int Piece::*first, int index) const;
   /// Track block of a piece's local block.
   int track_block(int piece, int local) const;
   /// w += weights given over local blocks of piece p.

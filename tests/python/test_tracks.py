@@ -16,13 +16,12 @@ import numpy as np
 import pytest
 
 import slidebeam
-from petsc4py import PETSc
 
 from checks import check_joint_step_jacobian, distributed_and_serial_records
+from test_ancf_sliding import INTEGRATORS, as_cables
 
 ROOT = Path(__file__).resolve().parents[2]
 SEED = ROOT / "runs" / "seed" / "free_fall_inclined_1+4.toml"
-INTEGRATORS = ("energy-momentum", "midpoint", "newmark", "hht")
 
 
 def seed_data(formulation: str) -> dict:
@@ -30,13 +29,7 @@ def seed_data(formulation: str) -> dict:
     down towards B), both beams as `formulation`."""
     with open(SEED, "rb") as f:
         data = tomllib.load(f)
-    if formulation == "ancf":
-        for beam in data["beam"]:
-            beam["formulation"] = "ancf"
-            for key in ("d2", "quadrature"):
-                beam.pop(key, None)
-            beam["section"] = {k: v for k, v in beam["section"].items() if k != "nu"}
-    return data
+    return as_cables(data, ("AB", "CM")) if formulation == "ancf" else data
 
 
 def track_data(formulation: str, reversed_second: bool = False, analysis: dict | None = None) -> dict:
@@ -50,12 +43,9 @@ def track_data(formulation: str, reversed_second: bool = False, analysis: dict |
     first = dict(copy.deepcopy(ab), name="AM", start=list(a), end=list(m), spans=2)
     second = dict(copy.deepcopy(ab), name="MB", start=list(b if reversed_second else m),
                   end=list(m if reversed_second else b), spans=2)
-    if formulation == "mixed":
-        second = dict(second, formulation="ancf",
-                      section={k: v for k, v in second["section"].items() if k != "nu"})
-        for key in ("d2", "quadrature"):
-            second.pop(key, None)
     data["beam"] = [first, second, data["beam"][1]]
+    if formulation == "mixed":
+        as_cables(data, ("MB",))
     data["support"] = [{"type": "spherical", "beam": "AM", "at": "start"},
                        {"type": "spherical", "beam": "MB", "at": "start" if reversed_second else "end"}]
     data["joint"] = [{"type": "rigid", "beams": ["AM", "MB"], "at": ["end", "end" if reversed_second else "start"]}]

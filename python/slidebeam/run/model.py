@@ -107,6 +107,6 @@ def _placement_error(scene: Scene, message: str) -> Exception:
         return ValueError(message)
     for i, sj in enumerate(scene.sliding_joints):
         slider, carrier = match.groups()
-        if scene.beams[sj.slider].name == slider and carrier in (scene.beams[c].name for c in sj.carriers or (sj.carrier,)):
+        if scene.beams[sj.slider].name == slider and carrier in (scene.beams[c].name for c in sj.carriers):
             return SceneError(message.removeprefix("sliding_joint: "), scene.file, f"[[sliding_joint]] #{i + 1}")
     return ValueError(message)

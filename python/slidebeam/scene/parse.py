@@ -271,8 +271,13 @@ class SlidingJoint:
     # 'spatial': c(s) - p = 0 (ANCF sliders, which have no directors, and the seed's midpoint
     # form discrete_gradient = 'midpoint' by default: angular momentum not exact)
     form: str = "frame"
-    # the track: the carriers along s (carrier first), each beginning where the one before ends
+    # the track: the carriers along s (carrier first), each beginning where the one before ends;
+    # () for the carrier alone
     carriers: tuple[int, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.carriers:
+            object.__setattr__(self, "carriers", (self.carrier,))
 
 
 @dataclass(frozen=True)
