@@ -4,7 +4,8 @@
 ``runs/effects/ropeway.toml`` (every kind of plot, pictures from two views), a 7 x 7 rockfall
 net from ``scripts/make_cables.py`` (a picture of a 12 978-unknown structure), and the multibody
 scenes ``runs/multibody/crane.toml``, ``cable_robot.toml``, ``ropeway.toml``, ``rockfall_net.toml`` and
-``winch.toml``, ``block_and_tackle.toml``, ``ropeway_towers.toml``, ``track_ropes.toml`` (pictures). About two minutes.
+``winch.toml``, ``block_and_tackle.toml``, ``ropeway_towers.toml``, ``track_ropes.toml``,
+``cable_robot_winches.toml`` (pictures). About three minutes.
 
     scripts/doc_figures.py [--out docs/figures] [--work out/doc_figures]
 """
@@ -31,10 +32,12 @@ def multibody_pictures(out: Path, work: Path) -> list[Path]:
     under way (t = 6 s), the boulder deepest in the rockfall net (t = 0.1 s), the winch's rope
     wound half a turn (t = 4.5 s, seen along the drum's axis), the block and tackle after its
     pull (t = 4 s, seen along the sheaves' axes), the ropeway over two towers (t = 5 s, from the
-    front), the trolley on the bridge rail between two track ropes (t = 5.4 s, from the front)."""
+    front), the trolley on the bridge rail between two track ropes (t = 5.4 s, from the front), the
+    cable robot on winches a quarter of the way round its circle (t = 4 s)."""
     written = []
     for scene, t in (("crane", 6.0), ("cable_robot", 2.5), ("ropeway", 6.0), ("rockfall_net", 0.1), ("winch", 4.5),
-                     ("block_and_tackle", 4.0), ("ropeway_towers", 5.0), ("track_ropes", 5.4)):
+                     ("block_and_tackle", 4.0), ("ropeway_towers", 5.0), ("track_ropes", 5.4),
+                     ("cable_robot_winches", 4.0)):
         run("run", str(ROOT / "runs" / "multibody" / f"{scene}.toml"), "--out", str(work / scene), "-q",
             "--set", f"analysis.t_end={t}")
         written += render.pictures(work / scene, times=[t], out=out / f"render_{scene}.png", size=(1100, 650),

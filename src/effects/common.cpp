@@ -22,6 +22,7 @@ TimeFunction TimeFunction::from(const EffectParams& p) {
   else if (kind == "step") f.kind = Kind::Step;
   else if (kind == "sine") f.kind = Kind::Sine;
   else if (kind == "table") f.kind = Kind::Table;
+  else if (kind == "spline") f.kind = Kind::Spline;
   else throw std::invalid_argument("unknown time function '" + kind + "'");
   f.t0 = p.number("tf_t0", f.t0);
   f.t1 = p.number("tf_t1", f.t1);
@@ -35,18 +36,44 @@ TimeFunction TimeFunction::from(const EffectParams& p) {
         !std::isfinite(f.phase) || !std::isfinite(f.offset))
       throw std::invalid_argument("sine time function: frequency must be > 0 and all parameters finite");
   }
-  if (f.kind == Kind::Table) {
+  if (f.kind == Kind::Table || f.kind == Kind::Spline) {
     const auto t = p.vec.find("tf_times"), v = p.vec.find("tf_values");
-    if (t == p.vec.end() || v == p.vec.end()) throw std::invalid_argument("table time function: tf_times and tf_values needed");
+    if (t == p.vec.end() || v == p.vec.end()) throw std::invalid_argument(kind + " time function: tf_times and tf_values needed");
     f.times = t->second;
     f.values = v->second;
     if (f.times.empty() || f.times.size() != f.values.size())
-      throw std::invalid_argument("table time function: times and values must have the same, nonzero length");
+      throw std::invalid_argument(kind + " time function: times and values must have the same, nonzero length");
     for (size_t i = 0; i < f.times.size(); ++i)
       if (!std::isfinite(f.times[i]) || !std::isfinite(f.values[i]) || (i > 0 && !(f.times[i] > f.times[i - 1])))
-        throw std::invalid_argument("table time function: times must be finite and strictly increasing, values finite");
+        throw std::invalid_argument(kind + " time function: times must be finite and strictly increasing, values finite");
+    if (f.kind == Kind::Spline) f.curvatures = spline_curvatures(f.times, f.values);
   }
   return f;
+}
+
+std::vector<double> TimeFunction::spline_curvatures(const std::vector<double>& times, const std::vector<double>& values) {
+  const size_t n = times.size();
+  std::vector<double> m(n, 0.0);
+  if (n < 2) return m;
+  // h_{i-1} m_{i-1} + 2 (h_{i-1} + h_i) m_i + h_i m_{i+1} = 6 (slope_i - slope_{i-1}) inside; at the
+  // ends the zero end slopes: 2 h_0 m_0 + h_0 m_1 = 6 slope_0, h m_{n-2} + 2 h m_{n-1} = -6 slope_{n-2}.
+  // Thomas' algorithm (the matrix is diagonally dominant).
+  std::vector<double> diag(n), upper(n, 0.0), rhs(n);
+  auto h = [&](size_t i) { return times[i + 1] - times[i]; };
+  auto slope = [&](size_t i) { return (values[i + 1] - values[i]) / h(i); };
+  diag[0] = 2.0 * h(0), upper[0] = h(0), rhs[0] = 6.0 * slope(0);
+  for (size_t i = 1; i + 1 < n; ++i) {
+    diag[i] = 2.0 * (h(i - 1) + h(i)), upper[i] = h(i), rhs[i] = 6.0 * (slope(i) - slope(i - 1));
+  }
+  diag[n - 1] = 2.0 * h(n - 2), rhs[n - 1] = -6.0 * slope(n - 2);
+  for (size_t i = 1; i < n; ++i) {  // the lower entry of row i is h(i - 1) = upper[i - 1]
+    const double w = upper[i - 1] / diag[i - 1];
+    diag[i] -= w * upper[i - 1];
+    rhs[i] -= w * rhs[i - 1];
+  }
+  m[n - 1] = rhs[n - 1] / diag[n - 1];
+  for (size_t i = n - 1; i-- > 0;) m[i] = (rhs[i] - upper[i] * m[i + 1]) / diag[i];
+  return m;
 }
 
 namespace effects {

@@ -103,13 +103,18 @@ class MassOnlyEffect : public Base, public MassSource {
 /// The JointLink of an effect acting on a sliding joint's or a guide's s (friction, a slider
 /// drive): linked to the joint made before it on the same slider beam (params `beam`), or to the
 /// guide named (`guide`).
-class SlidingJointLink : public JointLink {
+class SlidingJointLink : public JointLink, public NumberingHints {
  public:
   /// type: the effect's type, for the error when the beam is no slider.
   SlidingJointLink(const Model& m, const EffectParams& p, const char* type);
   int linked_slider() const override { return slider_; }
   std::string linked_name() const override { return guide_; }
   void link(const Model& m, const JointTarget* joint) override;
+  /// Extras anchored with the joint's are eliminated after them wherever those go (a fixed
+  /// guide's: after its rope, NumberingHints::pivots_along).
+  void pivots_along(std::vector<int>& beams) const override {
+    if (const auto* h = dynamic_cast<const NumberingHints*>(joint_)) h->pivots_along(beams);
+  }
 
  protected:
   /// The joint's s: its fourth extra (after the three multipliers).

@@ -197,6 +197,10 @@ class SlidingJoint final : public Effect, public ExtraUnknowns, public MovingPoi
   void anchor_points(const Model& m, std::vector<PetscInt>& cps) const override {
     for (int j = 0; j < stencil_.n; ++j) cps.push_back(slider_cp(m, j));
   }
+  /// A fixed guide: its pivots come from whichever rope points are at the guide (the rope runs).
+  void pivots_along(std::vector<int>& beams) const override {
+    if (stencil_.n == 0) beams.insert(beams.end(), carriers_.begin(), carriers_.end());
+  }
   void elimination_precedence(std::vector<std::pair<int, int>>& pairs) const override {
     if (slider_ >= 0)
       for (int c : carriers_) pairs.emplace_back(slider_, c);

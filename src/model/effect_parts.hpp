@@ -169,6 +169,11 @@ class NumberingHints {
   /// Beams whose control points should be eliminated before another beam's, as (first, then)
   /// pairs: a slider before its carrier, so that a joint's fill lands in the carrier's band.
   virtual void elimination_precedence(std::vector<std::pair<int, int>>&) const {}
+  /// Beams whose points give the extras their pivots while the effect runs along them (a fixed
+  /// guide's rope, which runs through it): the extras are then eliminated after the last of
+  /// these beams, not after their anchor's block. Anchored at the point nearest them at the
+  /// start, they would find no pivot once the rope has run beyond that point's support.
+  virtual void pivots_along(std::vector<int>& /*beams*/) const {}
   /// Owned control points whose block is an orthonormality-constrained director triad: 12
   /// coordinates (phi, d1, d2, d3), then the 6 multipliers of 1/2(d1.d1-1), 1/2(d2.d2-1),
   /// 1/2(d3.d3-1), d1.d2, d1.d3, d2.d3, whose forces are G(x_f)^T lambda and nothing else.

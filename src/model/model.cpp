@@ -1269,6 +1269,27 @@ std::vector<PetscInt> Model::compute_elimination_order() const {
       ++indegree[static_cast<size_t>(then)];
     }
   }
+  // Extras whose pivots run along beams (pivots_along) wait until those beams' units are placed.
+  struct Waiting {
+    PetscInt first, end;
+    std::vector<int> units;
+    bool placed;
+  };
+  std::vector<Waiting> waiting;
+  std::vector<char> moved(static_cast<size_t>(map_.global_size()), 0);
+  for (const auto& e : effects_) {
+    const auto* h = part_of<NumberingHints>(*e);
+    const PetscInt n = n_extra(*e);
+    if (!h || n == 0) continue;
+    std::vector<int> beams;
+    h->pivots_along(beams);
+    if (beams.empty()) continue;
+    const PetscInt first = part_of<ExtraUnknowns>(*e)->extra_offset();
+    Waiting w{first, first + n, {}, false};
+    for (int b : beams) w.units.push_back(unit_of[static_cast<size_t>(b)]);
+    waiting.push_back(std::move(w));
+    for (PetscInt i = first; i < first + n; ++i) moved[static_cast<size_t>(i)] = 1;
+  }
   // Each slot: a control point's block and the extras anchored at it; then the extras without
   // an anchor.
   std::vector<PetscInt> order;
@@ -1284,9 +1305,17 @@ std::vector<PetscInt> Model::compute_elimination_order() const {
     placed[static_cast<size_t>(next)] = true;
     for (int then : after[static_cast<size_t>(next)]) --indegree[static_cast<size_t>(then)];
     for (PetscInt cp : units[static_cast<size_t>(next)])
-      for (PetscInt i = 0; i < map_.slot_size(cp); ++i) order.push_back(map_.q(cp, 0) + i);
+      for (PetscInt i = 0; i < map_.slot_size(cp); ++i)
+        if (!moved[static_cast<size_t>(map_.q(cp, 0) + i)]) order.push_back(map_.q(cp, 0) + i);
+    for (Waiting& w : waiting) {
+      if (w.placed || !std::all_of(w.units.begin(), w.units.end(), [&](int u) { return placed[static_cast<size_t>(u)]; }))
+        continue;
+      for (PetscInt i = w.first; i < w.end; ++i) order.push_back(i);
+      w.placed = true;
+    }
   }
-  for (PetscInt i = map_.extra(0); i < map_.global_size(); ++i) order.push_back(i);
+  for (PetscInt i = map_.extra(0); i < map_.global_size(); ++i)
+    if (!moved[static_cast<size_t>(i)]) order.push_back(i);
   return order;
 }
 

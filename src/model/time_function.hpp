@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-/// @file Load amplitude over time: constant, ramp, smooth_ramp, hat, step, sine, table (scene
-/// `time_function`).
+/// @file Load amplitude over time: constant, ramp, smooth_ramp, hat, step, sine, table, spline
+/// (scene `time_function`).
 
 #include "model/effect.hpp"
 
@@ -14,15 +14,17 @@
 namespace slidebeam {
 
 struct TimeFunction {
-  enum class Kind { Constant, Ramp, SmoothRamp, Hat, Step, Sine, Table } kind = Kind::Constant;
+  enum class Kind { Constant, Ramp, SmoothRamp, Hat, Step, Sine, Table, Spline } kind = Kind::Constant;
   double t0 = 0.0, t1 = std::numeric_limits<double>::infinity(), t2 = std::numeric_limits<double>::infinity();
   /// Sine: offset + amplitude r(t) sin(2 pi frequency t + phase) (frequency in Hz, phase in rad),
   /// r the smooth ramp from 0 at t = 0 to 1 at t1 (1 throughout if t1 is infinite): a motion
   /// that starts from rest.
   double amplitude = 1.0, frequency = 0.0, phase = 0.0, offset = 0.0;
   /// Table: piecewise linear through (times[i], values[i]), times strictly increasing; constant
-  /// (the first or last value) beyond the ends.
-  std::vector<double> times, values;
+  /// (the first or last value) beyond the ends. Spline: the cubic spline through them with zero
+  /// slope at both ends (curvatures: the second derivatives at the times), so that its rate and
+  /// acceleration are continuous inside and its rate at the ends, where it goes on constant.
+  std::vector<double> times, values, curvatures;
 
   double operator()(double t) const {
     const auto smooth = [](double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); };
@@ -49,14 +51,24 @@ struct TimeFunction {
         const double a = (t - times[i - 1]) / (times[i] - times[i - 1]);
         return (1.0 - a) * values[i - 1] + a * values[i];
       }
+      case Kind::Spline: {
+        if (t <= times.front()) return values.front();
+        if (t >= times.back()) return values.back();
+        const size_t i = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+        const double h = times[i] - times[i - 1], b = (t - times[i - 1]) / h, a = 1.0 - b;
+        return a * values[i - 1] + b * values[i] +
+               ((a * a * a - a) * curvatures[i - 1] + (b * b * b - b) * curvatures[i]) * h * h / 6.0;
+      }
     }
     return 0.0;
   }
 
   /// From effect parameters tf_type, tf_t0, tf_t1, tf_t2; sine: tf_amplitude, tf_frequency,
-  /// tf_phase, tf_offset; table: the vectors tf_times and tf_values (default: constant).
+  /// tf_phase, tf_offset; table and spline: the vectors tf_times and tf_values (default: constant).
   /// Throws std::invalid_argument for an unknown type or invalid parameters.
   static TimeFunction from(const EffectParams& p);
+  /// The spline's second derivatives at the times, zero slope at both ends (a tridiagonal solve).
+  static std::vector<double> spline_curvatures(const std::vector<double>& times, const std::vector<double>& values);
 };
 
 }  // namespace slidebeam

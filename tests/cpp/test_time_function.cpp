@@ -48,6 +48,33 @@ TEST(TimeFunction, TableIsPiecewiseLinearAndConstantBeyondTheEnds) {
   EXPECT_DOUBLE_EQ(TimeFunction::from(table({1.0}, {7.0}))(0.0), 7.0);  // one point: a constant
 }
 
+TEST(TimeFunction, SplineGoesThroughItsPointsWithContinuousRateAndAccelerationAndStartsAtRest) {
+  EffectParams p = table({0.0, 0.1, 0.25, 0.3, 0.7}, {0.0, 2.0, -1.0, 0.5, 0.5});
+  p.str["tf_type"] = "spline";
+  const TimeFunction f = TimeFunction::from(p);
+  const std::vector<double> t = {0.0, 0.1, 0.25, 0.3, 0.7}, v = {0.0, 2.0, -1.0, 0.5, 0.5};
+  for (size_t i = 0; i < t.size(); ++i) EXPECT_NEAR(f(t[i]), v[i], 1e-14);
+  EXPECT_DOUBLE_EQ(f(-1.0), 0.0);
+  EXPECT_DOUBLE_EQ(f(5.0), 0.5);
+  const double d = 1e-5;
+  for (double e : {t.front(), t.back()}) {  // zero slope at the ends: the quotients fall with d
+    const double side = e == t.front() ? 1.0 : -1.0;
+    EXPECT_LT(std::abs(f(e + side * d) - f(e)), 0.11 * std::abs(f(e + side * 10 * d) - f(e)));
+  }
+  for (size_t i = 1; i + 1 < t.size(); ++i) {
+    const double acc_left = (f(t[i]) - 2 * f(t[i] - d) + f(t[i] - 2 * d)) / (d * d);
+    const double acc_right = (f(t[i] + 2 * d) - 2 * f(t[i] + d) + f(t[i])) / (d * d);
+    EXPECT_NEAR(acc_left, acc_right, 1e-2 * (1.0 + std::abs(acc_left)));  // C2
+    // C1: the one-sided quotients differ by the acceleration times d, not by a jump
+    const double left = (f(t[i]) - f(t[i] - d)) / d, right = (f(t[i] + d) - f(t[i])) / d;
+    EXPECT_NEAR(left, right, 2.0 * d * (1.0 + std::abs(acc_left)));
+  }
+  EffectParams two = table({1.0, 3.0}, {0.0, 2.0});  // two points: the smooth step 3u^2 - 2u^3
+  two.str["tf_type"] = "spline";
+  const TimeFunction g = TimeFunction::from(two);
+  for (double u : {0.0, 0.25, 0.5, 0.9, 1.0}) EXPECT_NEAR(g(1.0 + 2.0 * u), 2.0 * (3 * u * u - 2 * u * u * u), 1e-14);
+}
+
 TEST(TimeFunction, InvalidParametersAreRefused) {
   EXPECT_THROW(TimeFunction::from(sine(1.0, 0.0, 0.0, 0.0)), std::invalid_argument);
   EXPECT_THROW(TimeFunction::from(sine(1.0, -2.0, 0.0, 0.0)), std::invalid_argument);

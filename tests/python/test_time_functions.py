@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""Time functions `sine` and `table` (inline or from a CSV file) and a time function on gravity:
+"""Time functions `sine`, `table` and `spline` (inline or from a CSV file) and a time function on gravity:
 their values, the core's values through a run (the momentum a free rod gains under
 energy-momentum is exactly sum h F(t_n+1/2)), the scene errors, and the energy balance closing
 with a sine-modulated gravity and a tabulated force."""
@@ -19,6 +19,7 @@ from test_dynamics import everything_scene
 SINE = {"type": "sine", "amplitude": 0.8, "frequency": 1.5, "phase": 0.4, "offset": 0.3}
 RAMPED = {**SINE, "ramp": 0.25}  # faded in over the first 0.25 s of the rods' 0.4
 TABLE = {"type": "table", "times": [0.0, 0.1, 0.25, 0.3], "values": [0.0, 2.0, -1.0, 0.5]}
+SPLINE = {**TABLE, "type": "spline"}
 
 
 def test_values_of_sine_and_table():
@@ -31,6 +32,29 @@ def test_values_of_sine_and_table():
     g = sc.TimeFunction("table", times=(0.0, 0.1, 0.25, 0.3), values=(0.0, 2.0, -1.0, 0.5))
     assert [g.value(t) for t in (-1.0, 0.0, 0.05, 0.1, 0.2, 0.3, 5.0)] == pytest.approx(
         [0.0, 0.0, 1.0, 2.0, 0.0, 0.5, 0.5], abs=1e-15)
+
+
+def test_the_spline_is_smooth_through_its_points_and_starts_and_ends_at_rest():
+    """Through every point, zero slope at both ends and constant beyond, rate and acceleration
+    continuous at the inner points; two points: the smooth step 3u^2 - 2u^3."""
+    times, values = (0.0, 0.1, 0.25, 0.3, 0.7), (0.0, 2.0, -1.0, 0.5, 0.5)
+    f = sc.TimeFunction("spline", times=times, values=values)
+    assert [f.value(t) for t in times] == pytest.approx(values, abs=1e-14)
+    d = 1e-6
+    rate = lambda t: (f.value(t + d) - f.value(t - d)) / (2 * d)  # noqa: E731
+    for t, side in ((times[0], 1), (times[-1], -1)):  # the difference quotient into the spline falls with d: no slope
+        quotient = [(f.value(t + side * e) - f.value(t)) / e for e in (1e-4, 1e-5)]
+        assert abs(quotient[1]) < 0.11 * abs(quotient[0]) and abs(quotient[0]) < 1.0
+    assert f.value(-1.0) == 0.0 and f.value(2.0) == 0.5
+    for t in times[1:-1]:
+        left = (f.value(t) - 2 * f.value(t - d) + f.value(t - 2 * d)) / d ** 2
+        right = (f.value(t + 2 * d) - 2 * f.value(t + d) + f.value(t)) / d ** 2
+        assert rate(t - 1e-9) == pytest.approx(rate(t + 1e-9), abs=1e-5)
+        assert left == pytest.approx(right, rel=1e-3, abs=1e-2)
+    assert max(abs(rate(t)) for t in (0.05, 0.18, 0.27)) > 10.0  # it moves
+    step = sc.TimeFunction("spline", times=(1.0, 3.0), values=(0.0, 2.0))
+    for u in (0.0, 0.25, 0.5, 0.9, 1.0):
+        assert step.value(1.0 + 2.0 * u) == pytest.approx(2.0 * (3 * u * u - 2 * u ** 3), abs=1e-14)
 
 
 def free_rod(integrator: str = "energy-momentum", **parts: object) -> dict:
@@ -55,7 +79,7 @@ def impulses(f: sc.TimeFunction, records) -> list[float]:
     return out
 
 
-@pytest.mark.parametrize("tf", [SINE, RAMPED, TABLE], ids=["sine", "ramped sine", "table"])
+@pytest.mark.parametrize("tf", [SINE, RAMPED, TABLE, SPLINE], ids=["sine", "ramped sine", "table", "spline"])
 def test_the_core_evaluates_what_the_scene_says(tf):
     """A force F0 f(t) and a gravity g f(t) on free rods: under energy-momentum the momentum is
     exactly F0 sum h f(t_n+1/2) (m g sum h f), so the core's values match the scene's to the

@@ -184,6 +184,41 @@ class Support:
     at: float | None  # None for "fixed"
 
 
+def _spline_curvatures(times: tuple[float, ...], values: tuple[float, ...]) -> np.ndarray:
+    """Second derivatives at the times of the cubic spline through (times, values) with zero slope
+    at both ends: the core's TimeFunction::spline_curvatures (the same tridiagonal solve)."""
+    n = len(times)
+    m = np.zeros(n)
+    if n < 2:
+        return m
+    h = np.diff(np.asarray(times, dtype=float))
+    slope = np.diff(np.asarray(values, dtype=float)) / h
+    diag, upper, rhs = np.zeros(n), np.zeros(n), np.zeros(n)
+    diag[0], upper[0], rhs[0] = 2 * h[0], h[0], 6 * slope[0]
+    diag[1:-1], upper[1:-1], rhs[1:-1] = 2 * (h[:-1] + h[1:]), h[1:], 6 * (slope[1:] - slope[:-1])
+    diag[-1], rhs[-1] = 2 * h[-1], -6 * slope[-1]
+    for i in range(1, n):
+        w = upper[i - 1] / diag[i - 1]
+        diag[i] -= w * upper[i - 1]
+        rhs[i] -= w * rhs[i - 1]
+    m[-1] = rhs[-1] / diag[-1]
+    for i in range(n - 2, -1, -1):
+        m[i] = (rhs[i] - upper[i] * m[i + 1]) / diag[i]
+    return m
+
+
+def _spline_value(times: tuple[float, ...], values: tuple[float, ...], m: np.ndarray, t: float) -> float:
+    if t <= times[0]:
+        return float(values[0])
+    if t >= times[-1]:
+        return float(values[-1])
+    i = int(np.searchsorted(times, t, side="right"))
+    h = times[i] - times[i - 1]
+    b = (t - times[i - 1]) / h
+    a = 1.0 - b
+    return float(a * values[i - 1] + b * values[i] + ((a ** 3 - a) * m[i - 1] + (b ** 3 - b) * m[i]) * h * h / 6.0)
+
+
 def _smooth_blend(u: float) -> float:
     """10u^3 - 15u^4 + 6u^5: from 0 at u = 0 to 1 at u = 1, its rate and acceleration 0 at both."""
     return u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
@@ -195,7 +230,8 @@ class TimeFunction:
 
     sine: offset + amplitude r(t) sin(2 pi frequency t + phase), r a smooth ramp from 0 to 1 over
     [0, t1] (none if t1 is infinite); table: piecewise linear through
-    (times, values), constant beyond the ends."""
+    (times, values), constant beyond the ends; spline: the cubic spline through them with zero
+    slope at both ends, constant beyond them (the core's TimeFunction, the same formulas)."""
 
     type: str
     t0: float = 0.0
@@ -216,6 +252,8 @@ class TimeFunction:
             return self.offset + self.amplitude * _smooth_blend(u) * math.sin(2.0 * math.pi * self.frequency * t + self.phase)
         if self.type == "table":
             return float(np.interp(t, self.times, self.values))
+        if self.type == "spline":
+            return _spline_value(self.times, self.values, _spline_curvatures(self.times, self.values), t)
         if self.type == "step":
             return 1.0 if self.t0 <= t < self.t1 else 0.0
         if t <= self.t0:
@@ -241,7 +279,7 @@ class TimeFunction:
         if self.type == "sine":
             num.update({"tf_amplitude": self.amplitude, "tf_frequency": self.frequency, "tf_phase": self.phase,
                         "tf_offset": self.offset})
-        if self.type == "table":
+        if self.type in ("table", "spline"):
             vec = {"tf_times": list(self.times), "tf_values": list(self.values)}
         return num, vec, {"tf_type": self.type}
 
@@ -619,7 +657,8 @@ _ANCF_SHAPE_KEYS = ("shape", "b", "h", "r", "E", "rho")
 _DIRECTOR_ONLY_BEAM_KEYS = ("d2", "quadrature", "strain")
 _SHEAR_FACTOR = {"rectangle": 5.0 / 6.0, "circle": 0.9}
 _TF_PARAMS = {"constant": (), "ramp": ("t0", "t1"), "smooth_ramp": ("t0", "t1"), "hat": ("t0", "t1", "t2"), "step": ("t0", "t1"),
-              "sine": ("amplitude", "frequency", "phase", "offset", "ramp"), "table": ("times", "values", "file")}
+              "sine": ("amplitude", "frequency", "phase", "offset", "ramp"), "table": ("times", "values", "file"),
+              "spline": ("times", "values", "file")}
 # sub-tables an override may create when absent
 _OUTPUT_KEYS = ("every", "interval", "track", "samples_per_span", "checkpoint_every", "xdmf", "warn_size_gb")
 _TRACK_KEYS = ("beam", "at", "body")
@@ -1480,7 +1519,7 @@ def _parse_time_function(t: _Table, base_dir: str = ".") -> TimeFunction:
         return TimeFunction(kind, t1=ramp if ramp > 0 else math.inf, amplitude=t.number("amplitude", 1.0),
                             frequency=t.number("frequency", check=lambda f: f > 0, requirement="> 0 (Hz)"),
                             phase=t.number("phase", 0.0), offset=t.number("offset", 0.0))
-    if kind == "table":
+    if kind in ("table", "spline"):
         times, values = _time_table(t, base_dir)
         return TimeFunction(kind, times=times, values=values)
     t0 = t.number("t0", 0.0)

@@ -213,9 +213,12 @@ TIME_FUNCTION = Table("time_function", "time_function = { type = ..., ... }",
                       "step: 1 on [t0, t1), else 0; sine: offset + amplitude sin(2 pi frequency t + phase), its "
                       "amplitude faded in by the smooth blend over its first `ramp` seconds if given (a motion "
                       "that starts from rest); "
-                      "table: piecewise linear through (times, values), constant beyond the ends.", (
+                      "table: piecewise linear through (times, values), constant beyond the ends; spline: the cubic "
+                      "spline through (times, values) with zero slope at both ends, constant beyond them: rate "
+                      "and acceleration continuous (a winch or a support driven along a planned path without "
+                      "a jolt at every point of the table).", (
     Key("type", "the kind of function", "", REQUIRED,
-        '"constant", "ramp", "smooth_ramp", "hat", "step", "sine", "table"'),
+        '"constant", "ramp", "smooth_ramp", "hat", "step", "sine", "table", "spline"'),
     Key("t0", "ramp, smooth_ramp, hat, step: where it starts", "s", "0.0", ""),
     Key("t1", "ramp, smooth_ramp: reaches 1; hat: its peak; step: ends", "s", "required (step: inf, never ends)", "> t0"),
     Key("t2", "hat: back to 0", "s", REQUIRED, "> t1"),
@@ -225,12 +228,13 @@ TIME_FUNCTION = Table("time_function", "time_function = { type = ..., ... }",
     Key("offset", "sine: offset", "", "0.0", ""),
     Key("ramp", "sine: the time over which the amplitude grows from 0 (10u^3 - 15u^4 + 6u^5; 0: none)", "s", "0.0",
         ">= 0"),
-    Key("times", "table: the times", "s", "required unless file", "strictly increasing"),
-    Key("values", "table: the values", "", "required unless file", "as many as times"),
-    Key("file", "table: a CSV file of lines \"t,value\" relative to the scene (an optional header line, # "
+    Key("times", "table, spline: the times", "s", "required unless file", "strictly increasing"),
+    Key("values", "table, spline: the values", "", "required unless file", "as many as times"),
+    Key("file", "table, spline: a CSV file of lines \"t,value\" relative to the scene (an optional header line, # "
                 "comments and blank lines allowed), instead of times and values", "", "", "a file name"),
 ), variants=(("constant", ()), ("ramp", ("t0", "t1")), ("smooth_ramp", ("t0", "t1")), ("hat", ("t0", "t1", "t2")), ("step", ("t0", "t1")),
-             ("sine", ("amplitude", "frequency", "phase", "offset", "ramp")), ("table", ("times", "values", "file"))))
+             ("sine", ("amplitude", "frequency", "phase", "offset", "ramp")), ("table", ("times", "values", "file")),
+             ("spline", ("times", "values", "file"))))
 
 MOTION = Table("motion", "motion = { displacement = ..., rotation = ..., time_function = { ... } }",
                "A prescribed motion of a support ([[support]] spherical, clamp or fixed): the point moves by "
