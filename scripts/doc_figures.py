@@ -5,7 +5,7 @@
 net from ``scripts/make_cables.py`` (a picture of a 12 978-unknown structure), and the multibody
 scenes ``runs/multibody/crane.toml``, ``cable_robot.toml``, ``ropeway.toml``, ``rockfall_net.toml`` and
 ``winch.toml``, ``block_and_tackle.toml``, ``ropeway_towers.toml``, ``track_ropes.toml``,
-``cable_robot_winches.toml`` (pictures). About three minutes.
+``cable_robot_winches.toml``, ``crane_winch.toml`` (pictures). About five minutes.
 
     scripts/doc_figures.py [--out docs/figures] [--work out/doc_figures]
 """
@@ -33,15 +33,17 @@ def multibody_pictures(out: Path, work: Path) -> list[Path]:
     wound half a turn (t = 4.5 s, seen along the drum's axis), the block and tackle after its
     pull (t = 4 s, seen along the sheaves' axes), the ropeway over two towers (t = 5 s, from the
     front), the trolley on the bridge rail between two track ropes (t = 5.4 s, from the front), the
-    cable robot on winches a quarter of the way round its circle (t = 4 s)."""
+    cable robot on winches a quarter of the way round its circle (t = 4 s), the crane after
+    hoisting by its winch (t = 8 s, from the front)."""
     written = []
     for scene, t in (("crane", 6.0), ("cable_robot", 2.5), ("ropeway", 6.0), ("rockfall_net", 0.1), ("winch", 4.5),
                      ("block_and_tackle", 4.0), ("ropeway_towers", 5.0), ("track_ropes", 5.4),
-                     ("cable_robot_winches", 4.0)):
+                     ("cable_robot_winches", 4.0), ("crane_winch", 8.0)):
         run("run", str(ROOT / "runs" / "multibody" / f"{scene}.toml"), "--out", str(work / scene), "-q",
             "--set", f"analysis.t_end={t}")
         written += render.pictures(work / scene, times=[t], out=out / f"render_{scene}.png", size=(1100, 650),
-                                   view="front" if scene in ("winch", "block_and_tackle", "ropeway_towers", "track_ropes")
+                                   view="front" if scene in ("winch", "block_and_tackle", "ropeway_towers", "track_ropes",
+                                                             "crane_winch")
                                    else "iso")
     return written
 

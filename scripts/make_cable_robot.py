@@ -14,7 +14,7 @@ the platform moves round the circle, the fleet angle, spread evenly along it, as
 the cylinder unroll into a plane): the rigid-rope inverse kinematics. (A sphere would let the
 rope leave the outlet in any direction, but a rope over a frictionless sphere is not stable: it
 slides off sideways.) The ropes' stretch and sag, and the platform's tilt, are what
-the run adds to it (docs/verification.md, "The cable robot on four winches").
+the run adds to it (docs/verification.md, "Guides").
 
     scripts/make_cable_robot.py                      # writes the scene and its tables
     scripts/make_cable_robot.py --out /tmp/robot.toml --t-end 2

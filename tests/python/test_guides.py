@@ -302,3 +302,18 @@ def test_the_cable_robot_on_four_winches_follows_its_path(root):
         column = labels.index(f"rope_{name}_at_winch_{name}.s")
         s = [r.outputs[column] for r in run.records]
         assert np.allclose(np.subtract(s, s[0]), [f.value(r.t) for r in run.records], atol=1e-9)
+
+
+def test_the_cable_robot_scene_is_what_its_generator_writes(root, tmp_path):
+    """scripts/make_cable_robot.py writes runs/multibody/cable_robot_winches.toml and its winches'
+    tables as shipped (the scene says it is written by it)."""
+    import subprocess
+    import sys
+    out = tmp_path / "cable_robot_winches.toml"
+    subprocess.run([sys.executable, str(root / "scripts" / "make_cable_robot.py"), "--out", str(out)], check=True,
+                   capture_output=True)
+    shipped = root / "runs" / "multibody"
+    assert out.read_text() == (shipped / "cable_robot_winches.toml").read_text()
+    for table in sorted((shipped / "cable_robot_winches").glob("winch_*.csv")):
+        assert (tmp_path / "cable_robot_winches" / table.name).read_text() == table.read_text()
+    assert len(list((tmp_path / "cable_robot_winches").glob("winch_*.csv"))) == 4
