@@ -270,6 +270,9 @@ PYBIND11_MODULE(_core, m) {
       .def("beam_first_cp", [](const Model& s, int beam) { return s.beam(beam).first_cp(); }, py::arg("beam"),
            "global index of a beam's first control point")
       .def("cp_unknowns", [](const Model& s, PetscInt cp) {
+             if (cp < 0 || cp >= s.n_cp_total())
+               throw py::index_error("control point " + std::to_string(cp) + " out of range: the model has " +
+                                     std::to_string(s.n_cp_total()));
              const DofMap& m = s.dof_map();
              return py::make_tuple(m.q(cp, 0), m.n_coordinates(cp));
            }, py::arg("cp"), "(global index of the first unknown, number of coordinates) of a control point")

@@ -41,6 +41,17 @@ def test_petsc_objects_are_shared_not_copied():
     assert np.isfinite(x.norm())
 
 
+def test_a_control_point_out_of_range_is_refused():
+    """control_point_unknowns of a point the model does not have raises IndexError (it read past
+    the numbering and returned whatever was there)."""
+    sim = slidebeam.Simulation(small_scene())
+    n = sim.first_control_point("b") + 6  # 4 spans: 6 control points
+    assert sim.control_point_unknowns(n - 1)[1] == 12
+    for cp in (n, n + 40, -1):
+        with pytest.raises(IndexError, match="out of range"):
+            sim.control_point_unknowns(cp)
+
+
 def test_scripted_steps_equal_load_stepping():
     a = slidebeam.Simulation(small_scene())
     rec = a.solve_static()

@@ -648,7 +648,8 @@ class Simulation:
 
     def control_point_unknowns(self, cp: int) -> tuple[int, int]:
         """(global index of the first unknown, number of coordinates) of control point cp: its
-        coordinates are the unknowns first .. first + count - 1 (multipliers follow)."""
+        coordinates are the unknowns first .. first + count - 1 (multipliers follow). IndexError
+        for a point the model does not have."""
         return tuple(self._model.cp_unknowns(cp))
 
     def output_labels(self) -> list[str]:
