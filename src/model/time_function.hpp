@@ -44,20 +44,15 @@ struct TimeFunction {
         const double fade = std::isinf(t1) || t >= t1 ? 1.0 : t <= 0.0 ? 0.0 : smooth(t / t1);
         return offset + amplitude * fade * std::sin(6.283185307179586 * frequency * t + phase);
       }
-      case Kind::Table: {
-        if (t <= times.front()) return values.front();
-        if (t >= times.back()) return values.back();
-        const size_t i = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
-        const double a = (t - times[i - 1]) / (times[i] - times[i - 1]);
-        return (1.0 - a) * values[i - 1] + a * values[i];
-      }
+      case Kind::Table:
       case Kind::Spline: {
         if (t <= times.front()) return values.front();
         if (t >= times.back()) return values.back();
         const size_t i = static_cast<size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
         const double h = times[i] - times[i - 1], b = (t - times[i - 1]) / h, a = 1.0 - b;
-        return a * values[i - 1] + b * values[i] +
-               ((a * a * a - a) * curvatures[i - 1] + (b * b * b - b) * curvatures[i]) * h * h / 6.0;
+        const double linear = a * values[i - 1] + b * values[i];
+        if (kind == Kind::Table) return linear;
+        return linear + ((a * a * a - a) * curvatures[i - 1] + (b * b * b - b) * curvatures[i]) * h * h / 6.0;
       }
     }
     return 0.0;

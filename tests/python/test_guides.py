@@ -275,7 +275,7 @@ def test_a_spinning_rope_keeps_its_energy_and_its_angular_momentum_to_second_ord
 def test_the_cable_robot_on_four_winches_follows_its_path(root):
     """runs/multibody/cable_robot_winches.toml, its first 1.5 s (the platform rising and moving out
     at up to 0.4 m/s): the winches reel their ropes through their guides by their splines (s = s0
-    + table to 1e-9 m), the platform's centre follows the path of scripts/make_cable_robot.py
+    + f(t) to 1e-9 m), the platform's centre follows the path of scripts/make_cable_robot.py
     within 1 cm (what the rigid ropes' inverse kinematics leaves: their stretch and sag), no step is
     cut or put on the pivoting LU, and the energy balance closes with the winches' work (1e-10 of
     the largest kinetic energy). Under mpirun: the same on two ranks."""

@@ -253,7 +253,7 @@ class TimeFunction:
         if self.type == "table":
             return float(np.interp(t, self.times, self.values))
         if self.type == "spline":
-            return _spline_value(self.times, self.values, _spline_curvatures(self.times, self.values), t)
+            return _spline_value(self.times, self.values, self._spline_curvatures, t)
         if self.type == "step":
             return 1.0 if self.t0 <= t < self.t1 else 0.0
         if t <= self.t0:
@@ -271,6 +271,11 @@ class TimeFunction:
                 return (t - self.t0) / (self.t1 - self.t0)
             return (self.t2 - t) / (self.t2 - self.t1)
         raise ValueError(f"unknown time function type {self.type!r}")
+
+    @functools.cached_property
+    def _spline_curvatures(self) -> np.ndarray:
+        """The spline's second derivatives at its times (solved once, not at every value)."""
+        return _spline_curvatures(self.times, self.values)
 
     def params(self) -> tuple[dict[str, float], dict[str, list[float]], dict[str, str]]:
         """The core's EffectParams of this function (num, vec, text: the tf_* keys)."""
